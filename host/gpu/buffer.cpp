@@ -1,0 +1,111 @@
+// Buffer allocation and host <-> device transfers.
+#include "gpu/buffer.h"
+
+#include <algorithm>
+#include <utility>
+
+#include "gpu/vk_check.h"
+
+namespace penumbra::gpu {
+
+Buffer::Buffer(const Context& context, VkDeviceSize size, VkBufferUsageFlags usage,
+               VkMemoryPropertyFlags required, VkMemoryPropertyFlags preferred)
+    : m_context(&context), m_size(std::max<VkDeviceSize>(size, 16)) {
+    VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+    info.size = m_size;
+    info.usage = usage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+    VkDevice device = context.device();
+    vkCheck(vkCreateBuffer(device, &info, nullptr, &m_buffer), "create buffer");
+    VkMemoryRequirements req;
+    vkGetBufferMemoryRequirements(device, m_buffer, &req);
+    VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    alloc.allocationSize = req.size;
+    alloc.memoryTypeIndex = context.findMemoryType(req.memoryTypeBits, required, preferred);
+    VkResult result = vkAllocateMemory(device, &alloc, nullptr, &m_memory);
+    if (result != VK_SUCCESS) {
+        release();
+        vkCheck(result, ("allocate " + std::to_string(req.size >> 20) + " MiB of GPU memory").c_str());
+    }
+    vkCheck(vkBindBufferMemory(device, m_buffer, m_memory, 0), "bind buffer memory");
+    VkMemoryPropertyFlags flags = context.memoryTypeFlags(alloc.memoryTypeIndex);
+    m_hostVisible = flags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT;
+    m_hostCoherent = flags & VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+}
+
+Buffer::~Buffer() { release(); }
+
+void Buffer::release() {
+    if (!m_context) return;
+    if (m_buffer) vkDestroyBuffer(m_context->device(), m_buffer, nullptr);
+    if (m_memory) vkFreeMemory(m_context->device(), m_memory, nullptr);
+    m_buffer = VK_NULL_HANDLE;
+    m_memory = VK_NULL_HANDLE;
+}
+
+Buffer::Buffer(Buffer&& other) noexcept { *this = std::move(other); }
+
+Buffer& Buffer::operator=(Buffer&& other) noexcept {
+    if (this != &other) {
+        release();
+        m_context = std::exchange(other.m_context, nullptr);
+        m_buffer = std::exchange(other.m_buffer, VK_NULL_HANDLE);
+        m_memory = std::exchange(other.m_memory, VK_NULL_HANDLE);
+        m_size = std::exchange(other.m_size, 0);
+        m_hostVisible = other.m_hostVisible;
+        m_hostCoherent = other.m_hostCoherent;
+    }
+    return *this;
+}
+
+void Buffer::upload(const void* data, VkDeviceSize bytes, VkDeviceSize offset) {
+    if (bytes == 0) return;
+    if (offset + bytes > m_size) throw GpuError("buffer upload out of range");
+    VkDevice device = m_context->device();
+    if (m_hostVisible) {
+        void* mapped = nullptr;
+        vkCheck(vkMapMemory(device, m_memory, offset, bytes, 0, &mapped), "map buffer memory");
+        std::memcpy(mapped, data, bytes);
+        if (!m_hostCoherent) {
+            VkMappedMemoryRange range{VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE, nullptr, m_memory, 0, VK_WHOLE_SIZE};
+            vkFlushMappedMemoryRanges(device, 1, &range);
+        }
+        vkUnmapMemory(device, m_memory);
+        return;
+    }
+    Buffer staging(*m_context, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT, 0);
+    staging.upload(data, bytes);
+    m_context->submitAndWait([&](VkCommandBuffer cmd) {
+        VkBufferCopy region{0, offset, bytes};
+        vkCmdCopyBuffer(cmd, staging.handle(), m_buffer, 1, &region);
+    });
+}
+
+void Buffer::download(void* data, VkDeviceSize bytes, VkDeviceSize offset) const {
+    if (bytes == 0) return;
+    if (offset + bytes > m_size) throw GpuError("buffer download out of range");
+    VkDevice device = m_context->device();
+    if (m_hostVisible) {
+        void* mapped = nullptr;
+        vkCheck(vkMapMemory(device, m_memory, offset, bytes, 0, &mapped), "map buffer memory");
+        if (!m_hostCoherent) {
+            VkMappedMemoryRange range{VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE, nullptr, m_memory, 0, VK_WHOLE_SIZE};
+            vkInvalidateMappedMemoryRanges(device, 1, &range);
+        }
+        std::memcpy(data, mapped, bytes);
+        vkUnmapMemory(device, m_memory);
+        return;
+    }
+    Buffer staging(*m_context, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT, 0);
+    m_context->submitAndWait([&](VkCommandBuffer cmd) {
+        VkBufferCopy region{offset, 0, bytes};
+        vkCmdCopyBuffer(cmd, m_buffer, staging.handle(), 1, &region);
+    });
+    staging.download(data, bytes);
+}
+
+void Buffer::clear() {
+    m_context->submitAndWait([&](VkCommandBuffer cmd) { vkCmdFillBuffer(cmd, m_buffer, 0, VK_WHOLE_SIZE, 0); });
+}
+
+}  // namespace penumbra::gpu

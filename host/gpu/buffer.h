@@ -1,0 +1,68 @@
+// A move-only storage/uniform buffer with its own memory. Prefers device-local memory;
+// when that memory is not host-visible (discrete GPUs) uploads and downloads go through
+// a temporary staging buffer, otherwise the memory is mapped directly (lavapipe, ReBAR).
+#pragma once
+
+#include <cstddef>
+#include <cstring>
+#include <span>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+#include "gpu/context.h"
+
+namespace penumbra::gpu {
+
+class Buffer {
+public:
+    Buffer() = default;
+    // `size` is rounded up to at least 16 bytes so that empty arrays can still be bound.
+    Buffer(const Context& context, VkDeviceSize size, VkBufferUsageFlags usage,
+           VkMemoryPropertyFlags required = 0, VkMemoryPropertyFlags preferred = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+    ~Buffer();
+    Buffer(Buffer&& other) noexcept;
+    Buffer& operator=(Buffer&& other) noexcept;
+    Buffer(const Buffer&) = delete;
+    Buffer& operator=(const Buffer&) = delete;
+
+    // A device-local storage buffer holding a copy of `data`.
+    template <class T>
+    static Buffer fromSpan(const Context& context, std::span<const T> data,
+                           VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT) {
+        Buffer buffer(context, data.size_bytes(), usage);
+        if (!data.empty()) buffer.upload(data.data(), data.size_bytes());
+        return buffer;
+    }
+    template <class T>
+    static Buffer fromVector(const Context& context, const std::vector<T>& data,
+                             VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT) {
+        return fromSpan<T>(context, std::span<const T>(data), usage);
+    }
+
+    void upload(const void* data, VkDeviceSize bytes, VkDeviceSize offset = 0);
+    void download(void* data, VkDeviceSize bytes, VkDeviceSize offset = 0) const;
+    template <class T>
+    std::vector<T> read() const {
+        std::vector<T> out(size_t(m_size / sizeof(T)));
+        download(out.data(), out.size() * sizeof(T));
+        return out;
+    }
+    // Fills the whole buffer with zero bytes on the GPU.
+    void clear();
+
+    VkBuffer handle() const { return m_buffer; }
+    VkDeviceSize size() const { return m_size; }
+
+private:
+    void release();
+
+    const Context* m_context = nullptr;
+    VkBuffer m_buffer = VK_NULL_HANDLE;
+    VkDeviceMemory m_memory = VK_NULL_HANDLE;
+    VkDeviceSize m_size = 0;
+    bool m_hostVisible = false;
+    bool m_hostCoherent = false;
+};
+
+}  // namespace penumbra::gpu

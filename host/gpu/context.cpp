@@ -1,0 +1,247 @@
+// Vulkan instance / device creation and the automatic device choice.
+#include "gpu/context.h"
+
+#include <cstdlib>
+#include <string>
+
+#include "gpu/vk_check.h"
+
+namespace penumbra::gpu {
+namespace {
+
+const char* deviceTypeName(VkPhysicalDeviceType type) {
+    switch (type) {
+        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return "discrete";
+        case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return "integrated";
+        case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return "virtual";
+        case VK_PHYSICAL_DEVICE_TYPE_CPU: return "cpu";
+        default: return "other";
+    }
+}
+
+// Lower is better: discrete GPUs first, the CPU (lavapipe) last.
+int deviceRank(VkPhysicalDeviceType type) {
+    switch (type) {
+        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return 0;
+        case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return 1;
+        case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return 2;
+        case VK_PHYSICAL_DEVICE_TYPE_CPU: return 3;
+        default: return 4;
+    }
+}
+
+VkInstance createInstance(const std::vector<const char*>& extensions) {
+    VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+    app.pApplicationName = "penumbra";
+    app.pEngineName = "penumbra";
+    app.apiVersion = VK_API_VERSION_1_1;
+    VkInstanceCreateInfo info{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+    info.pApplicationInfo = &app;
+    info.enabledExtensionCount = uint32_t(extensions.size());
+    info.ppEnabledExtensionNames = extensions.data();
+    VkInstance instance = VK_NULL_HANDLE;
+    VkResult result = vkCreateInstance(&info, nullptr, &instance);
+    if (result == VK_ERROR_INCOMPATIBLE_DRIVER)
+        throw GpuError("no Vulkan device found (vkCreateInstance: VK_ERROR_INCOMPATIBLE_DRIVER); "
+                       "install a Vulkan driver, e.g. Debian's mesa-vulkan-drivers for lavapipe");
+    vkCheck(result, "create Vulkan instance");
+    return instance;
+}
+
+std::vector<VkPhysicalDevice> physicalDevices(VkInstance instance) {
+    uint32_t count = 0;
+    vkCheck(vkEnumeratePhysicalDevices(instance, &count, nullptr), "enumerate Vulkan devices");
+    std::vector<VkPhysicalDevice> devices(count);
+    vkCheck(vkEnumeratePhysicalDevices(instance, &count, devices.data()), "enumerate Vulkan devices");
+    devices.resize(count);
+    return devices;
+}
+
+// First queue family with compute (and presentation to `surface`, if given); -1 if none.
+int computeQueueFamily(VkPhysicalDevice device, VkSurfaceKHR surface) {
+    uint32_t count = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(device, &count, nullptr);
+    std::vector<VkQueueFamilyProperties> families(count);
+    vkGetPhysicalDeviceQueueFamilyProperties(device, &count, families.data());
+    for (uint32_t i = 0; i < count; ++i) {
+        if (!(families[i].queueFlags & VK_QUEUE_COMPUTE_BIT)) continue;
+        if (surface != VK_NULL_HANDLE) {
+            VkBool32 present = VK_FALSE;
+            if (vkGetPhysicalDeviceSurfaceSupportKHR(device, i, surface, &present) != VK_SUCCESS || !present)
+                continue;
+        }
+        return int(i);
+    }
+    return -1;
+}
+
+DeviceInfo describe(VkPhysicalDevice device, uint32_t index) {
+    VkPhysicalDeviceProperties props;
+    vkGetPhysicalDeviceProperties(device, &props);
+    DeviceInfo info;
+    info.index = index;
+    info.name = props.deviceName;
+    info.type = deviceTypeName(props.deviceType);
+    info.apiVersion = props.apiVersion;
+    info.hasCompute = computeQueueFamily(device, VK_NULL_HANDLE) >= 0;
+    return info;
+}
+
+// The device index from PENUMBRA_DEVICE, or -1.
+int deviceFromEnvironment() {
+    const char* text = std::getenv("PENUMBRA_DEVICE");
+    if (!text || !*text) return -1;
+    char* end = nullptr;
+    long value = std::strtol(text, &end, 10);
+    if (*end != '\0' || value < 0) throw GpuError(std::string("PENUMBRA_DEVICE: not a device index: ") + text);
+    return int(value);
+}
+
+int automaticChoice(const std::vector<VkPhysicalDevice>& devices, VkSurfaceKHR surface) {
+    int best = -1, bestRank = 1 << 30;
+    for (size_t i = 0; i < devices.size(); ++i) {
+        if (computeQueueFamily(devices[i], surface) < 0) continue;
+        VkPhysicalDeviceProperties props;
+        vkGetPhysicalDeviceProperties(devices[i], &props);
+        if (deviceRank(props.deviceType) < bestRank) {
+            bestRank = deviceRank(props.deviceType);
+            best = int(i);
+        }
+    }
+    return best;
+}
+
+}  // namespace
+
+std::vector<DeviceInfo> Context::listDevices(int* chosen) {
+    VkInstance instance = createInstance({});
+    std::vector<DeviceInfo> result;
+    try {
+        auto devices = physicalDevices(instance);
+        for (uint32_t i = 0; i < devices.size(); ++i) result.push_back(describe(devices[i], i));
+        if (chosen) {
+            int fromEnv = deviceFromEnvironment();
+            *chosen = fromEnv >= 0 ? fromEnv : automaticChoice(devices, VK_NULL_HANDLE);
+        }
+    } catch (...) {
+        vkDestroyInstance(instance, nullptr);
+        throw;
+    }
+    vkDestroyInstance(instance, nullptr);
+    return result;
+}
+
+Context::Context(const ContextOptions& options) {
+    m_instance = createInstance(options.instanceExtensions);
+    try {
+        if (options.createSurface) m_surface = options.createSurface(m_instance);
+        auto devices = physicalDevices(m_instance);
+        if (devices.empty())
+            throw GpuError("no Vulkan device found; install a Vulkan driver, e.g. Debian's mesa-vulkan-drivers for lavapipe");
+        int index = options.deviceIndex >= 0 ? options.deviceIndex : deviceFromEnvironment();
+        if (index >= int(devices.size()))
+            throw GpuError("Vulkan device " + std::to_string(index) + " does not exist (" +
+                           std::to_string(devices.size()) + " found; see 'penumbra devices')");
+        if (index < 0) index = automaticChoice(devices, m_surface);
+        if (index < 0)
+            throw GpuError(m_surface ? "no Vulkan device can both compute and present to the window"
+                                     : "no Vulkan device has a compute queue");
+        m_physicalDevice = devices[size_t(index)];
+        m_info = describe(m_physicalDevice, uint32_t(index));
+        int family = computeQueueFamily(m_physicalDevice, m_surface);
+        if (family < 0)
+            throw GpuError("Vulkan device " + std::to_string(index) + " (" + m_info.name + ") " +
+                           (m_surface ? "cannot both compute and present to the window" : "has no compute queue"));
+        m_queueFamily = uint32_t(family);
+
+        VkPhysicalDeviceProperties props;
+        vkGetPhysicalDeviceProperties(m_physicalDevice, &props);
+        m_limits = props.limits;
+        vkGetPhysicalDeviceMemoryProperties(m_physicalDevice, &m_memory);
+
+        float priority = 1.0f;
+        VkDeviceQueueCreateInfo queueInfo{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+        queueInfo.queueFamilyIndex = m_queueFamily;
+        queueInfo.queueCount = 1;
+        queueInfo.pQueuePriorities = &priority;
+        std::vector<const char*> deviceExtensions;
+        if (m_surface) deviceExtensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
+        VkDeviceCreateInfo deviceInfo{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
+        deviceInfo.queueCreateInfoCount = 1;
+        deviceInfo.pQueueCreateInfos = &queueInfo;
+        deviceInfo.enabledExtensionCount = uint32_t(deviceExtensions.size());
+        deviceInfo.ppEnabledExtensionNames = deviceExtensions.data();
+        vkCheck(vkCreateDevice(m_physicalDevice, &deviceInfo, nullptr, &m_device),
+                ("create a logical device on " + m_info.name).c_str());
+        vkGetDeviceQueue(m_device, m_queueFamily, 0, &m_queue);
+
+        VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+        poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+        poolInfo.queueFamilyIndex = m_queueFamily;
+        vkCheck(vkCreateCommandPool(m_device, &poolInfo, nullptr, &m_commandPool), "create command pool");
+        VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+        vkCheck(vkCreateFence(m_device, &fenceInfo, nullptr, &m_fence), "create fence");
+    } catch (...) {
+        this->~Context();
+        throw;
+    }
+}
+
+Context::~Context() {
+    if (m_device) {
+        vkDeviceWaitIdle(m_device);
+        if (m_fence) vkDestroyFence(m_device, m_fence, nullptr);
+        if (m_commandPool) vkDestroyCommandPool(m_device, m_commandPool, nullptr);
+        vkDestroyDevice(m_device, nullptr);
+    }
+    if (m_surface) vkDestroySurfaceKHR(m_instance, m_surface, nullptr);
+    if (m_instance) vkDestroyInstance(m_instance, nullptr);
+    m_device = VK_NULL_HANDLE;
+    m_surface = VK_NULL_HANDLE;
+    m_instance = VK_NULL_HANDLE;
+    m_fence = VK_NULL_HANDLE;
+    m_commandPool = VK_NULL_HANDLE;
+}
+
+uint32_t Context::findMemoryType(uint32_t typeBits, VkMemoryPropertyFlags required,
+                                 VkMemoryPropertyFlags preferred) const {
+    for (int pass = 0; pass < 2; ++pass) {
+        VkMemoryPropertyFlags wanted = pass == 0 ? (required | preferred) : required;
+        for (uint32_t i = 0; i < m_memory.memoryTypeCount; ++i)
+            if ((typeBits & (1u << i)) && (m_memory.memoryTypes[i].propertyFlags & wanted) == wanted)
+                return i;
+    }
+    throw GpuError("failed to find a suitable Vulkan memory type");
+}
+
+VkMemoryPropertyFlags Context::memoryTypeFlags(uint32_t type) const {
+    return m_memory.memoryTypes[type].propertyFlags;
+}
+
+void Context::submitAndWait(const std::function<void(VkCommandBuffer)>& record) const {
+    VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+    alloc.commandPool = m_commandPool;
+    alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+    alloc.commandBufferCount = 1;
+    VkCommandBuffer cmd = VK_NULL_HANDLE;
+    vkCheck(vkAllocateCommandBuffers(m_device, &alloc, &cmd), "allocate command buffer");
+    try {
+        VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+        begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+        vkCheck(vkBeginCommandBuffer(cmd, &begin), "begin command buffer");
+        record(cmd);
+        vkCheck(vkEndCommandBuffer(cmd), "end command buffer");
+        VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+        submit.commandBufferCount = 1;
+        submit.pCommandBuffers = &cmd;
+        vkCheck(vkResetFences(m_device, 1, &m_fence), "reset fence");
+        vkCheck(vkQueueSubmit(m_queue, 1, &submit, m_fence), "submit work to the GPU");
+        vkCheck(vkWaitForFences(m_device, 1, &m_fence, VK_TRUE, UINT64_MAX), "wait for the GPU");
+    } catch (...) {
+        vkFreeCommandBuffers(m_device, m_commandPool, 1, &cmd);
+        throw;
+    }
+    vkFreeCommandBuffers(m_device, m_commandPool, 1, &cmd);
+}
+
+}  // namespace penumbra::gpu

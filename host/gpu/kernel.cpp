@@ -1,0 +1,127 @@
+// Compute pipeline creation, descriptor updates and dispatch recording.
+#include "gpu/kernel.h"
+
+#include "gpu/shaders.h"
+#include "gpu/vk_check.h"
+
+namespace penumbra::gpu {
+
+Kernel::Kernel(const Context& context, std::string_view shaderName, std::vector<VkDescriptorType> bindings,
+               uint32_t pushConstantBytes, std::vector<uint32_t> specialization)
+    : m_context(context), m_name(shaderName), m_bindings(std::move(bindings)), m_pushBytes(pushConstantBytes) {
+    VkDevice device = context.device();
+    std::string what = " for shader " + m_name;
+    try {
+        auto code = shaderCode(shaderName);
+        VkShaderModuleCreateInfo moduleInfo{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+        moduleInfo.codeSize = code.size_bytes();
+        moduleInfo.pCode = code.data();
+        vkCheck(vkCreateShaderModule(device, &moduleInfo, nullptr, &m_module), ("create shader module" + what).c_str());
+
+        std::vector<VkDescriptorSetLayoutBinding> layoutBindings;
+        for (uint32_t i = 0; i < m_bindings.size(); ++i)
+            layoutBindings.push_back({i, m_bindings[i], 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
+        VkDescriptorSetLayoutCreateInfo setInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+        setInfo.bindingCount = uint32_t(layoutBindings.size());
+        setInfo.pBindings = layoutBindings.data();
+        vkCheck(vkCreateDescriptorSetLayout(device, &setInfo, nullptr, &m_setLayout),
+                ("create descriptor set layout" + what).c_str());
+
+        VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, m_pushBytes};
+        VkPipelineLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+        layoutInfo.setLayoutCount = 1;
+        layoutInfo.pSetLayouts = &m_setLayout;
+        layoutInfo.pushConstantRangeCount = m_pushBytes ? 1 : 0;
+        layoutInfo.pPushConstantRanges = &range;
+        vkCheck(vkCreatePipelineLayout(device, &layoutInfo, nullptr, &m_pipelineLayout),
+                ("create pipeline layout" + what).c_str());
+
+        std::vector<VkSpecializationMapEntry> entries;
+        for (uint32_t i = 0; i < specialization.size(); ++i)
+            entries.push_back({i, uint32_t(i * sizeof(uint32_t)), sizeof(uint32_t)});
+        VkSpecializationInfo specInfo{uint32_t(entries.size()), entries.data(),
+                                      specialization.size() * sizeof(uint32_t), specialization.data()};
+        VkComputePipelineCreateInfo pipelineInfo{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+        pipelineInfo.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+        pipelineInfo.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+        pipelineInfo.stage.module = m_module;
+        pipelineInfo.stage.pName = "main";
+        pipelineInfo.stage.pSpecializationInfo = entries.empty() ? nullptr : &specInfo;
+        pipelineInfo.layout = m_pipelineLayout;
+        vkCheck(vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &pipelineInfo, nullptr, &m_pipeline),
+                ("create compute pipeline" + what).c_str());
+
+        if (!m_bindings.empty()) {
+            std::vector<VkDescriptorPoolSize> sizes;
+            for (VkDescriptorType type : m_bindings) sizes.push_back({type, 1});
+            VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+            poolInfo.maxSets = 1;
+            poolInfo.poolSizeCount = uint32_t(sizes.size());
+            poolInfo.pPoolSizes = sizes.data();
+            vkCheck(vkCreateDescriptorPool(device, &poolInfo, nullptr, &m_pool), ("create descriptor pool" + what).c_str());
+            VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+            alloc.descriptorPool = m_pool;
+            alloc.descriptorSetCount = 1;
+            alloc.pSetLayouts = &m_setLayout;
+            vkCheck(vkAllocateDescriptorSets(device, &alloc, &m_set), ("allocate descriptor set" + what).c_str());
+        }
+    } catch (...) {
+        this->~Kernel();
+        throw;
+    }
+}
+
+Kernel::~Kernel() {
+    VkDevice device = m_context.device();
+    if (m_pool) vkDestroyDescriptorPool(device, m_pool, nullptr);
+    if (m_pipeline) vkDestroyPipeline(device, m_pipeline, nullptr);
+    if (m_pipelineLayout) vkDestroyPipelineLayout(device, m_pipelineLayout, nullptr);
+    if (m_setLayout) vkDestroyDescriptorSetLayout(device, m_setLayout, nullptr);
+    if (m_module) vkDestroyShaderModule(device, m_module, nullptr);
+    m_pool = VK_NULL_HANDLE;
+    m_pipeline = VK_NULL_HANDLE;
+    m_pipelineLayout = VK_NULL_HANDLE;
+    m_setLayout = VK_NULL_HANDLE;
+    m_module = VK_NULL_HANDLE;
+}
+
+void Kernel::bind(uint32_t binding, const Buffer& buffer) {
+    if (binding >= m_bindings.size()) throw GpuError("binding out of range for shader " + m_name);
+    VkDescriptorBufferInfo info{buffer.handle(), 0, VK_WHOLE_SIZE};
+    VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    write.dstSet = m_set;
+    write.dstBinding = binding;
+    write.descriptorCount = 1;
+    write.descriptorType = m_bindings[binding];
+    write.pBufferInfo = &info;
+    vkUpdateDescriptorSets(m_context.device(), 1, &write, 0, nullptr);
+}
+
+void Kernel::record(VkCommandBuffer cmd, uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ,
+                    const void* push) const {
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_pipeline);
+    if (m_set) vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_pipelineLayout, 0, 1, &m_set, 0, nullptr);
+    if (m_pushBytes && push)
+        vkCmdPushConstants(cmd, m_pipelineLayout, VK_SHADER_STAGE_COMPUTE_BIT, 0, m_pushBytes, push);
+    vkCmdDispatch(cmd, groupsX, groupsY, groupsZ);
+}
+
+void Kernel::run(uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ, const void* push) const {
+    m_context.submitAndWait([&](VkCommandBuffer cmd) {
+        record(cmd, groupsX, groupsY, groupsZ, push);
+        computeToComputeBarrier(cmd);
+    });
+}
+
+void computeToComputeBarrier(VkCommandBuffer cmd) {
+    // Shader writes of one dispatch -> shader reads/writes of the next, and host/transfer reads.
+    VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+    barrier.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT |
+                            VK_ACCESS_HOST_READ_BIT;
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_HOST_BIT,
+                         0, 1, &barrier, 0, nullptr, 0, nullptr);
+}
+
+}  // namespace penumbra::gpu

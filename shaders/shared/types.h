@@ -1,0 +1,159 @@
+// GPU data layouts shared by the C++ host and the GLSL shaders: defined once, here.
+// Every struct is std430 / std140 compatible (a vec3 is always followed by one 4-byte
+// scalar, so both sides agree without hidden padding); tests/test_layout.cpp checks
+// sizeof and offsetof on the C++ side. Binding numbers are macros so that GLSL can
+// use them inside layout() qualifiers.
+#ifndef PENUMBRA_SHARED_TYPES_H
+#define PENUMBRA_SHARED_TYPES_H
+
+#ifdef __cplusplus
+#include <cstdint>
+#include <glm/glm.hpp>
+namespace penumbra::gpu {
+using vec3 = glm::vec3;
+using vec4 = glm::vec4;
+using uint = std::uint32_t;
+#define PENUMBRA_CONST inline constexpr
+#else
+#define PENUMBRA_CONST const
+#endif
+
+// ---- Descriptor bindings of the render kernels (set 0) -------------------------------
+#define BINDING_PARAMS 0       // uniform RenderParams
+#define BINDING_ACCUM 1        // vec4 per pixel: rgb = sum of samples, w = sample count
+#define BINDING_NODES 2        // BvhNode[]
+#define BINDING_PRIMITIVES 3   // Primitive[] in BVH leaf order
+#define BINDING_NORMALS 4      // TriangleNormals[]
+#define BINDING_MATERIALS 5    // Material[]
+#define BINDING_LIGHTS 6       // Light[]
+#define BINDING_LIGHT_TABLE 7  // AliasEntry[]: light selection (item = light index)
+#define BINDING_MESH_TABLE 8   // AliasEntry[]: mesh-light triangles (item = primitive index)
+#define BINDING_COUNT 9
+
+// ---- BVH ------------------------------------------------------------------------------
+// Flattened depth-first: an interior node's left child is the next node, `offset` is the
+// right child; a leaf (primCount > 0) covers primitives[offset, offset + primCount).
+struct BvhNode {
+    vec3 boundsMin;
+    uint offset;
+    vec3 boundsMax;
+    uint primCount;
+};
+
+// ---- Primitives -----------------------------------------------------------------------
+PENUMBRA_CONST uint PRIM_TRIANGLE = 0u;  // p0, p1, p2 = vertices, counter-clockwise = front
+PENUMBRA_CONST uint PRIM_SPHERE = 1u;    // p0 = centre, p1.x = radius
+PENUMBRA_CONST uint PRIM_QUAD = 2u;      // p0 = origin, p1 = edge_u, p2 = edge_v
+PENUMBRA_CONST uint PRIM_TYPE_MASK = 3u;
+PENUMBRA_CONST uint NO_LIGHT = 0xffffffffu;
+
+// typeAndNormals: bits 0-1 the PRIM_* type; bits 2-31 hold (index into normals[] + 1),
+// 0 meaning "no shading normals, use the geometric normal".
+struct Primitive {
+    vec3 p0;
+    uint typeAndNormals;
+    vec3 p1;
+    uint material;  // index into materials[]
+    vec3 p2;
+    uint light;     // index into lights[] when the primitive emits, else NO_LIGHT
+};
+
+struct TriangleNormals {
+    vec4 n0, n1, n2;  // per-vertex shading normals (xyz), interpolated barycentrically
+};
+
+// ---- Materials (SCENE_FORMAT.md) -------------------------------------------------------
+PENUMBRA_CONST uint MATERIAL_DIFFUSE = 0u;  // kd = albedo, ks = 0
+PENUMBRA_CONST uint MATERIAL_PHONG = 1u;    // kd/pi + ks (n+2)/(2pi) cos^n(alpha)
+
+struct Material {
+    vec3 kd;
+    uint type;
+    vec3 ks;
+    float exponent;
+};
+
+// ---- Lights -----------------------------------------------------------------------------
+PENUMBRA_CONST uint LIGHT_POINT = 0u;        // position, emission = intensity (W/sr)
+PENUMBRA_CONST uint LIGHT_DIRECTIONAL = 1u;  // position = unit direction of travel, emission = irradiance
+PENUMBRA_CONST uint LIGHT_ENVIRONMENT = 2u;  // emission = constant radiance
+PENUMBRA_CONST uint LIGHT_SPHERE = 3u;       // first = primitive index, emission = radiance
+PENUMBRA_CONST uint LIGHT_QUAD = 4u;         // first = primitive index, emission = radiance
+PENUMBRA_CONST uint LIGHT_MESH = 5u;         // meshTable[first, first + count), emission = radiance
+PENUMBRA_CONST uint LIGHT_TWO_SIDED = 1u;    // flags bit: quad / mesh emit from both faces
+
+struct Light {
+    uint type;
+    uint first;
+    uint count;
+    uint flags;
+    vec3 emission;
+    float area;            // total emitting area (area lights), else 0
+    vec3 position;
+    float selectionProb;   // probability that light selection picks this light
+};
+
+// Walker/Vose alias table entry: pick slot i uniformly, keep it with `probability`,
+// otherwise take `alias`. `pmf` is the discrete probability of slot i itself.
+struct AliasEntry {
+    float probability;
+    uint alias;
+    uint item;
+    float pmf;
+};
+
+// ---- Integrator options ---------------------------------------------------------------
+PENUMBRA_CONST uint INTEGRATOR_AO = 0u;
+PENUMBRA_CONST uint INTEGRATOR_DIRECT = 1u;
+
+PENUMBRA_CONST uint AO_UNIFORM = 0u;
+PENUMBRA_CONST uint AO_COSINE = 1u;
+
+PENUMBRA_CONST uint STRATEGY_LIGHT = 0u;
+PENUMBRA_CONST uint STRATEGY_BSDF = 1u;
+PENUMBRA_CONST uint STRATEGY_MIS = 2u;
+PENUMBRA_CONST uint STRATEGY_MIXTURE = 3u;
+
+PENUMBRA_CONST uint HEURISTIC_BALANCE = 0u;
+PENUMBRA_CONST uint HEURISTIC_POWER = 1u;
+
+PENUMBRA_CONST uint SPHERE_AREA = 0u;
+PENUMBRA_CONST uint SPHERE_CAP = 1u;
+PENUMBRA_CONST uint SPHERE_SOLID_ANGLE = 2u;
+
+// Everything a render kernel needs besides the scene arrays; set once per render.
+struct RenderParams {
+    vec3 eye;
+    float tanHalfFovY;
+    vec3 right;      // unit camera basis, right-handed: forward = -w
+    float aspect;    // width / height
+    vec3 up;
+    uint width;
+    vec3 forward;
+    uint height;
+    uint seed;
+    uint sampleOffset;
+    uint integrator;     // INTEGRATOR_*
+    uint lightCount;
+    uint aoSampling;     // AO_*
+    float aoMaxDistance;
+    uint strategy;       // STRATEGY_*
+    uint heuristic;      // HEURISTIC_*
+    uint lightSamples;
+    uint bsdfSamples;
+    uint sphereSampling; // SPHERE_*
+    uint nodeCount;
+};
+
+// Per-dispatch constants: which sample index this pass adds for every pixel.
+struct PassConstants {
+    uint sampleIndex;  // relative to sampleOffset
+    uint pixelOffset;  // first pixel of this dispatch (row-major), for partial dispatches
+    uint pixelCount;   // number of pixels in this dispatch
+    uint pad;
+};
+
+#ifdef __cplusplus
+}  // namespace penumbra::gpu
+#endif
+#endif

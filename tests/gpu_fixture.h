@@ -1,0 +1,18 @@
+// Shared test helpers: one lavapipe Context for the whole test binary, and where tests
+// write what a human may want to look at after a failure (build/test-output/).
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include "gpu/context.h"
+
+namespace penumbra::test {
+
+// The process-wide GPU context (created on first use, lives until exit).
+gpu::Context& gpuContext();
+
+// build/test-output/<name>, with the directory created.
+std::filesystem::path outputPath(const std::string& name);
+
+}  // namespace penumbra::test

@@ -1,0 +1,34 @@
+// The GPU structs of shaders/shared/types.h have the std430 sizes and offsets the GLSL
+// side assumes (a vec3 followed by one scalar packs into 16 bytes).
+#include <cstddef>
+
+#include <gtest/gtest.h>
+
+#include "shared/types.h"
+
+using namespace penumbra::gpu;
+
+static_assert(sizeof(BvhNode) == 32 && offsetof(BvhNode, offset) == 12 && offsetof(BvhNode, boundsMax) == 16 &&
+              offsetof(BvhNode, primCount) == 28);
+static_assert(sizeof(Primitive) == 48 && offsetof(Primitive, typeAndNormals) == 12 &&
+              offsetof(Primitive, p1) == 16 && offsetof(Primitive, material) == 28 && offsetof(Primitive, p2) == 32 &&
+              offsetof(Primitive, light) == 44);
+static_assert(sizeof(TriangleNormals) == 48);
+static_assert(sizeof(Material) == 32 && offsetof(Material, type) == 12 && offsetof(Material, ks) == 16 &&
+              offsetof(Material, exponent) == 28);
+static_assert(sizeof(Light) == 48 && offsetof(Light, emission) == 16 && offsetof(Light, area) == 28 &&
+              offsetof(Light, position) == 32 && offsetof(Light, selectionProb) == 44);
+static_assert(sizeof(AliasEntry) == 16);
+static_assert(sizeof(RenderParams) % 16 == 0 && offsetof(RenderParams, right) == 16 &&
+              offsetof(RenderParams, up) == 32 && offsetof(RenderParams, width) == 44 &&
+              offsetof(RenderParams, forward) == 48 && offsetof(RenderParams, height) == 60 &&
+              offsetof(RenderParams, seed) == 64);
+static_assert(sizeof(PassConstants) == 16);
+
+TEST(Layout, StructSizesMatchStd430) {
+    // The static_asserts above are the test; this records the sizes in the test log.
+    EXPECT_EQ(sizeof(BvhNode), 32u);
+    EXPECT_EQ(sizeof(Primitive), 48u);
+    EXPECT_EQ(sizeof(Light), 48u);
+    EXPECT_EQ(sizeof(RenderParams) % 16, 0u);
+}
