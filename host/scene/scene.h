@@ -107,6 +107,9 @@ struct Scene {
     std::vector<Material> materials;  // index 0 is always the default diffuse 0.8
     std::vector<Shape> shapes;
     std::vector<Light> lights;
+    // One-line notes for the user (stderr unless --quiet), e.g. that an unlit glTF model
+    // is lit by a white environment instead.
+    std::vector<std::string> notes;
 };
 
 }  // namespace penumbra

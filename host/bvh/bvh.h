@@ -1,0 +1,46 @@
+// Bounding volume hierarchy over all primitives (triangles, spheres, quads in one tree):
+// binned SAH build, depth-first flattening for the GPU (shaders/geometry/bvh.glsl), and a
+// CPU traversal of the same flat nodes used by tests and tools.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "shared/types.h"
+
+namespace penumbra {
+
+struct BvhOptions {
+    uint32_t maxLeafSize = 4;  // primitives per leaf at most (fewer when SAH says so)
+    uint32_t binCount = 16;    // SAH bins per axis
+};
+
+struct Bvh {
+    std::vector<gpu::BvhNode> nodes;          // nodes[0] is the root
+    std::vector<gpu::Primitive> primitives;   // reordered so every leaf is a contiguous range
+    std::vector<uint32_t> originalIndex;      // primitives[i] was input primitive originalIndex[i]
+    float sahCost = 0.0f;                     // SAH cost of the tree (traversal 1, intersection 1)
+};
+
+// Builds the tree; `primitives` may be empty (one empty leaf that nothing hits).
+Bvh buildBvh(std::vector<gpu::Primitive> primitives, const BvhOptions& options = {});
+
+struct CpuHit {
+    float t = 0.0f;
+    uint32_t primitive = 0;  // index into Bvh::primitives (leaf order)
+    glm::vec2 uv{0.0f};      // triangle: barycentrics of v1, v2; quad: (s, t); sphere: unused
+};
+
+// Closest hit with t in (0, tMax), and whether any hit exists; the same formulas as the GLSL.
+std::optional<CpuHit> intersectClosest(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax);
+bool intersectAny(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax);
+// Every primitive tested in turn: the reference the BVH must agree with.
+std::optional<CpuHit> intersectBruteForce(const std::vector<gpu::Primitive>& primitives, glm::vec3 origin,
+                                          glm::vec3 dir, float tMax);
+// Bounds of one primitive.
+void primitiveBounds(const gpu::Primitive& primitive, glm::vec3& lo, glm::vec3& hi);
+
+}  // namespace penumbra

@@ -1,0 +1,57 @@
+// Images on the host: linear RGB float pixels with Penumbra's render metadata, and the
+// operations the command line offers on them (EXR/PNG files, merge, compare).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace penumbra {
+
+// The EXR header attributes of SCENE_FORMAT.md; absent ones are nullopt.
+struct ImageMetadata {
+    std::optional<int> spp;               // penumbra:spp
+    std::optional<int> seed;              // penumbra:seed
+    std::optional<int> sampleOffset;      // penumbra:sample_offset
+    std::optional<std::string> integrator;  // penumbra:integrator (JSON text)
+    std::optional<double> renderSeconds;  // penumbra:render_seconds
+};
+
+struct Image {
+    uint32_t width = 0;
+    uint32_t height = 0;
+    std::vector<float> rgb;  // width * height * 3, row-major, pixel (0,0) top left
+    ImageMetadata meta;
+
+    float* pixel(uint32_t x, uint32_t y) { return &rgb[(size_t(y) * width + x) * 3]; }
+    const float* pixel(uint32_t x, uint32_t y) const { return &rgb[(size_t(y) * width + x) * 3]; }
+};
+
+// Writes R, G, B as 32-bit float with the metadata as header attributes. Atomic: writes
+// a temporary file beside `path` and renames it; throws std::runtime_error on failure.
+void writeExr(const std::filesystem::path& path, const Image& image);
+// Reads an EXR (R, G, B; missing channels are an error). Throws InputError("FILE: why").
+Image readExr(const std::filesystem::path& path);
+// sRGB 8-bit PNG of exposure-scaled, clamped radiance; atomic like writeExr.
+void writePng(const std::filesystem::path& path, const Image& image, float exposure = 0.0f);
+// 8-bit sRGB encoding of one linear value (clamped), shared with the preview's tone map.
+uint8_t linearToSrgb8(float linear);
+
+// Averages partial renders weighted by penumbra:spp; the result's spp is their sum.
+// Throws InputError naming the file when sizes differ, spp is missing, or two partials
+// with the same seed overlap in sample indices. `names` label the images in messages.
+Image mergeImages(const std::vector<Image>& images, const std::vector<std::string>& names);
+
+struct CompareMetrics {
+    double rmse = 0;    // sqrt(mean (a-b)^2)
+    double relmse = 0;  // mean (a-b)^2 / (b^2 + 1e-2)
+    double meanA = 0;
+    double meanB = 0;
+    double maxAbs = 0;  // max |a-b|
+};
+// Over all pixels and channels; throws InputError when the sizes differ.
+CompareMetrics compareImages(const Image& a, const Image& b);
+
+}  // namespace penumbra

@@ -1,0 +1,34 @@
+// Loading scenes: JSON scene files (SCENE_FORMAT.md) and glTF 2.0 files rendered directly.
+// Every problem with the input throws InputError naming the file and the JSON path (or the
+// line and column of a JSON syntax error); nothing is written before loading succeeds.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "scene/scene.h"
+
+namespace penumbra {
+
+// One `--set PATH=VALUE` (the shorthands --spp/--seed/--width/--height become these too).
+struct Override {
+    std::string path;   // dotted JSON path with [i] indices, e.g. "lights[0].power"
+    std::string value;  // parsed as JSON, falling back to a plain string
+};
+
+// Splits "PATH=VALUE" at the first '='; throws InputError("--set ...: ...") when malformed.
+Override parseOverride(const std::string& text);
+
+// Sets `doc` at `override.path` to the override's value, creating missing objects on the
+// way (and appending when an index equals the array's size). Throws InputError.
+void applyOverride(nlohmann::json& doc, const Override& override);
+
+// Loads a scene: *.json as a scene file, *.gltf / *.glb as a glTF model rendered on its
+// own (SCENE_FORMAT.md "glTF input"). Overrides are applied to the JSON document before
+// validation (for glTF input, to the scene document that wraps the model).
+Scene loadScene(const std::filesystem::path& file, const std::vector<Override>& overrides = {});
+
+}  // namespace penumbra
