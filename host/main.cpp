@@ -1,1 +1,100 @@
-int main() { return 0; }
+// The command line (SCENE_FORMAT.md): parses arguments, runs one subcommand, and maps
+// failures to exit statuses: 0 success, 2 bad usage or bad input, 1 anything else.
+#include <cstdio>
+#include <exception>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "cli/commands.h"
+#include "core/errors.h"
+
+using namespace penumbra;
+
+namespace {
+
+// One line on stderr, whatever the message contains.
+void printError(const std::string& message) {
+    std::string line = message;
+    for (char& c : line)
+        if (c == '\n' || c == '\r') c = ' ';
+    std::fprintf(stderr, "penumbra: %s\n", line.c_str());
+}
+
+void addRenderOptions(CLI::App* cmd, RenderOptions& options, std::vector<std::string>& sets, std::string& spp,
+                      std::string& seed, std::string& width, std::string& height) {
+    cmd->add_option("scene", options.scene, "scene file (.json) or glTF model (.gltf/.glb)")->required();
+    cmd->add_option("--set", sets, "override a scene value by its JSON path: PATH=VALUE (repeatable)")
+        ->allow_extra_args(false);
+    cmd->add_option("--spp", spp, "samples per pixel (= --set sampler.spp=N)");
+    cmd->add_option("--seed", seed, "random seed (= --set sampler.seed=S)");
+    cmd->add_option("--width", width, "film width (= --set film.width=W)");
+    cmd->add_option("--height", height, "film height (= --set film.height=H)");
+    cmd->add_option("--device", options.device, "Vulkan device index (see 'penumbra devices'; or PENUMBRA_DEVICE)");
+    cmd->add_flag("--quiet", options.quiet, "no progress or notes on stderr");
+}
+
+std::vector<Override> collectOverrides(const std::vector<std::string>& sets, const std::string& spp,
+                                       const std::string& seed, const std::string& width, const std::string& height) {
+    std::vector<Override> overrides;
+    for (const std::string& s : sets) overrides.push_back(parseOverride(s));
+    if (!spp.empty()) overrides.push_back({"sampler.spp", spp});
+    if (!seed.empty()) overrides.push_back({"sampler.seed", seed});
+    if (!width.empty()) overrides.push_back({"film.width", width});
+    if (!height.empty()) overrides.push_back({"film.height", height});
+    return overrides;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"penumbra: direct illumination on Vulkan compute"};
+    app.require_subcommand(1);
+
+    RenderOptions render;
+    std::vector<std::string> sets;
+    std::string spp, seed, width, height;
+    CLI::App* renderCmd = app.add_subcommand("render", "render a scene or glTF model to OpenEXR");
+    addRenderOptions(renderCmd, render, sets, spp, seed, width, height);
+    renderCmd->add_option("-o,--output", render.output, "output EXR (default: SCENE-stem.exr here)");
+    renderCmd->add_option("--png", render.png, "also write an sRGB 8-bit PNG");
+
+    std::vector<std::string> mergeInputs;
+    std::string mergeOutput;
+    CLI::App* mergeCmd = app.add_subcommand("merge", "average partial renders weighted by their spp");
+    mergeCmd->add_option("inputs", mergeInputs, "partial renders (EXR)")->required();
+    mergeCmd->add_option("-o,--output", mergeOutput, "merged EXR")->required();
+
+    std::string compareA, compareB;
+    CLI::App* compareCmd = app.add_subcommand("compare", "error metrics between two images (b is the reference)");
+    compareCmd->add_option("a", compareA, "image")->required();
+    compareCmd->add_option("b", compareB, "reference image")->required();
+
+    CLI::App* devicesCmd = app.add_subcommand("devices", "list Vulkan devices; '*' marks the one used");
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        if (e.get_exit_code() == 0) return app.exit(e);  // --help
+        printError(e.what() + std::string(" (see penumbra --help)"));
+        return 2;
+    }
+
+    try {
+        if (renderCmd->parsed()) {
+            render.overrides = collectOverrides(sets, spp, seed, width, height);
+            return renderCommand(render);
+        }
+        if (mergeCmd->parsed()) return mergeCommand(mergeInputs, mergeOutput);
+        if (compareCmd->parsed()) return compareCommand(compareA, compareB);
+        if (devicesCmd->parsed()) return devicesCommand();
+    } catch (const InputError& e) {
+        printError(e.what());
+        return 2;
+    } catch (const std::exception& e) {
+        printError(e.what());
+        return 1;
+    }
+    return 2;
+}

@@ -143,13 +143,26 @@ struct RenderParams {
     uint bsdfSamples;
     uint sphereSampling; // SPHERE_*
     uint nodeCount;
+    // Light selection tables, all in lightTable[]: [0, lightCount) picks any light with
+    // probability Light::selectionProb; the delta-only table (points, directionals) and the
+    // continuous-only table (area lights, environment) follow, each with its own pmf. The
+    // scales turn selectionProb into the probability within those sub-tables.
+    uint deltaTableOffset;
+    uint deltaCount;
+    uint continuousTableOffset;
+    uint continuousCount;
+    float deltaScale;       // 1 / (sum of selectionProb over delta lights), 0 if none
+    float continuousScale;  // 1 / (sum of selectionProb over continuous lights), 0 if none
+    uint environmentLight;  // index of the (single, merged) environment light, or NO_LIGHT
+    uint pad0;
 };
 
-// Per-dispatch constants: which sample index this pass adds for every pixel.
+// Per-dispatch constants: which sample index this pass adds, to which rows of pixels
+// (the preview renders a band of rows per frame to stay responsive).
 struct PassConstants {
     uint sampleIndex;  // relative to sampleOffset
-    uint pixelOffset;  // first pixel of this dispatch (row-major), for partial dispatches
-    uint pixelCount;   // number of pixels in this dispatch
+    uint firstRow;
+    uint rowCount;
     uint pad;
 };
 

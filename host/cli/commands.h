@@ -1,0 +1,29 @@
+// The subcommands of the penumbra program, one function each; main.cpp only parses the
+// command line and maps exceptions to exit statuses (InputError 2, anything else 1).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "scene/load.h"
+
+namespace penumbra {
+
+struct RenderOptions {
+    std::string scene;
+    std::string output;     // empty: <scene stem>.exr in the working directory
+    std::string png;        // empty: no PNG
+    std::vector<Override> overrides;
+    int device = -1;
+    bool quiet = false;
+};
+
+int renderCommand(const RenderOptions& options);
+int mergeCommand(const std::vector<std::string>& inputs, const std::string& output);
+int compareCommand(const std::string& a, const std::string& b);
+int devicesCommand();
+
+// Prints one-line notes to stderr unless quiet (e.g. "model.glb: no lights ...").
+void printNotes(const std::vector<std::string>& notes, bool quiet);
+
+}  // namespace penumbra

@@ -1,0 +1,76 @@
+// `penumbra render`: load, render on the GPU with progress on stderr, write EXR (+ PNG).
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <unistd.h>
+
+#include "cli/commands.h"
+#include "gpu/context.h"
+#include "image/image.h"
+#include "render/renderer.h"
+
+namespace penumbra {
+namespace {
+
+std::atomic<bool> g_interrupted{false};
+extern "C" void onInterrupt(int) { g_interrupted = true; }
+
+// Fails early (exit 1) when the output cannot be written, instead of after the render.
+void checkWritableDirectory(const std::filesystem::path& file) {
+    std::filesystem::path dir = file.parent_path();
+    if (dir.empty()) dir = ".";
+    std::error_code ec;
+    if (!std::filesystem::is_directory(dir, ec))
+        throw std::runtime_error("cannot write " + file.string() + ": directory " + dir.string() + " does not exist");
+    if (access(dir.c_str(), W_OK) != 0)
+        throw std::runtime_error("cannot write " + file.string() + ": directory " + dir.string() + " is not writable");
+}
+
+}  // namespace
+
+void printNotes(const std::vector<std::string>& notes, bool quiet) {
+    if (quiet) return;
+    for (const std::string& note : notes) std::cerr << "penumbra: " << note << "\n";
+}
+
+int renderCommand(const RenderOptions& options) {
+    Scene scene = loadScene(options.scene, options.overrides);
+    std::filesystem::path output = options.output.empty() ? std::filesystem::path(scene.name + ".exr")
+                                                           : std::filesystem::path(options.output);
+    checkWritableDirectory(output);
+    if (!options.png.empty()) checkWritableDirectory(options.png);
+    printNotes(scene.notes, options.quiet);
+
+    gpu::ContextOptions contextOptions;
+    contextOptions.deviceIndex = options.device;
+    gpu::Context context(contextOptions);
+
+    const bool showProgress = !options.quiet && isatty(STDERR_FILENO);
+    auto start = std::chrono::steady_clock::now();
+    Renderer renderer(context, scene);
+    const uint64_t pixels = uint64_t(scene.film.width) * scene.film.height;
+    auto progress = [&](const RenderProgress& p) {
+        if (!showProgress) return;
+        double rate = p.seconds > 0 ? double(p.samplesDone) * pixels / p.seconds : 0.0;
+        double left = p.samplesDone > 0 ? p.seconds * (p.samplesTotal - p.samplesDone) / p.samplesDone : 0.0;
+        std::fprintf(stderr, "\rpenumbra: %u/%u spp  %.2f M samples/s  %.1f s left   ", p.samplesDone, p.samplesTotal,
+                     rate * 1e-6, left);
+        std::fflush(stderr);
+    };
+    auto previous = std::signal(SIGINT, onInterrupt);
+    std::signal(SIGTERM, onInterrupt);
+    renderer.renderAll(progress, &g_interrupted);
+    std::signal(SIGINT, previous);
+    double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (showProgress) std::fprintf(stderr, "\rpenumbra: %u spp in %.2f s%40s\n", scene.sampler.spp, seconds, "");
+
+    Image image = renderer.readback(seconds);
+    writeExr(output, image);
+    if (!options.png.empty()) writePng(options.png, image);
+    return 0;
+}
+
+}  // namespace penumbra

@@ -1,0 +1,112 @@
+// Scene upload, pass recording and readback (see renderer.h).
+#include "render/renderer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <stdexcept>
+
+#include "gpu/vk_check.h"
+
+namespace penumbra {
+namespace {
+
+constexpr uint32_t kTile = 8;  // local_size_x/y of the integrator kernels
+
+const char* kernelName(IntegratorType type) {
+    return type == IntegratorType::AmbientOcclusion ? "integrators/ao" : "integrators/direct";
+}
+
+}  // namespace
+
+std::vector<VkDescriptorType> renderBindings() {
+    std::vector<VkDescriptorType> types(BINDING_COUNT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+    types[BINDING_PARAMS] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    return types;
+}
+
+Renderer::Renderer(const gpu::Context& context, const Scene& scene)
+    : m_context(context), m_scene(scene), m_arrays(buildSceneArrays(scene)), m_params(makeRenderParams(scene, m_arrays)) {
+    using gpu::Buffer;
+    m_paramsBuffer = Buffer(context, sizeof(gpu::RenderParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
+    m_paramsBuffer.upload(&m_params, sizeof(m_params));
+    m_accum = Buffer(context, VkDeviceSize(m_params.width) * m_params.height * sizeof(glm::vec4),
+                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    m_nodes = Buffer::fromVector(context, m_arrays.bvh.nodes);
+    m_primitives = Buffer::fromVector(context, m_arrays.bvh.primitives);
+    m_normals = Buffer::fromVector(context, m_arrays.normals);
+    m_materials = Buffer::fromVector(context, m_arrays.materials);
+    m_lights = Buffer::fromVector(context, m_arrays.lights);
+    m_lightTable = Buffer::fromVector(context, m_arrays.lightTable);
+    m_meshTable = Buffer::fromVector(context, m_arrays.meshTable);
+
+    m_kernel = std::make_unique<gpu::Kernel>(context, kernelName(scene.integrator.type), renderBindings(),
+                                             uint32_t(sizeof(gpu::PassConstants)));
+    m_kernel->bind(BINDING_PARAMS, m_paramsBuffer);
+    m_kernel->bind(BINDING_ACCUM, m_accum);
+    m_kernel->bind(BINDING_NODES, m_nodes);
+    m_kernel->bind(BINDING_PRIMITIVES, m_primitives);
+    m_kernel->bind(BINDING_NORMALS, m_normals);
+    m_kernel->bind(BINDING_MATERIALS, m_materials);
+    m_kernel->bind(BINDING_LIGHTS, m_lights);
+    m_kernel->bind(BINDING_LIGHT_TABLE, m_lightTable);
+    m_kernel->bind(BINDING_MESH_TABLE, m_meshTable);
+    reset();
+}
+
+void Renderer::reset() { m_accum.clear(); }
+
+void Renderer::recordPasses(VkCommandBuffer cmd, uint32_t first, uint32_t count, uint32_t firstRow,
+                            uint32_t rowCount) const {
+    rowCount = std::min(rowCount, m_params.height - std::min(firstRow, m_params.height));
+    if (rowCount == 0) return;
+    uint32_t groupsX = (m_params.width + kTile - 1) / kTile;
+    uint32_t groupsY = (rowCount + kTile - 1) / kTile;
+    for (uint32_t i = 0; i < count; ++i) {
+        gpu::PassConstants pass{first + i, firstRow, rowCount, 0};
+        m_kernel->record(cmd, groupsX, groupsY, 1, &pass);
+        gpu::computeToComputeBarrier(cmd);  // this pass's sums -> the next pass / readback
+    }
+}
+
+void Renderer::renderAll(const std::function<void(const RenderProgress&)>& progress, const std::atomic<bool>* cancel) {
+    using Clock = std::chrono::steady_clock;
+    const uint32_t total = m_scene.sampler.spp;
+    const auto start = Clock::now();
+    uint32_t done = 0, batch = 1;
+    // Grow the number of passes per submission until one takes about a quarter second:
+    // few submissions, yet progress (and cancellation) still several times a second.
+    while (done < total) {
+        if (cancel && cancel->load()) throw std::runtime_error("render interrupted");
+        uint32_t count = std::min(batch, total - done);
+        auto t0 = Clock::now();
+        m_context.submitAndWait([&](VkCommandBuffer cmd) { recordPasses(cmd, done, count, 0, m_params.height); });
+        double took = std::chrono::duration<double>(Clock::now() - t0).count();
+        done += count;
+        if (took < 0.1 && batch < 1024) batch *= 2;
+        else if (took > 0.5 && batch > 1) batch /= 2;
+        if (progress) progress({done, total, std::chrono::duration<double>(Clock::now() - start).count()});
+    }
+}
+
+Image Renderer::readback(double renderSeconds) const {
+    auto sums = m_accum.read<glm::vec4>();
+    Image image;
+    image.width = m_params.width;
+    image.height = m_params.height;
+    image.rgb.resize(size_t(image.width) * image.height * 3);
+    for (size_t i = 0; i < size_t(image.width) * image.height; ++i) {
+        glm::vec4 s = sums[i];
+        float inv = s.w > 0.0f ? 1.0f / s.w : 0.0f;
+        image.rgb[3 * i + 0] = s.x * inv;
+        image.rgb[3 * i + 1] = s.y * inv;
+        image.rgb[3 * i + 2] = s.z * inv;
+    }
+    image.meta.spp = int(m_scene.sampler.spp);
+    image.meta.seed = int(m_scene.sampler.seed);
+    image.meta.sampleOffset = int(m_scene.sampler.sampleOffset);
+    image.meta.integrator = m_scene.integrator.json.dump();
+    image.meta.renderSeconds = renderSeconds;
+    return image;
+}
+
+}  // namespace penumbra

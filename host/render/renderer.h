@@ -1,0 +1,60 @@
+// Renders a scene on the GPU by progressive accumulation: the scene is uploaded once,
+// each pass adds one sample per pixel (for a band of rows) into a sum buffer, and the
+// image is read back once at the end. The preview and batch modes drive the same object.
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <memory>
+
+#include "gpu/buffer.h"
+#include "gpu/context.h"
+#include "gpu/kernel.h"
+#include "image/image.h"
+#include "render/scene_arrays.h"
+#include "scene/scene.h"
+
+namespace penumbra {
+
+struct RenderProgress {
+    uint32_t samplesDone = 0;  // per pixel
+    uint32_t samplesTotal = 0;
+    double seconds = 0.0;      // since the render started
+};
+
+class Renderer {
+public:
+    Renderer(const gpu::Context& context, const Scene& scene);
+
+    // Clears the accumulation buffer (the next sample index restarts at 0).
+    void reset();
+    // Records `count` passes, sample indices [first, first + count), over rows
+    // [firstRow, firstRow + rowCount) into `cmd`, each followed by a barrier.
+    void recordPasses(VkCommandBuffer cmd, uint32_t first, uint32_t count, uint32_t firstRow, uint32_t rowCount) const;
+    // Runs passes until the scene's spp is reached, calling `progress` after each
+    // submission. Stops early (throwing std::runtime_error) if `cancel` becomes true.
+    void renderAll(const std::function<void(const RenderProgress&)>& progress = {},
+                   const std::atomic<bool>* cancel = nullptr);
+    // Mean of the accumulated samples, with metadata (spp, seed, offset, integrator).
+    Image readback(double renderSeconds) const;
+
+    const Scene& scene() const { return m_scene; }
+    const SceneArrays& arrays() const { return m_arrays; }
+    const gpu::Buffer& accumulation() const { return m_accum; }
+    const gpu::RenderParams& params() const { return m_params; }
+
+private:
+    const gpu::Context& m_context;
+    Scene m_scene;
+    SceneArrays m_arrays;
+    gpu::RenderParams m_params;
+    // Declaration order is teardown order in reverse: the kernel goes before the buffers.
+    gpu::Buffer m_paramsBuffer, m_accum, m_nodes, m_primitives, m_normals, m_materials, m_lights, m_lightTable,
+        m_meshTable;
+    std::unique_ptr<gpu::Kernel> m_kernel;
+};
+
+// The layout of the render kernels' descriptor set (BINDING_* of shaders/shared/types.h).
+std::vector<VkDescriptorType> renderBindings();
+
+}  // namespace penumbra

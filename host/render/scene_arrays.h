@@ -1,0 +1,39 @@
+// Flattens a Scene into the arrays the render kernels read (shaders/shared/types.h):
+// primitives in BVH order, materials, lights and the two alias tables. Pure CPU work done
+// once per scene; uploading is the Renderer's job.
+#pragma once
+
+#include <vector>
+
+#include "bvh/bvh.h"
+#include "scene/scene.h"
+#include "shared/types.h"
+
+namespace penumbra {
+
+struct SceneArrays {
+    Bvh bvh;                                    // nodes + primitives (leaf order)
+    std::vector<gpu::TriangleNormals> normals;
+    std::vector<gpu::Material> materials;
+    std::vector<gpu::Light> lights;
+    std::vector<gpu::AliasEntry> lightTable;    // light selection
+    std::vector<gpu::AliasEntry> meshTable;     // triangles of all mesh lights, light by light
+    uint32_t deltaTableOffset = 0, deltaCount = 0;            // sub-tables of lightTable
+    uint32_t continuousTableOffset = 0, continuousCount = 0;
+    float deltaScale = 0.0f, continuousScale = 0.0f;
+    uint32_t environmentLight = gpu::NO_LIGHT;
+    glm::vec3 boundsCenter{0.0f};               // bounding sphere of the geometry
+    float boundsRadius = 0.0f;
+};
+
+SceneArrays buildSceneArrays(const Scene& scene, const BvhOptions& bvhOptions = {});
+
+// Power (mean of RGB, watts) used for light selection "power" (SCENE_FORMAT.md): area
+// lights pi * Le * area (twice for two-sided), points 4 pi I, directional pi R^2 E and the
+// environment 4 pi^2 R^2 L for the scene's bounding radius R (as pbrt-v4 does).
+double lightPower(const gpu::Light& light, float sceneRadius);
+
+// The RenderParams for a scene (camera basis, film, sampler, integrator options).
+gpu::RenderParams makeRenderParams(const Scene& scene, const SceneArrays& arrays);
+
+}  // namespace penumbra

@@ -1,0 +1,185 @@
+// One bounce of direct illumination (SCENE_FORMAT.md "direct"; lecture, "Importance
+// Sampling Incident Radiance" onwards): emitted radiance seen by the camera ray, plus light
+// reflected once from every light, estimated with one of four strategies:
+//   light    N1 light samples              (f Le cos / (P(l) p_l))
+//   bsdf     N2 BRDF samples               (f Le cos / p_f), counted when they hit an emitter
+//   mis      N1 light + N2 BRDF samples weighted by the balance or power heuristic
+//   mixture  N1 + N2 samples from 0.5 p_light + 0.5 p_f (lecture, "Sample from Average PDF")
+// Delta lights cannot be hit: every strategy samples them explicitly (light and mis through
+// the full selection table; bsdf and mixture with one delta-only draw per sample).
+#version 450
+#extension GL_GOOGLE_include_directive : require
+
+#include "integrators/kernel_common.glsl"
+#include "geometry/bvh.glsl"
+#include "geometry/surface.glsl"
+#include "sampling/warp.glsl"
+#include "lights/lights.glsl"
+#include "bsdf/bsdf.glsl"
+#include "integrators/mis.glsl"
+
+layout(std430, binding = BINDING_MATERIALS) readonly restrict buffer Materials { Material materials[]; };
+
+// The shading point, with normals turned to the viewer's side (two-sided materials).
+struct Shading {
+    vec3 x;       // position
+    vec3 origin;  // x offset off the surface for rays leaving on the viewer's side
+    vec3 ng;      // geometric normal
+    vec3 ns;      // shading normal
+    vec3 wo;      // toward the viewer
+    Material m;
+};
+
+// The shadow ray toward a light sample stops just short of the sampled point, so that
+// the light's own surface does not count as an occluder.
+bool visible(Shading s, LightSample ls) {
+    float tMax = ls.dist == FLOAT_MAX ? FLOAT_MAX : ls.dist * (1.0 - 1e-4);
+    return !traceAny(s.origin, ls.wi, tMax);
+}
+
+// f * cos for a direction, zero below either normal.
+vec3 reflectance(Shading s, vec3 wi) {
+    float cosI = dot(wi, s.ns);
+    if (cosI <= 0.0 || dot(wi, s.ng) <= 0.0) return vec3(0.0);
+    return bsdfEval(s.m, s.ns, s.wo, wi) * cosI;
+}
+
+// One sample of light `index` drawn with probability `pmf` from a selection table.
+// weighting: 0 = none, 1 = MIS against N2 BRDF samples, 2 = mixture density.
+vec3 lightSampleEstimate(Shading s, uint index, float pmf, int weighting, float nLight, float nBsdf,
+                         inout Rng rng) {
+    vec3 u = vec3(rand2(rng), rand1(rng));
+    LightSample ls;
+    if (!(pmf > 0.0) || !sampleLight(index, s.x, s.ns, u, params.sphereSampling, ls)) return vec3(0.0);
+    vec3 fc = reflectance(s, ls.wi);
+    if (fc == vec3(0.0) || !visible(s, ls)) return vec3(0.0);
+    if (ls.isDelta) return fc * ls.radiance / pmf;
+    float pLight = pmf * ls.pdf;
+    float density = pLight;
+    float weight = 1.0;
+    if (weighting == 1) {
+        weight = misWeight(nLight * pLight, nBsdf * bsdfPdf(s.m, s.ns, s.wo, ls.wi), params.heuristic);
+    } else if (weighting == 2) {
+        density = 0.5 * pLight + 0.5 * bsdfPdf(s.m, s.ns, s.wo, ls.wi);
+    }
+    return fc * ls.radiance * weight / density;
+}
+
+// Emitted radiance reaching x along wi (first hit, or the environment when nothing is
+// hit), and the light-selection-times-light density of that direction, with `selection`
+// turning Light::selectionProb into the probability in the table actually sampled.
+vec3 incidentEmission(Shading s, vec3 wi, float selectionScale, out float pLight) {
+    pLight = 0.0;
+    Hit hit;
+    if (!traceClosest(s.origin, wi, FLOAT_MAX, hit)) {
+        if (params.environmentLight == NO_LIGHT) return vec3(0.0);
+        Light env = lights[params.environmentLight];
+        pLight = env.selectionProb * selectionScale *
+                 lightPdf(params.environmentLight, s.x, s.ns, wi, vec3(0.0), vec3(0.0), 0.0, params.sphereSampling);
+        return env.emission;
+    }
+    SurfacePoint y = surfaceAt(hit, s.origin, wi);
+    if (y.light == NO_LIGHT) return vec3(0.0);
+    Light light = lights[y.light];
+    vec3 Le = emittedRadiance(light, y.geometricNormal, wi);
+    if (Le == vec3(0.0)) return Le;
+    pLight = light.selectionProb * selectionScale *
+             lightPdf(y.light, s.x, s.ns, wi, y.position, y.geometricNormal, hit.t, params.sphereSampling);
+    return Le;
+}
+
+// One BRDF sample. weighting: 0 = none, 1 = MIS against N1 light samples (full table),
+// 2 = mixture density (continuous-light table).
+vec3 bsdfSampleEstimate(Shading s, int weighting, float nLight, float nBsdf, inout Rng rng) {
+    vec2 u = rand2(rng);
+    float lobe = rand1(rng);
+    vec3 wi;
+    float pBsdf;
+    if (!bsdfSample(s.m, s.ns, s.wo, u, lobe, wi, pBsdf)) return vec3(0.0);
+    vec3 fc = reflectance(s, wi);
+    if (fc == vec3(0.0)) return vec3(0.0);
+    float pLight;
+    float scale = weighting == 2 ? params.continuousScale : 1.0;
+    vec3 Le = incidentEmission(s, wi, scale, pLight);
+    if (Le == vec3(0.0)) return vec3(0.0);
+    float density = pBsdf;
+    float weight = 1.0;
+    if (weighting == 1) weight = misWeight(nBsdf * pBsdf, nLight * pLight, params.heuristic);
+    else if (weighting == 2) density = 0.5 * pLight + 0.5 * pBsdf;
+    return fc * Le * weight / density;
+}
+
+// One draw from the delta-only table: the explicit estimate of point and directional
+// lights for strategies whose other samples cannot find them.
+vec3 deltaLightEstimate(Shading s, inout Rng rng) {
+    if (params.deltaCount == 0u) return vec3(0.0);
+    float pmf;
+    uint index = selectLight(params.deltaTableOffset, params.deltaCount, rand1(rng), pmf);
+    return lightSampleEstimate(s, index, pmf, 0, 0.0, 0.0, rng);
+}
+
+vec3 reflectedRadiance(Shading s, inout Rng rng) {
+    uint n1 = params.lightSamples, n2 = params.bsdfSamples;
+    vec3 L = vec3(0.0);
+    if (params.strategy == STRATEGY_LIGHT || params.strategy == STRATEGY_MIS) {
+        int weighting = params.strategy == STRATEGY_MIS ? 1 : 0;
+        for (uint i = 0u; i < n1; ++i) {
+            float pmf;
+            uint index = selectLight(0u, params.lightCount, rand1(rng), pmf);
+            L += lightSampleEstimate(s, index, pmf, weighting, float(n1), float(n2), rng) / float(n1);
+        }
+    }
+    if (params.strategy == STRATEGY_BSDF || params.strategy == STRATEGY_MIS) {
+        int weighting = params.strategy == STRATEGY_MIS ? 1 : 0;
+        float nLight = params.strategy == STRATEGY_MIS ? float(n1) : 0.0;
+        for (uint i = 0u; i < n2; ++i) {
+            L += bsdfSampleEstimate(s, weighting, nLight, float(n2), rng) / float(n2);
+            // Without light samples, delta lights get their own explicit draw.
+            if (nLight == 0.0) L += deltaLightEstimate(s, rng) / float(n2);
+        }
+    }
+    if (params.strategy == STRATEGY_MIXTURE) {
+        uint n = n1 + n2;
+        for (uint i = 0u; i < n; ++i) {
+            if (rand1(rng) < 0.5) {
+                if (params.continuousCount > 0u) {
+                    float pmf;
+                    uint index = selectLight(params.continuousTableOffset, params.continuousCount, rand1(rng), pmf);
+                    L += lightSampleEstimate(s, index, pmf, 2, 0.0, 0.0, rng) / float(n);
+                }
+            } else {
+                L += bsdfSampleEstimate(s, 2, 0.0, 0.0, rng) / float(n);
+            }
+            L += deltaLightEstimate(s, rng) / float(n);
+        }
+    }
+    return L;
+}
+
+void main() {
+    uvec2 pixel;
+    if (!invocationPixel(pixel)) return;
+    Rng rng = pixelRng(pixel, pass.sampleIndex);
+
+    vec3 origin, dir;
+    cameraRay(pixel, rand2(rng), origin, dir);
+    Hit hit;
+    if (!traceClosest(origin, dir, FLOAT_MAX, hit)) {
+        accumulate(pixel, params.environmentLight == NO_LIGHT ? vec3(0.0) : lights[params.environmentLight].emission);
+        return;
+    }
+    SurfacePoint sp = surfaceAt(hit, origin, dir);
+    vec3 L = sp.light == NO_LIGHT ? vec3(0.0) : emittedRadiance(lights[sp.light], sp.geometricNormal, dir);
+
+    Shading s;
+    s.x = sp.position;
+    s.wo = -dir;
+    s.ng = dot(sp.geometricNormal, s.wo) >= 0.0 ? sp.geometricNormal : -sp.geometricNormal;
+    s.ns = dot(sp.shadingNormal, s.ng) >= 0.0 ? sp.shadingNormal : -sp.shadingNormal;
+    // A shading normal facing away from the viewer would reflect nothing: fall back.
+    if (dot(s.ns, s.wo) <= 0.0) s.ns = s.ng;
+    s.origin = offsetRayOrigin(s.x, s.ng);
+    s.m = materials[sp.material];
+    L += reflectedRadiance(s, rng);
+    accumulate(pixel, L);
+}

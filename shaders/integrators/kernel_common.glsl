@@ -1,0 +1,46 @@
+// What every integrator kernel shares: the render parameters, the accumulation buffer,
+// the per-pass constants, camera rays (box filter over the pixel) and the guarded
+// accumulation that keeps NaN/Inf out of the sums.
+#ifndef PENUMBRA_KERNEL_COMMON_GLSL
+#define PENUMBRA_KERNEL_COMMON_GLSL
+
+#include "shared/types.h"
+#include "common/math.glsl"
+#include "common/rng.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(std140, binding = BINDING_PARAMS) uniform Params { RenderParams params; };
+layout(std430, binding = BINDING_ACCUM) restrict buffer Accumulation { vec4 accum[]; };
+layout(push_constant) uniform Pass { PassConstants pass; };
+
+// This invocation's pixel, or false when it lies outside the film / the pass's rows.
+bool invocationPixel(out uvec2 pixel) {
+    pixel = uvec2(gl_GlobalInvocationID.x, gl_GlobalInvocationID.y + pass.firstRow);
+    return pixel.x < params.width && gl_GlobalInvocationID.y < pass.rowCount && pixel.y < params.height;
+}
+
+// The random stream of (pixel, sample): absolute index sampleOffset + sampleIndex.
+Rng pixelRng(uvec2 pixel, uint sampleIndex) {
+    return makeRng(pixel.y * params.width + pixel.x, params.sampleOffset + sampleIndex, params.seed);
+}
+
+// Pinhole camera; `jitter` in [0,1)^2 spreads samples uniformly over the pixel (box
+// filter). Pixel (0,0) is the top left of the image.
+void cameraRay(uvec2 pixel, vec2 jitter, out vec3 origin, out vec3 dir) {
+    vec2 film = (vec2(pixel) + jitter) / vec2(params.width, params.height);
+    float x = (2.0 * film.x - 1.0) * params.aspect * params.tanHalfFovY;
+    float y = (1.0 - 2.0 * film.y) * params.tanHalfFovY;
+    origin = params.eye;
+    dir = normalize(params.forward + x * params.right + y * params.up);
+}
+
+// Adds one sample. A non-finite estimate (a pdf division gone wrong) counts as zero:
+// the sample is still counted, so the sum stays an average over all samples.
+void accumulate(uvec2 pixel, vec3 radiance) {
+    if (!isFiniteVec(radiance)) radiance = vec3(0.0);
+    uint index = pixel.y * params.width + pixel.x;
+    accum[index] += vec4(radiance, 1.0);
+}
+
+#endif

@@ -1,0 +1,197 @@
+// Lights (lecture, "Light Sources"; SCENE_FORMAT.md): choosing a light, sampling a direction
+// toward it, the density of that direction, and emitted radiance. Every pdf returned here is
+// in SOLID ANGLE at the shading point x, for the given light alone (selection probability
+// not included): area-measure densities are converted here and nowhere else, with
+//   p_w(wi) = p_A(y) * d^2 / |cos theta_y|      (lecture, "Sphere Light": Caution!)
+// Delta lights (point, directional) have no density: their samples carry isDelta.
+#ifndef PENUMBRA_LIGHTS_GLSL
+#define PENUMBRA_LIGHTS_GLSL
+
+#include "shared/types.h"
+#include "common/math.glsl"
+#include "sampling/warp.glsl"
+#include "geometry/bvh.glsl"
+
+layout(std430, binding = BINDING_LIGHTS) readonly restrict buffer Lights { Light lights[]; };
+layout(std430, binding = BINDING_LIGHT_TABLE) readonly restrict buffer LightTable { AliasEntry lightTable[]; };
+layout(std430, binding = BINDING_MESH_TABLE) readonly restrict buffer MeshTable { AliasEntry meshTable[]; };
+
+// Walker's alias method over lightTable/meshTable entries [offset, offset + count) with one
+// uniform number: its integer part picks the slot, its fraction flips the slot's coin.
+AliasEntry sampleAlias(uint offset, uint count, float u, bool mesh) {
+    float scaled = u * float(count);
+    uint slot = min(uint(scaled), count - 1u);
+    float coin = scaled - float(slot);
+    AliasEntry e = mesh ? meshTable[offset + slot] : lightTable[offset + slot];
+    if (coin >= e.probability) e = mesh ? meshTable[offset + e.alias] : lightTable[offset + e.alias];
+    return e;
+}
+
+// Picks a light from the selection (sub-)table at [offset, offset + count); pmf is its
+// probability within that table.
+uint selectLight(uint offset, uint count, float u, out float pmf) {
+    AliasEntry e = sampleAlias(offset, count, u, false);
+    pmf = e.pmf;
+    return e.item;
+}
+
+struct LightSample {
+    vec3 wi;         // unit direction from x toward the light
+    float dist;      // distance to the sampled point; FLOAT_MAX at infinity
+    vec3 radiance;   // Le along -wi (area, environment); I/d^2 (point); E (directional)
+    float pdf;       // solid-angle density of wi for this light; 1 for delta lights
+    bool isDelta;
+};
+
+// Front normal of a quad or triangle primitive (counter-clockwise = front).
+vec3 primitiveFrontNormal(Primitive p) {
+    return (p.typeAndNormals & PRIM_TYPE_MASK) == PRIM_QUAD ? normalize(cross(p.p1, p.p2))
+                                                            : normalize(cross(p.p1 - p.p0, p.p2 - p.p0));
+}
+
+// Radiance leaving an emitter with front normal nFront toward a viewer in direction -wi
+// (wi points from the viewer to the emitter). Spheres emit outward, which any hit from
+// outside sees; quads and meshes from their front unless two-sided.
+vec3 emittedRadiance(Light light, vec3 nFront, vec3 wi) {
+    if (light.type == LIGHT_SPHERE || (light.flags & LIGHT_TWO_SIDED) != 0u) return light.emission;
+    return dot(wi, nFront) < 0.0 ? light.emission : vec3(0.0);
+}
+
+// sin^2 and 1 - cos of the half-angle of the cone a sphere of radius r subtends at
+// distance dist > r; 1 - cos computed as sin^2 / (1 + cos) to stay accurate for tiny or
+// distant spheres (pbrt-v4, Sphere::Sample with a reference point).
+void sphereCone(float r, float dist, out float cosThetaMax, out float oneMinusCos) {
+    float sin2 = sqr(r / dist);
+    cosThetaMax = sqrt(max(0.0, 1.0 - sin2));
+    oneMinusCos = sin2 / (1.0 + cosThetaMax);
+}
+
+// Solid-angle pdf of sampling, from x, the point y (normal ny, distance d) on a sphere
+// light under the chosen strategy (lecture, "Sphere Light", approaches 1-3).
+float spherePdf(vec3 x, vec3 center, float r, vec3 y, vec3 ny, float d, uint sphereSampling) {
+    float D = distance(x, center);
+    if (D <= r) return 0.0;  // x inside the light: it emits outward, x receives nothing
+    if (sphereSampling == SPHERE_SOLID_ANGLE) {
+        float cosThetaMax, oneMinusCos;
+        sphereCone(r, D, cosThetaMax, oneMinusCos);
+        return 1.0 / (TWO_PI * oneMinusCos);
+    }
+    float cosY = abs(dot(normalize(y - x), ny));
+    if (cosY <= 0.0) return 0.0;
+    float area = sphereSampling == SPHERE_AREA ? 4.0 * PI * r * r        // whole sphere
+                                                      : TWO_PI * r * r * (1.0 - r / D);  // visible cap
+    return d * d / (cosY * area);
+}
+
+// Samples a direction toward light `index` from x (shading normal n, used by the
+// environment's cosine sampling). u: three uniform numbers; sphereSampling: SPHERE_*. Returns false when the sample
+// carries nothing (back side of a one-sided light, x inside a sphere light, ...).
+bool sampleLight(uint index, vec3 x, vec3 n, vec3 u, uint sphereSampling, out LightSample ls) {
+    Light light = lights[index];
+    ls.isDelta = false;
+    ls.pdf = 0.0;
+    ls.radiance = vec3(0.0);
+    ls.dist = FLOAT_MAX;
+    ls.wi = n;
+    if (light.type == LIGHT_POINT) {
+        vec3 toLight = light.position - x;
+        float d2 = dot(toLight, toLight);
+        if (!(d2 > 0.0)) return false;
+        ls.dist = sqrt(d2);
+        ls.wi = toLight / ls.dist;
+        ls.radiance = light.emission / d2;  // I / d^2 (lecture, "Point Light")
+        ls.pdf = 1.0;
+        ls.isDelta = true;
+        return true;
+    }
+    if (light.type == LIGHT_DIRECTIONAL) {
+        ls.wi = -light.position;  // position holds the unit direction of travel
+        ls.radiance = light.emission;
+        ls.pdf = 1.0;
+        ls.isDelta = true;
+        return true;
+    }
+    if (light.type == LIGHT_ENVIRONMENT) {
+        // Cosine-weighted about n: proportional to the integrand's cosine for a constant sky.
+        vec3 local = squareToCosineHemisphere(u.xy);
+        ls.wi = frameToWorld(local, n);
+        ls.pdf = cosineHemispherePdf(local);
+        ls.radiance = light.emission;
+        return ls.pdf > 0.0;
+    }
+
+    vec3 y, ny;
+    if (light.type == LIGHT_SPHERE) {
+        Primitive p = primitives[light.first];
+        vec3 center = p.p0;
+        float r = p.p1.x;
+        vec3 axis = x - center;
+        float D = length(axis);
+        if (D <= r) return false;
+        axis /= D;
+        if (sphereSampling == SPHERE_SOLID_ANGLE) {
+            float cosThetaMax, oneMinusCos;
+            sphereCone(r, D, cosThetaMax, oneMinusCos);
+            vec3 local = squareToUniformCone(u.xy, cosThetaMax);
+            ls.wi = frameToWorld(local, -axis);
+            ls.pdf = 1.0 / (TWO_PI * oneMinusCos);
+            // Distance to the near intersection, from the triangle (x, centre, y):
+            // d = D cos(theta) - sqrt(r^2 - D^2 sin^2(theta)), clamped at the silhouette.
+            float cosTheta = local.z;
+            float sin2 = max(0.0, 1.0 - cosTheta * cosTheta);
+            ls.dist = D * cosTheta - sqrt(max(0.0, r * r - D * D * sin2));
+            ls.radiance = light.emission;
+            return ls.pdf > 0.0 && ls.dist > 0.0;
+        }
+        if (sphereSampling == SPHERE_AREA) {
+            ny = squareToUniformSphere(u.xy);
+        } else {
+            // Uniform on the cap visible from x: cos(angle from the axis) in [r/D, 1].
+            ny = frameToWorld(squareToUniformCone(u.xy, r / D), axis);
+        }
+        y = center + r * ny;
+    } else if (light.type == LIGHT_QUAD) {
+        Primitive p = primitives[light.first];
+        y = p.p0 + u.x * p.p1 + u.y * p.p2;
+        ny = primitiveFrontNormal(p);
+    } else {  // LIGHT_MESH: a triangle with probability area / total, then uniform on it
+        AliasEntry e = sampleAlias(light.first, light.count, u.z, true);
+        Primitive p = primitives[e.item];
+        vec3 b = squareToUniformTriangle(u.xy);
+        y = b.x * p.p0 + b.y * p.p1 + b.z * p.p2;
+        ny = primitiveFrontNormal(p);
+    }
+
+    vec3 toLight = y - x;
+    float d2 = dot(toLight, toLight);
+    if (!(d2 > 0.0)) return false;
+    ls.dist = sqrt(d2);
+    ls.wi = toLight / ls.dist;
+    float cosY = dot(-ls.wi, ny);
+    if (light.type == LIGHT_SPHERE) {
+        if (cosY <= 0.0) return false;  // back of the sphere: hidden by the sphere itself
+        ls.pdf = spherePdf(x, primitives[light.first].p0, primitives[light.first].p1.x, y, ny, ls.dist, sphereSampling);
+    } else {
+        if (cosY <= 0.0 && (light.flags & LIGHT_TWO_SIDED) == 0u) return false;  // back of a one-sided light
+        ls.pdf = d2 / (abs(cosY) * light.area);  // p_A = 1 / area (mesh: lecture, p_A = 1 / sum A(k))
+    }
+    ls.radiance = light.emission;
+    return ls.pdf > 0.0 && !isinf(ls.pdf);
+}
+
+// Density (solid angle, at x) with which sampleLight(index, x, n, .) produces wi, given
+// that the ray x + t wi first hits this light at y (geometric normal ny) at distance d;
+// for the environment, y, ny and d are ignored.
+float lightPdf(uint index, vec3 x, vec3 n, vec3 wi, vec3 y, vec3 ny, float d, uint sphereSampling) {
+    Light light = lights[index];
+    if (light.type == LIGHT_ENVIRONMENT) return max(dot(wi, n), 0.0) * INV_PI;
+    if (light.type == LIGHT_POINT || light.type == LIGHT_DIRECTIONAL) return 0.0;
+    if (light.type == LIGHT_SPHERE) {
+        Primitive p = primitives[light.first];
+        return spherePdf(x, p.p0, p.p1.x, y, ny, d, sphereSampling);
+    }
+    float cosY = abs(dot(wi, ny));
+    return cosY > 0.0 ? d * d / (cosY * light.area) : 0.0;
+}
+
+#endif

@@ -1,0 +1,135 @@
+// Test helpers (see render_helpers.h).
+#include "render_helpers.h"
+
+#include <cstdio>
+#include <fstream>
+#include <sys/wait.h>
+
+#include "gpu_fixture.h"
+#include "render/renderer.h"
+#include "render/scene_arrays.h"
+#include "scene/load.h"
+
+namespace penumbra::test {
+
+Scene sceneFromJson(const nlohmann::json& doc, const std::string& name) {
+    auto path = outputPath(name + ".json");
+    std::ofstream(path) << doc.dump(2);
+    return loadScene(path);
+}
+
+Image renderScene(const Scene& scene) {
+    Renderer renderer(gpuContext(), scene);
+    renderer.renderAll();
+    return renderer.readback(0.0);
+}
+
+double zScore(double alpha, int tests) {
+    // Invert the two-sided normal tail 2 (1 - Phi(z)) = alpha / tests by bisection on erfc.
+    double target = alpha / tests, lo = 0.0, hi = 40.0;
+    for (int i = 0; i < 200; ++i) {
+        double mid = 0.5 * (lo + hi);
+        (std::erfc(mid / std::sqrt(2.0)) > target ? lo : hi) = mid;
+    }
+    return hi;
+}
+
+double tCritical(double alpha, int tests, int dof) {
+    // Two-sided tail of Student's t by Simpson integration of its density on [0, t].
+    double nu = dof;
+    double logNorm = std::lgamma((nu + 1) / 2) - std::lgamma(nu / 2) - 0.5 * std::log(nu * M_PI);
+    auto density = [&](double x) { return std::exp(logNorm - (nu + 1) / 2 * std::log1p(x * x / nu)); };
+    auto tail = [&](double t) {
+        const int n = 4000;
+        double h = t / n, sum = density(0) + density(t);
+        for (int i = 1; i < n; ++i) sum += density(i * h) * (i % 2 ? 4 : 2);
+        return 1.0 - 2.0 * sum * h / 3.0;  // P(|T| > t)
+    };
+    double target = alpha / tests, lo = 0.0, hi = 60.0;
+    for (int i = 0; i < 100; ++i) {
+        double mid = 0.5 * (lo + hi);
+        (tail(mid) > target ? lo : hi) = mid;
+    }
+    return hi;
+}
+
+nlohmann::json topDownCamera(double cx, double cz, double half) {
+    double fov = 2.0 * std::atan(half / 50.0) * 180.0 / M_PI;
+    return {{"eye", {cx, 50, cz}}, {"target", {cx, 0, cz}}, {"up", {0, 0, -1}}, {"fov_y", fov}};
+}
+
+std::vector<double> expectedTopDown(const Scene& scene, const std::function<double(glm::dvec3)>& L, int sub,
+                                    std::vector<double>* jitterVariance) {
+    SceneArrays arrays = buildSceneArrays(scene);
+    gpu::RenderParams p = makeRenderParams(scene, arrays);
+    const int w = int(scene.film.width), h = int(scene.film.height);
+    std::vector<double> out(size_t(w) * h);
+    if (jitterVariance) jitterVariance->assign(out.size(), 0.0);
+    for (int py = 0; py < h; ++py)
+        for (int px = 0; px < w; ++px) {
+            double sum = 0, sum2 = 0;
+            for (int j = 0; j < sub; ++j)
+                for (int i = 0; i < sub; ++i) {
+                    double fx = (px + (i + 0.5) / sub) / w, fy = (py + (j + 0.5) / sub) / h;
+                    glm::dvec3 dir = glm::dvec3(p.forward) + ((2 * fx - 1) * p.aspect * p.tanHalfFovY) * glm::dvec3(p.right) +
+                                     ((1 - 2 * fy) * p.tanHalfFovY) * glm::dvec3(p.up);
+                    glm::dvec3 hit = glm::dvec3(p.eye) + dir * (-double(p.eye.y) / dir.y);
+                    double v = L(hit);
+                    sum += v;
+                    sum2 += v * v;
+                }
+            double n = double(sub) * sub, mean = sum / n;
+            out[size_t(py) * w + px] = mean;
+            if (jitterVariance) (*jitterVariance)[size_t(py) * w + px] = std::max(0.0, sum2 / n - mean * mean);
+        }
+    return out;
+}
+
+int blockTTest(const Image& image, const std::vector<double>& expected, int block, double alpha, int tests,
+               std::string* report) {
+    const int w = int(image.width), h = int(image.height);
+    const int bx = w / block, by = h / block, n = block * block;
+    double tc = tCritical(alpha, bx * by * tests, n - 1), worst = 0;
+    int failures = 0;
+    for (int b = 0; b < bx * by; ++b) {
+        double sum = 0, sum2 = 0;
+        for (int j = 0; j < block; ++j)
+            for (int i = 0; i < block; ++i) {
+                size_t p = size_t((b / bx) * block + j) * w + (b % bx) * block + i;
+                double r = image.rgb[3 * p] - expected[p];
+                sum += r;
+                sum2 += r * r;
+            }
+        double mean = sum / n, var = (sum2 - n * mean * mean) / (n - 1);
+        double t = var > 0 ? mean / std::sqrt(var / n) : (mean == 0 ? 0 : INFINITY);
+        worst = std::max(worst, std::abs(t));
+        if (std::abs(t) > tc) ++failures;
+    }
+    if (report) *report = "worst |t| = " + std::to_string(worst) + ", critical " + std::to_string(tc);
+    return failures;
+}
+
+double meanSquaredError(const Image& image, const std::vector<double>& expected) {
+    double sum = 0;
+    for (size_t p = 0; p < expected.size(); ++p) sum += std::pow(image.rgb[3 * p] - expected[p], 2);
+    return sum / double(expected.size());
+}
+
+namespace {
+std::string slurp(const std::string& path) {
+    std::ifstream in(path);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+}
+}  // namespace
+
+int runPenumbra(const std::string& args, std::string* err, std::string* out) {
+    auto errPath = outputPath("cli-stderr.txt").string();
+    auto outPath = outputPath("cli-stdout.txt").string();
+    std::string cmd = std::string("'") + PENUMBRA_EXECUTABLE + "' " + args + " >'" + outPath + "' 2>'" + errPath + "'";
+    int status = std::system(cmd.c_str());
+    if (err) *err = slurp(errPath);
+    if (out) *out = slurp(outPath);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+}  // namespace penumbra::test

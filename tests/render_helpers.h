@@ -1,0 +1,59 @@
+// Test helpers that render scenes written inline as JSON, through the real loader and
+// renderer on lavapipe, and statistics helpers for Monte Carlo tolerances.
+#pragma once
+
+#include <cmath>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include "image/image.h"
+#include "scene/scene.h"
+
+namespace penumbra::test {
+
+// Writes `doc` to build/test-output/<name>.json and loads it as a scene.
+Scene sceneFromJson(const nlohmann::json& doc, const std::string& name);
+// Renders a loaded scene to an image (all of its spp).
+Image renderScene(const Scene& scene);
+inline Image renderJson(const nlohmann::json& doc, const std::string& name) {
+    return renderScene(sceneFromJson(doc, name));
+}
+
+// Two-sided normal quantile for a per-test false-failure probability `alpha`, Bonferroni-
+// corrected over `tests` tests: the z in |mean - expected| <= z * sigma / sqrt(N).
+double zScore(double alpha, int tests);
+
+// Student-t two-sided critical value for level alpha / tests with `dof` degrees of freedom.
+double tCritical(double alpha, int tests, int dof);
+
+// A camera that looks straight down (from height 50) on the square patch of the plane
+// y = 0 centred at (cx, 0, cz) with half-size `half`, and `size` x `size` pixels.
+nlohmann::json topDownCamera(double cx, double cz, double half);
+
+// The expected image of a top-down view of y = 0 whose radiance at plane point x is L(x):
+// L averaged over a sub x sub grid inside each pixel, with the renderer's camera basis.
+// `jitterVariance`, if given, receives the variance of L over each pixel (the part of a
+// pixel's sample variance that comes from spreading samples over the pixel).
+std::vector<double> expectedTopDown(const Scene& scene, const std::function<double(glm::dvec3)>& L, int sub = 8,
+                                    std::vector<double>* jitterVariance = nullptr);
+
+// Unbiasedness check of an image against its expected values when the per-sample variance
+// is unknown: the residuals are split into blocks of `block` x `block` pixels and each
+// block's mean residual must pass a two-sided t-test at level alpha / (blocks * tests).
+// Returns the number of failing blocks; `report` receives the worst t statistic.
+int blockTTest(const Image& image, const std::vector<double>& expected, int block, double alpha, int tests,
+               std::string* report = nullptr);
+
+// Mean squared error of channel 0 against the expected values.
+double meanSquaredError(const Image& image, const std::vector<double>& expected);
+
+// Runs the penumbra executable with `args` (a shell-quoted string), capturing stderr into
+// `err`; returns the exit status.
+int runPenumbra(const std::string& args, std::string* err = nullptr, std::string* out = nullptr);
+
+}  // namespace penumbra::test

@@ -1,0 +1,172 @@
+// The command line from the outside, as scripts use it: exit statuses, one-line errors
+// naming file and JSON path, nothing written on failure, deterministic output, merge,
+// compare and devices.
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sys/wait.h>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "gpu_fixture.h"
+#include "image/image.h"
+#include "render_helpers.h"
+
+using namespace penumbra;
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+namespace {
+
+json smallScene() {
+    return {
+        {"camera", {{"eye", {0, 1, 4}}, {"target", {0, 0.5, 0}}, {"fov_y", 40}}},
+        {"film", {{"width", 24}, {"height", 16}}},
+        {"sampler", {{"spp", 4}}},
+        {"integrator", {{"type", "ao"}}},
+        {"materials", {{"floor", {{"type", "diffuse"}, {"albedo", {0.5, 0.5, 0.5}}}}}},
+        {"shapes",
+         {{{"type", "quad"}, {"origin", {-2, 0, -2}}, {"edge_u", {0, 0, 4}}, {"edge_v", {4, 0, 0}}, {"material", "floor"}},
+          {{"type", "sphere"}, {"center", {0, 0.5, 0}}, {"radius", 0.5}}}},
+    };
+}
+
+fs::path writeText(const std::string& name, const std::string& text) {
+    fs::path path = test::outputPath(name);
+    std::ofstream(path) << text;
+    return path;
+}
+
+// Runs `render FILE -o OUT` on a bad input and checks the contract of SCENE_FORMAT.md.
+void expectBadInput(const std::string& name, const std::string& text, const std::string& mustMention) {
+    fs::path scene = writeText(name, text);
+    fs::path out = test::outputPath(name + ".exr");
+    fs::remove(out);
+    std::string err;
+    int status = test::runPenumbra("render '" + scene.string() + "' -o '" + out.string() + "' --quiet", &err);
+    EXPECT_EQ(status, 2) << name << ": " << err;
+    EXPECT_NE(err.find(name), std::string::npos) << "error does not name the file: " << err;
+    EXPECT_NE(err.find(mustMention), std::string::npos) << "error does not mention " << mustMention << ": " << err;
+    ASSERT_FALSE(err.empty());
+    EXPECT_EQ(err.find('\n'), err.size() - 1) << "not one line: " << err;
+    EXPECT_FALSE(fs::exists(out)) << "output written for bad input " << name;
+}
+
+}  // namespace
+
+TEST(Cli, BadSceneInputsExitTwoWithOneLineNamingFileAndPath) {
+    json doc = smallScene();
+    doc["shapes"][1]["material"] = "flor";
+    expectBadInput("unknown-material.json", doc.dump(), "shapes[1].material");
+
+    doc = smallScene();
+    doc["shapes"][1]["radius"] = -1;
+    expectBadInput("negative-radius.json", doc.dump(), "shapes[1].radius");
+
+    std::string text = smallScene().dump();
+    text.replace(text.find("\"radius\":0.5"), 12, "\"radius\":1e999");
+    expectBadInput("infinite-radius.json", text, "shapes[1].radius");
+
+    doc = smallScene();
+    doc["shapes"][0]["edge_v"] = {0, 0, 8};  // parallel to edge_u: zero area
+    expectBadInput("zero-area-quad.json", doc.dump(), "shapes[0]");
+
+    doc = smallScene();
+    doc["shapes"].push_back({{"type", "mesh"}, {"positions", {0, 0, 0, 1, 0, 0, 0, 1, 0}}, {"indices", {0, 1, 3}}});
+    expectBadInput("index-out-of-range.json", doc.dump(), "shapes[2].indices");
+
+    std::string truncated = smallScene().dump(2);
+    expectBadInput("truncated.json", truncated.substr(0, truncated.size() / 2), "line");
+
+    doc = smallScene();
+    doc["shapes"].push_back({{"type", "gltf"}, {"file", "no-such-model.glb"}});
+    expectBadInput("missing-gltf.json", doc.dump(), "no-such-model.glb");
+
+    writeText("malformed.gltf", "{\"asset\": {\"version\": \"2.0\"}, \"meshes\": [ {\"primitives\": [ {");
+    doc = smallScene();
+    doc["shapes"].push_back({{"type", "gltf"}, {"file", "malformed.gltf"}});
+    expectBadInput("bad-gltf.json", doc.dump(), "malformed.gltf");
+}
+
+TEST(Cli, MissingFilesAndBadUsageExitTwo) {
+    std::string err;
+    fs::path out = test::outputPath("never.exr");
+    fs::remove(out);
+    EXPECT_EQ(test::runPenumbra("render /no/such/scene.json -o '" + out.string() + "'", &err), 2);
+    EXPECT_NE(err.find("/no/such/scene.json"), std::string::npos) << err;
+    EXPECT_FALSE(fs::exists(out));
+    EXPECT_EQ(test::runPenumbra("render", &err), 2);
+    EXPECT_EQ(test::runPenumbra("frobnicate", &err), 2);
+    EXPECT_EQ(test::runPenumbra("merge /no/such/a.exr -o '" + out.string() + "'", &err), 2);
+    EXPECT_NE(err.find("/no/such/a.exr"), std::string::npos) << err;
+}
+
+TEST(Cli, NoVulkanDeviceExitsOneWithClearMessage) {
+    fs::path scene = writeText("novulkan.json", smallScene().dump());
+    std::string err;
+    int status = test::runPenumbra("render '" + scene.string() + "' -o '" +
+                                       test::outputPath("novulkan.exr").string() + "'",
+                                   &err);
+    (void)status;  // the normal run must work; then the same with no driver at all:
+    std::string cmd = "env VK_DRIVER_FILES=/nonexistent/icd.json VK_ICD_FILENAMES=/nonexistent/icd.json '" +
+                      std::string(PENUMBRA_EXECUTABLE) + "' render '" + scene.string() + "' -o '" +
+                      test::outputPath("novulkan2.exr").string() + "' 2>'" +
+                      test::outputPath("novulkan.txt").string() + "'";
+    int raw = std::system(cmd.c_str());
+    EXPECT_EQ(WEXITSTATUS(raw), 1);
+    std::ifstream in(test::outputPath("novulkan.txt"));
+    std::string line;
+    std::getline(in, line);
+    EXPECT_NE(line.find("Vulkan"), std::string::npos) << line;
+    EXPECT_FALSE(fs::exists(test::outputPath("novulkan2.exr")));
+}
+
+TEST(Cli, SameCommandGivesIdenticalPixelsAndOverridesApply) {
+    fs::path scene = writeText("determinism.json", smallScene().dump());
+    fs::path a = test::outputPath("det-a.exr"), b = test::outputPath("det-b.exr");
+    std::string args = " --spp 8 --set integrator.sampling=uniform --quiet";
+    ASSERT_EQ(test::runPenumbra("render '" + scene.string() + "' -o '" + a.string() + "'" + args), 0);
+    ASSERT_EQ(test::runPenumbra("render '" + scene.string() + "' -o '" + b.string() + "'" + args), 0);
+    Image ia = readExr(a), ib = readExr(b);
+    ASSERT_EQ(ia.rgb.size(), ib.rgb.size());
+    EXPECT_EQ(0, std::memcmp(ia.rgb.data(), ib.rgb.data(), ia.rgb.size() * sizeof(float)));
+    EXPECT_EQ(ia.meta.spp, 8);
+    EXPECT_NE(ia.meta.integrator->find("uniform"), std::string::npos) << *ia.meta.integrator;
+    EXPECT_EQ(ia.width, 24u);
+    EXPECT_EQ(ia.height, 16u);
+}
+
+TEST(Cli, DisjointPartialsMergeToTheFullRender) {
+    fs::path scene = writeText("merge.json", smallScene().dump());
+    fs::path p0 = test::outputPath("part0.exr"), p1 = test::outputPath("part1.exr");
+    fs::path full = test::outputPath("full.exr"), merged = test::outputPath("merged.exr");
+    std::string s = "render '" + scene.string() + "' --quiet ";
+    ASSERT_EQ(test::runPenumbra(s + "--spp 6 -o '" + p0.string() + "'"), 0);
+    ASSERT_EQ(test::runPenumbra(s + "--spp 6 --set sampler.sample_offset=6 -o '" + p1.string() + "'"), 0);
+    ASSERT_EQ(test::runPenumbra(s + "--spp 12 -o '" + full.string() + "'"), 0);
+    ASSERT_EQ(test::runPenumbra("merge '" + p0.string() + "' '" + p1.string() + "' -o '" + merged.string() + "'"), 0);
+    Image m = readExr(merged), f = readExr(full);
+    EXPECT_EQ(m.meta.spp, 12);
+    // The sample indices of the partials are exactly those of the full render, so the
+    // images agree up to floating-point summation order.
+    ASSERT_EQ(m.rgb.size(), f.rgb.size());
+    for (size_t i = 0; i < m.rgb.size(); ++i) ASSERT_NEAR(m.rgb[i], f.rgb[i], 1e-5f * (1.0f + f.rgb[i])) << i;
+    // Overlapping partials are refused.
+    std::string err;
+    EXPECT_EQ(test::runPenumbra("merge '" + p0.string() + "' '" + p0.string() + "' -o '" + merged.string() + "'", &err), 2);
+}
+
+TEST(Cli, CompareAndDevicesPrintForScripts) {
+    fs::path scene = writeText("compare.json", smallScene().dump());
+    fs::path a = test::outputPath("cmp-a.exr");
+    ASSERT_EQ(test::runPenumbra("render '" + scene.string() + "' --quiet -o '" + a.string() + "'"), 0);
+    std::string out;
+    ASSERT_EQ(test::runPenumbra("compare '" + a.string() + "' '" + a.string() + "'", nullptr, &out), 0);
+    EXPECT_NE(out.find("rmse 0\n"), std::string::npos) << out;
+    EXPECT_NE(out.find("relmse 0\n"), std::string::npos) << out;
+    EXPECT_NE(out.find("mean_a "), std::string::npos) << out;
+    EXPECT_NE(out.find("max_abs 0\n"), std::string::npos) << out;
+    ASSERT_EQ(test::runPenumbra("devices", nullptr, &out), 0);
+    EXPECT_NE(out.find("* 0: llvmpipe"), std::string::npos) << out;
+}
