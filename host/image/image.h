@@ -53,5 +53,7 @@ struct CompareMetrics {
 };
 // Over all pixels and channels; throws InputError when the sizes differ.
 CompareMetrics compareImages(const Image& a, const Image& b);
+// The same, with the file names that a size mismatch error names (InputError "A: ...").
+CompareMetrics compareImages(const Image& a, const Image& b, const std::string& nameA, const std::string& nameB);
 
 }  // namespace penumbra

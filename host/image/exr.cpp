@@ -1,0 +1,180 @@
+// OpenEXR input and output of Penumbra images: R, G, B as 32-bit float plus the
+// penumbra:* header attributes of SCENE_FORMAT.md. Reading accepts any pixel type and
+// data window; every OpenEXR failure becomes a one-line InputError naming the file.
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfDoubleAttribute.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfInputFile.h>
+#include <OpenEXR/ImfIntAttribute.h>
+#include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfStringAttribute.h>
+#include <OpenEXR/ImfTestFile.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+
+#include "core/errors.h"
+#include "image/atomic_file.h"
+#include "image/image.h"
+
+namespace penumbra {
+
+namespace {
+
+constexpr const char* kSpp = "penumbra:spp";
+constexpr const char* kSeed = "penumbra:seed";
+constexpr const char* kSampleOffset = "penumbra:sample_offset";
+constexpr const char* kIntegrator = "penumbra:integrator";
+constexpr const char* kRenderSeconds = "penumbra:render_seconds";
+constexpr const char* kChannels[3] = {"R", "G", "B"};
+
+// Far beyond any film we render, small enough that a corrupt header claiming a huge
+// data window is refused before we try to allocate it.
+constexpr int64_t kMaxPixels = int64_t(1) << 28;
+
+std::string oneLine(std::string text) {
+    std::replace(text.begin(), text.end(), '\n', ' ');
+    std::replace(text.begin(), text.end(), '\r', ' ');
+    return text;
+}
+
+// Attributes of another type than ours are treated as absent: the file is not ours.
+template <class Attr, class Value>
+void readAttribute(const Imf::Header& header, const char* name, std::optional<Value>& out) {
+    if (const auto* attr = header.findTypedAttribute<Attr>(name)) out = attr->value();
+}
+
+// OpenEXR trusts each header attribute's size field and allocates that much before it
+// notices the file is shorter: a single corrupt byte can cost gigabytes. Walking the
+// header(s) first and checking every size against the file's length avoids that.
+void checkAttributeSizes(const std::filesystem::path& path) {
+    const std::string name = path.string();
+    std::ifstream in(path, std::ios::binary);
+    in.seekg(0, std::ios::end);
+    const int64_t fileSize = in.tellg();
+    in.seekg(0);
+    unsigned char start[8] = {};  // magic number and version field; isOpenExrFile has checked both
+    in.read(reinterpret_cast<char*>(start), 8);
+    const bool multiPart = start[5] & 0x10;  // version flag bit 12
+    auto readName = [&](std::string& out) {
+        out.clear();
+        for (char c; in.get(c) && c != '\0';)
+            if (out.size() < 256) out += c;  // long names are at most 255 bytes
+        if (!in) throwInputError(name, "", "truncated or corrupt OpenEXR header");
+    };
+    for (;;) {
+        std::string attribute, type;
+        int attributes = 0;
+        for (;; ++attributes) {
+            readName(attribute);
+            if (attribute.empty()) break;
+            readName(type);
+            unsigned char size[4];
+            if (!in.read(reinterpret_cast<char*>(size), 4)) throwInputError(name, "", "truncated or corrupt OpenEXR header");
+            const int32_t bytes = int32_t(uint32_t(size[0]) | uint32_t(size[1]) << 8 | uint32_t(size[2]) << 16 |
+                                          uint32_t(size[3]) << 24);
+            if (bytes < 0 || int64_t(in.tellg()) + bytes > fileSize)
+                throwInputError(name, "", "corrupt OpenEXR header: attribute \"" + attribute + "\" claims " +
+                                              std::to_string(bytes) + " bytes");
+            in.seekg(bytes, std::ios::cur);
+        }
+        // A single-part file has one header; a multi-part list ends with an empty header.
+        if (!multiPart || attributes == 0) break;
+    }
+}
+
+}  // namespace
+
+void writeExr(const std::filesystem::path& path, const Image& image) {
+    if (image.width == 0 || image.height == 0 || image.width > INT32_MAX || image.height > INT32_MAX)
+        throw std::runtime_error("failed to write " + path.string() + ": invalid image size " +
+                                 std::to_string(image.width) + "x" + std::to_string(image.height));
+    if (image.rgb.size() != size_t(image.width) * image.height * 3)
+        throw std::runtime_error("failed to write " + path.string() + ": pixel buffer does not match the image size");
+
+    writeFileAtomically(path, [&](const std::filesystem::path& tmp) {
+        Imf::Header header(int(image.width), int(image.height));
+        header.compression() = Imf::ZIP_COMPRESSION;  // lossless; float noise compresses poorly with anything
+        for (const char* c : kChannels) header.channels().insert(c, Imf::Channel(Imf::FLOAT));
+        const ImageMetadata& m = image.meta;
+        if (m.spp) header.insert(kSpp, Imf::IntAttribute(*m.spp));
+        if (m.seed) header.insert(kSeed, Imf::IntAttribute(*m.seed));
+        if (m.sampleOffset) header.insert(kSampleOffset, Imf::IntAttribute(*m.sampleOffset));
+        if (m.integrator) header.insert(kIntegrator, Imf::StringAttribute(*m.integrator));
+        if (m.renderSeconds) header.insert(kRenderSeconds, Imf::DoubleAttribute(*m.renderSeconds));
+
+        Imf::FrameBuffer frame;
+        const size_t xStride = 3 * sizeof(float), yStride = xStride * image.width;
+        char* base = reinterpret_cast<char*>(const_cast<float*>(image.rgb.data()));
+        for (int c = 0; c < 3; ++c)
+            frame.insert(kChannels[c], Imf::Slice(Imf::FLOAT, base + c * sizeof(float), xStride, yStride));
+
+        // The file is finished (offset table written) when OutputFile is destroyed,
+        // which must happen before the rename.
+        Imf::OutputFile file(tmp.c_str(), header);
+        file.setFrameBuffer(frame);
+        file.writePixels(int(image.height));
+    });
+}
+
+Image readExr(const std::filesystem::path& path) {
+    const std::string name = path.string();
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) throwInputError(name, "", "no such file");
+    if (std::filesystem::is_directory(path, ec)) throwInputError(name, "", "is a directory, not an image");
+    // isOpenExrFile says "no" for unreadable files too; tell the two apart first.
+    if (!std::ifstream(path, std::ios::binary)) throwInputError(name, "", std::string("cannot open: ") + std::strerror(errno));
+    try {
+        bool tiled = false, deep = false, multiPart = false;
+        if (!Imf::isOpenExrFile(path.c_str(), tiled, deep, multiPart))
+            throwInputError(name, "", "not an OpenEXR file");
+        if (deep) throwInputError(name, "", "deep OpenEXR images are not supported");
+        checkAttributeSizes(path);
+
+        // InputFile reads part 0 of multi-part files and tiled files as scanlines.
+        Imf::InputFile file(path.c_str());
+        const Imf::Header& header = file.header();
+        for (const char* c : kChannels)
+            if (!header.channels().findChannel(c))
+                throwInputError(name, "", std::string("missing channel ") + c + " (need R, G and B)");
+
+        const Imath::Box2i dw = header.dataWindow();
+        const int64_t width = int64_t(dw.max.x) - dw.min.x + 1, height = int64_t(dw.max.y) - dw.min.y + 1;
+        if (width <= 0 || height <= 0 || width > kMaxPixels / height)
+            throwInputError(name, "", "unsupported data window " + std::to_string(width) + "x" + std::to_string(height));
+
+        Image image;
+        image.width = uint32_t(width);
+        image.height = uint32_t(height);
+        image.rgb.assign(size_t(width * height * 3), 0.0f);
+        // Slice::Make offsets the base pointer by the data window's origin, so pixel
+        // (min.x, min.y) lands at index 0. Other pixel types convert to float on read.
+        Imf::FrameBuffer frame;
+        for (int c = 0; c < 3; ++c)
+            frame.insert(kChannels[c], Imf::Slice::Make(Imf::FLOAT, image.rgb.data() + c, dw, 3 * sizeof(float),
+                                                        size_t(width) * 3 * sizeof(float)));
+        file.setFrameBuffer(frame);
+        file.readPixels(dw.min.y, dw.max.y);
+
+        readAttribute<Imf::IntAttribute>(header, kSpp, image.meta.spp);
+        readAttribute<Imf::IntAttribute>(header, kSeed, image.meta.seed);
+        readAttribute<Imf::IntAttribute>(header, kSampleOffset, image.meta.sampleOffset);
+        readAttribute<Imf::StringAttribute>(header, kIntegrator, image.meta.integrator);
+        readAttribute<Imf::DoubleAttribute>(header, kRenderSeconds, image.meta.renderSeconds);
+        return image;
+    } catch (const InputError&) {
+        throw;
+    } catch (const std::bad_alloc&) {
+        throwInputError(name, "", "image too large to load");
+    } catch (const std::exception& e) {
+        // Iex exceptions (truncated or corrupt data, unreadable file) derive from std::exception.
+        throwInputError(name, "", "cannot read OpenEXR image: " + oneLine(e.what()));
+    }
+}
+
+}  // namespace penumbra

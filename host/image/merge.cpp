@@ -1,0 +1,81 @@
+// Merging partial renders (penumbra merge): the spp-weighted mean of images rendered
+// with the same scene, each an unbiased estimate from its own samples. Refuses inputs
+// whose average would not be such an estimate (SCENE_FORMAT.md, "Output").
+#include <algorithm>
+#include <climits>
+#include <string>
+
+#include "core/errors.h"
+#include "image/image.h"
+
+namespace penumbra {
+
+namespace {
+
+std::string sizeText(const Image& image) { return std::to_string(image.width) + "x" + std::to_string(image.height); }
+
+}  // namespace
+
+Image mergeImages(const std::vector<Image>& images, const std::vector<std::string>& names) {
+    auto nameOf = [&](size_t i) { return i < names.size() ? names[i] : "image " + std::to_string(i + 1); };
+    if (images.empty()) throw InputError("merge: no images given");
+
+    const Image& first = images[0];
+    int64_t totalSpp = 0;
+    for (size_t i = 0; i < images.size(); ++i) {
+        const Image& image = images[i];
+        // Without spp the weight is unknown, so the mean would be silently wrong.
+        if (!image.meta.spp || *image.meta.spp <= 0)
+            throwInputError(nameOf(i), "", "missing penumbra:spp attribute; only penumbra renders can be merged");
+        if (image.width != first.width || image.height != first.height)
+            throwInputError(nameOf(i), "",
+                            "size " + sizeText(image) + " differs from " + nameOf(0) + " (" + sizeText(first) + ")");
+        if (image.meta.integrator && first.meta.integrator && *image.meta.integrator != *first.meta.integrator)
+            throwInputError(nameOf(i), "",
+                            "integrator differs from " + nameOf(0) +
+                                "'s; merging renders of different integrators is not meaningful");
+        totalSpp += *image.meta.spp;
+    }
+    if (totalSpp > INT_MAX) throw InputError("merge: total spp " + std::to_string(totalSpp) + " exceeds " + std::to_string(INT_MAX));
+
+    // Same seed and overlapping sample indices means the same random numbers were used
+    // twice: the partials are correlated and their mean has the variance of fewer samples.
+    // An absent sample_offset is the scene default, 0.
+    for (size_t i = 0; i < images.size(); ++i) {
+        for (size_t j = i + 1; j < images.size(); ++j) {
+            const ImageMetadata &a = images[i].meta, &b = images[j].meta;
+            if (!a.seed || !b.seed || *a.seed != *b.seed) continue;
+            const int64_t aBegin = a.sampleOffset.value_or(0), aEnd = aBegin + *a.spp;
+            const int64_t bBegin = b.sampleOffset.value_or(0), bEnd = bBegin + *b.spp;
+            const int64_t begin = std::max(aBegin, bBegin), end = std::min(aEnd, bEnd);
+            if (begin < end)
+                throwInputError(nameOf(j), "",
+                                "sample indices [" + std::to_string(begin) + ", " + std::to_string(end) +
+                                    ") overlap with " + nameOf(i) + " (both seed " + std::to_string(*a.seed) +
+                                    "); such partials are not independent, render them with disjoint "
+                                    "sampler.sample_offset ranges");
+        }
+    }
+
+    Image result;
+    result.width = first.width;
+    result.height = first.height;
+    result.rgb.resize(first.rgb.size());
+    for (size_t k = 0; k < result.rgb.size(); ++k) {
+        double sum = 0;
+        for (const Image& image : images) sum += double(*image.meta.spp) * image.rgb[k];
+        result.rgb[k] = float(sum / double(totalSpp));
+    }
+
+    ImageMetadata& m = result.meta;
+    m.spp = int(totalSpp);
+    m.seed = first.meta.seed;
+    m.integrator = first.meta.integrator;
+    for (const Image& image : images) {
+        if (image.meta.sampleOffset) m.sampleOffset = std::min(m.sampleOffset.value_or(INT_MAX), *image.meta.sampleOffset);
+        if (image.meta.renderSeconds) m.renderSeconds = m.renderSeconds.value_or(0.0) + *image.meta.renderSeconds;
+    }
+    return result;
+}
+
+}  // namespace penumbra

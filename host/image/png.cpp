@@ -1,0 +1,63 @@
+// 8-bit sRGB PNG output for a quick look at a render: radiance times 2^exposure,
+// clamped to [0, 1], encoded with the exact sRGB transfer function (IEC 61966-2-1).
+// EXR stays the real output; this one is lossy by design.
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+
+#include "image/atomic_file.h"
+#include "image/image.h"
+
+// Static, so the library's own copy (tinygltf may bring one) can never clash with ours.
+#define STB_IMAGE_WRITE_STATIC
+#define STB_IMAGE_WRITE_IMPLEMENTATION
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wunused-function"
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+#include <stb_image_write.h>
+#pragma GCC diagnostic pop
+
+namespace penumbra {
+
+uint8_t linearToSrgb8(float linear) {
+    // !(x > 0) also catches NaN, which maps to black rather than to undefined bytes.
+    if (!(linear > 0.0f)) return 0;
+    if (linear >= 1.0f) return 255;
+    const double x = linear;
+    const double encoded = x < 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1.0 / 2.4) - 0.055;
+    return uint8_t(std::floor(encoded * 255.0 + 0.5));  // round to nearest code value
+}
+
+void writePng(const std::filesystem::path& path, const Image& image, float exposure) {
+    if (image.width == 0 || image.height == 0 || image.width > INT32_MAX / 3 || image.height > INT32_MAX)
+        throw std::runtime_error("failed to write " + path.string() + ": invalid image size " +
+                                 std::to_string(image.width) + "x" + std::to_string(image.height));
+    if (image.rgb.size() != size_t(image.width) * image.height * 3)
+        throw std::runtime_error("failed to write " + path.string() + ": pixel buffer does not match the image size");
+
+    const float scale = std::exp2(exposure);
+    std::vector<uint8_t> bytes(image.rgb.size());
+    for (size_t i = 0; i < bytes.size(); ++i) bytes[i] = linearToSrgb8(image.rgb[i] * scale);
+
+    // Encode to memory first: stb's own file writer does not report write errors.
+    std::string encoded;
+    auto append = [](void* context, void* data, int size) {
+        static_cast<std::string*>(context)->append(static_cast<const char*>(data), size_t(size));
+    };
+    if (!stbi_write_png_to_func(append, &encoded, int(image.width), int(image.height), 3, bytes.data(),
+                                int(image.width) * 3))
+        throw std::runtime_error("failed to write " + path.string() + ": PNG encoding failed");
+
+    writeFileAtomically(path, [&](const std::filesystem::path& tmp) {
+        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+        if (!out) throw std::runtime_error("cannot create " + tmp.string() + ": " + std::strerror(errno));
+        out.write(encoded.data(), std::streamsize(encoded.size()));
+        out.close();
+        if (!out) throw std::runtime_error("cannot write " + tmp.string());
+    });
+}
+
+}  // namespace penumbra
