@@ -14,7 +14,7 @@ int mergeCommand(const std::vector<std::string>& inputs, const std::string& outp
 }
 
 int compareCommand(const std::string& a, const std::string& b) {
-    CompareMetrics m = compareImages(readExr(a), readExr(b));
+    CompareMetrics m = compareImages(readExr(a), readExr(b), a, b);
     std::printf("rmse %.9g\nrelmse %.9g\nmean_a %.9g\nmean_b %.9g\nmax_abs %.9g\n", m.rmse, m.relmse, m.meanA, m.meanB,
                 m.maxAbs);
     return 0;

@@ -1,0 +1,261 @@
+// The direct-illumination integrator against closed forms, under every strategy. The scenes
+// put one light above a diffuse plane y = 0 (albedo a) with nothing in between; the camera
+// looks straight down on a 3 x 3 patch beside the light, so each pixel's expected value is
+// a/pi * E(x) averaged over the pixel, with E the irradiance:
+//   point        E = I cos(theta) / d^2                             (lecture, "Point Light")
+//   directional  E = E_perp cos(theta)
+//   polygon      E = Le/2 |sum_i Theta_i (Gamma_i . n)|             (Lambert; Arvo 1995)
+//   sphere       E = pi Le (r/d)^2 cos(theta), sphere above the horizon
+// Delta lights give the same estimate for every sample of a pixel, so only the spread over
+// the pixel varies and its variance is known exactly; for area lights the per-sample variance
+// is unknown and a block t-test of the residuals checks unbiasedness instead.
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "gpu_fixture.h"
+#include "render_helpers.h"
+
+using namespace penumbra;
+using nlohmann::json;
+
+namespace {
+
+constexpr double kAlbedo = 0.6;
+constexpr int kSize = 32;
+constexpr double kAlpha = 1e-3;
+
+json planeScene(int spp, json integrator) {
+    return {
+        {"camera", test::topDownCamera(3.0, 0.0, 1.5)},
+        {"film", {{"width", kSize}, {"height", kSize}}},
+        {"sampler", {{"spp", spp}, {"seed", 11}}},
+        {"integrator", integrator},
+        {"materials", {{"plane", {{"type", "diffuse"}, {"albedo", {kAlbedo, kAlbedo, kAlbedo}}}},
+                       {"black", {{"type", "diffuse"}, {"albedo", {0, 0, 0}}}}}},
+        {"shapes",
+         json::array({{{"type", "quad"}, {"origin", {-50, 0, -50}}, {"edge_u", {0, 0, 100}}, {"edge_v", {100, 0, 0}},
+                       {"material", "plane"}}})},
+        {"lights", json::array()},
+    };
+}
+
+json direct(const std::string& strategy, json extra = json::object()) {
+    json j = {{"type", "direct"}, {"strategy", strategy}};
+    j.update(extra);
+    return j;
+}
+
+// Irradiance at x (normal +y) from a polygon of constant radiance Le facing x.
+double polygonIrradiance(const std::vector<glm::dvec3>& v, glm::dvec3 x, double Le) {
+    double sum = 0;
+    for (size_t i = 0; i < v.size(); ++i) {
+        glm::dvec3 a = glm::normalize(v[i] - x), b = glm::normalize(v[(i + 1) % v.size()] - x);
+        double theta = std::acos(std::clamp(glm::dot(a, b), -1.0, 1.0));
+        sum += theta * glm::normalize(glm::cross(a, b)).y;
+    }
+    return 0.5 * Le * std::abs(sum);
+}
+
+const std::vector<std::string> kStrategies = {"light", "bsdf", "mis", "mixture"};
+
+// Delta lights: per-pixel check with the exact jitter variance.
+void expectDeltaLightMatches(json doc, const std::function<double(glm::dvec3)>& radiance, const std::string& name) {
+    const int spp = 64;
+    for (const std::string& strategy : kStrategies) {
+        doc["integrator"] = direct(strategy);
+        doc["sampler"]["spp"] = spp;
+        Scene scene = test::sceneFromJson(doc, name + "-" + strategy);
+        Image image = test::renderScene(scene);
+        std::vector<double> jitter;
+        std::vector<double> expected = test::expectedTopDown(scene, radiance, 8, &jitter);
+        double z = test::zScore(kAlpha, kSize * kSize * int(kStrategies.size()));
+        int failures = 0;
+        for (size_t p = 0; p < expected.size(); ++p) {
+            double tol = z * std::sqrt(jitter[p] / spp) + 1e-5 * expected[p] + 1e-6;
+            if (std::abs(image.rgb[3 * p] - expected[p]) > tol) ++failures;
+        }
+        EXPECT_EQ(failures, 0) << name << " under strategy " << strategy;
+        if (failures) writeExr(test::outputPath(name + "-" + strategy + ".exr"), image);
+    }
+}
+
+// Area lights: every strategy passes the block t-test against the closed form.
+void expectAreaLightMatches(const json& doc, const std::vector<json>& integrators,
+                            const std::function<double(glm::dvec3)>& radiance, const std::string& name) {
+    for (size_t i = 0; i < integrators.size(); ++i) {
+        json d = doc;
+        d["integrator"] = integrators[i];
+        Scene scene = test::sceneFromJson(d, name + "-" + std::to_string(i));
+        Image image = test::renderScene(scene);
+        std::vector<double> expected = test::expectedTopDown(scene, radiance);
+        std::string report;
+        int failures = test::blockTTest(image, expected, 8, kAlpha, int(integrators.size()), &report);
+        EXPECT_EQ(failures, 0) << name << " with " << integrators[i].dump() << ": " << report;
+        if (failures) writeExr(test::outputPath(name + "-" + std::to_string(i) + ".exr"), image);
+    }
+}
+
+std::vector<json> allStrategies(json extra = json::object()) {
+    std::vector<json> out;
+    for (const std::string& s : kStrategies) out.push_back(direct(s, extra));
+    out.push_back(direct("mis", {{"heuristic", "balance"}}));
+    out.push_back(direct("mis", {{"light_samples", 2}, {"bsdf_samples", 3}}));
+    return out;
+}
+
+}  // namespace
+
+TEST(DirectClosedForm, PointLight) {
+    const double I = 20.0, h = 1.5;
+    json doc = planeScene(64, direct("light"));
+    doc["lights"].push_back({{"type", "point"}, {"position", {0, h, 0}}, {"intensity", {I, I, I}}});
+    expectDeltaLightMatches(doc, [&](glm::dvec3 x) {
+        double d2 = x.x * x.x + x.z * x.z + h * h;
+        return kAlbedo / M_PI * I * (h / std::sqrt(d2)) / d2;
+    }, "point");
+}
+
+TEST(DirectClosedForm, PointLightGivenByPower) {
+    // power P = 4 pi I: the same image as intensity I.
+    const double I = 5.0, h = 1.0;
+    json doc = planeScene(64, direct("light"));
+    doc["lights"].push_back({{"type", "point"}, {"position", {0.5, h, 0.5}}, {"power", {4 * M_PI * I, 4 * M_PI * I, 4 * M_PI * I}}});
+    expectDeltaLightMatches(doc, [&](glm::dvec3 x) {
+        glm::dvec3 to = glm::dvec3(0.5, h, 0.5) - x;
+        double d2 = glm::dot(to, to);
+        return kAlbedo / M_PI * I * (h / std::sqrt(d2)) / d2;
+    }, "point-power");
+}
+
+TEST(DirectClosedForm, DirectionalLight) {
+    const double E = 3.0;
+    glm::dvec3 travel = glm::normalize(glm::dvec3(-1, -2, -0.5));
+    json doc = planeScene(64, direct("light"));
+    doc["lights"].push_back({{"type", "directional"}, {"direction", {-1, -2, -0.5}}, {"irradiance", {E, E, E}}});
+    expectDeltaLightMatches(doc, [&](glm::dvec3) { return kAlbedo / M_PI * E * -travel.y; }, "directional");
+}
+
+TEST(DirectClosedForm, QuadLightEveryStrategy) {
+    const double Le = 5.0, h = 1.5;
+    json doc = planeScene(256, direct("light"));
+    doc["shapes"].push_back({{"type", "quad"}, {"origin", {-0.5, h, -0.5}}, {"edge_u", {1, 0, 0}}, {"edge_v", {0, 0, 1}},
+                             {"emission", {Le, Le, Le}}, {"material", "black"}});
+    std::vector<glm::dvec3> quad = {{-0.5, h, -0.5}, {0.5, h, -0.5}, {0.5, h, 0.5}, {-0.5, h, 0.5}};
+    expectAreaLightMatches(doc, allStrategies(), [&](glm::dvec3 x) {
+        return kAlbedo / M_PI * polygonIrradiance(quad, x, Le);
+    }, "quad");
+}
+
+TEST(DirectClosedForm, OneSidedQuadLightFacingAwayGivesNothing) {
+    json doc = planeScene(16, direct("mis"));
+    doc["shapes"].push_back({{"type", "quad"}, {"origin", {-0.5, 1.5, -0.5}}, {"edge_u", {0, 0, 1}}, {"edge_v", {1, 0, 0}},
+                             {"emission", {5, 5, 5}}});  // front normal +y: emits upwards
+    for (const std::string& s : kStrategies) {
+        doc["integrator"] = direct(s);
+        Image image = test::renderJson(doc, "quad-away-" + s);
+        for (float v : image.rgb) ASSERT_EQ(v, 0.0f) << s;
+    }
+}
+
+TEST(DirectClosedForm, SphereLightEverySamplingAndStrategy) {
+    const double Le = 4.0, r = 0.4, h = 1.5;
+    json doc = planeScene(256, direct("light"));
+    doc["shapes"].push_back({{"type", "sphere"}, {"center", {0, h, 0}}, {"radius", r}, {"emission", {Le, Le, Le}},
+                             {"material", "black"}});
+    std::vector<json> integrators = allStrategies();
+    for (const char* sampling : {"area", "cap"}) {
+        integrators.push_back(direct("light", {{"sphere_sampling", sampling}}));
+        integrators.push_back(direct("mis", {{"sphere_sampling", sampling}}));
+    }
+    expectAreaLightMatches(doc, integrators, [&](glm::dvec3 x) {
+        double d2 = x.x * x.x + x.z * x.z + h * h;
+        return kAlbedo / M_PI * M_PI * Le * r * r / d2 * (h / std::sqrt(d2));
+    }, "sphere");
+}
+
+TEST(DirectClosedForm, MeshLightIsSumOfItsTriangles) {
+    // An irregular hexagon fan (triangles of different areas), counter-clockwise seen from
+    // below, so its front faces the plane; the polygon formula over the outline equals the
+    // sum over the triangles.
+    const double Le = 5.0, h = 1.2;
+    std::vector<glm::dvec3> outline = {{0.9, h, 0.0}, {0.3, h, 0.7}, {-0.4, h, 0.5},
+                                       {-0.8, h, 0.0}, {-0.3, h, -0.9}, {0.5, h, -0.6}};
+    json positions = json::array({0.0, h, 0.0});
+    for (auto& v : outline) positions.insert(positions.end(), {v.x, v.y, v.z});
+    json indices = json::array();
+    for (int i = 0; i < 6; ++i) indices.insert(indices.end(), {0, 1 + i, 1 + (i + 1) % 6});
+    json doc = planeScene(256, direct("light"));
+    doc["shapes"].push_back({{"type", "mesh"}, {"positions", positions}, {"indices", indices},
+                             {"emission", {Le, Le, Le}}, {"material", "black"}});
+    expectAreaLightMatches(doc, allStrategies(), [&](glm::dvec3 x) {
+        return kAlbedo / M_PI * polygonIrradiance(outline, x, Le);
+    }, "mesh");
+}
+
+TEST(DirectClosedForm, IrradianceIsIndependentOfSphereRadius) {
+    // Lecture, "Sphere Light - Validation": spheres of equal power P and any radius light the
+    // plane exactly like a point light of intensity P / (4 pi).
+    const double P = 40.0, h = 1.5;
+    auto expected = [&](glm::dvec3 x) {
+        double d2 = x.x * x.x + x.z * x.z + h * h;
+        return kAlbedo / M_PI * P / (4 * M_PI) * (h / std::sqrt(d2)) / d2;
+    };
+    for (double r : {0.6, 0.05}) {
+        json doc = planeScene(256, direct("light"));
+        doc["shapes"].push_back({{"type", "sphere"}, {"center", {0, h, 0}}, {"radius", r}, {"power", {P, P, P}},
+                                 {"material", "black"}});
+        expectAreaLightMatches(doc, {direct("light"), direct("mis")}, expected, "radius-" + std::to_string(r));
+    }
+    json doc = planeScene(16, direct("light"));
+    doc["lights"].push_back({{"type", "point"}, {"position", {0, h, 0}}, {"power", {P, P, P}}});
+    expectDeltaLightMatches(doc, expected, "radius-point");
+}
+
+TEST(DirectVariance, SphereSamplingOrderSolidAngleCapArea) {
+    const double Le = 2.0, r = 0.9, h = 1.2;
+    auto expectedL = [&](glm::dvec3 x) {
+        double d2 = x.x * x.x + x.z * x.z + h * h;
+        return kAlbedo * Le * r * r / d2 * (h / std::sqrt(d2));
+    };
+    double mse[3];
+    const char* samplings[3] = {"solid_angle", "cap", "area"};
+    for (int i = 0; i < 3; ++i) {
+        json doc = planeScene(16, direct("light", {{"sphere_sampling", samplings[i]}}));
+        doc["camera"] = test::topDownCamera(2.0, 0.0, 1.0);  // close to the light: shapes matter
+        doc["shapes"].push_back({{"type", "sphere"}, {"center", {0, h, 0}}, {"radius", r}, {"emission", {Le, Le, Le}},
+                                 {"material", "black"}});
+        Scene scene = test::sceneFromJson(doc, std::string("order-") + samplings[i]);
+        mse[i] = test::meanSquaredError(test::renderScene(scene), test::expectedTopDown(scene, expectedL));
+    }
+    // Each MSE averages 1024 independent squared errors (relative spread about 5%).
+    EXPECT_LT(mse[0], mse[1]) << "solid_angle " << mse[0] << " cap " << mse[1];
+    EXPECT_LT(mse[1], mse[2]) << "cap " << mse[1] << " area " << mse[2];
+}
+
+TEST(DirectVariance, MseFallsAsOneOverN) {
+    const double Le = 5.0, h = 1.5;
+    std::vector<glm::dvec3> quad = {{-0.5, h, -0.5}, {0.5, h, -0.5}, {0.5, h, 0.5}, {-0.5, h, 0.5}};
+    std::vector<double> logN, logMse;
+    for (int spp : {4, 16, 64, 256}) {
+        json doc = planeScene(spp, direct("light"));
+        doc["shapes"].push_back({{"type", "quad"}, {"origin", {-0.5, h, -0.5}}, {"edge_u", {1, 0, 0}},
+                                 {"edge_v", {0, 0, 1}}, {"emission", {Le, Le, Le}}});
+        Scene scene = test::sceneFromJson(doc, "slope-" + std::to_string(spp));
+        double mse = test::meanSquaredError(test::renderScene(scene), test::expectedTopDown(scene, [&](glm::dvec3 x) {
+            return kAlbedo / M_PI * polygonIrradiance(quad, x, Le);
+        }));
+        logN.push_back(std::log(double(spp)));
+        logMse.push_back(std::log(mse));
+    }
+    // Least-squares slope of log MSE against log N. Each log MSE is within about 0.05 of its
+    // mean (1024 pixels), so the slope over a factor 64 in N is within about 0.02 of -1.
+    double mx = 0, my = 0;
+    for (size_t i = 0; i < logN.size(); ++i) mx += logN[i] / logN.size(), my += logMse[i] / logN.size();
+    double sxy = 0, sxx = 0;
+    for (size_t i = 0; i < logN.size(); ++i) sxy += (logN[i] - mx) * (logMse[i] - my), sxx += std::pow(logN[i] - mx, 2);
+    double slope = sxy / sxx;
+    EXPECT_NEAR(slope, -1.0, 0.1);
+}
