@@ -36,7 +36,7 @@ void main() {
     float pdf;
     if (params.aoSampling == AO_COSINE) {
         local = squareToCosineHemisphere(u);
-        pdf = cosineHemispherePdf(local);
+        pdf = cosineHemispherePdf(local.z);
     } else {
         local = squareToUniformHemisphere(u);
         pdf = uniformHemispherePdf(local);

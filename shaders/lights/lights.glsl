@@ -115,7 +115,7 @@ bool sampleLight(uint index, vec3 x, vec3 n, vec3 u, uint sphereSampling, out Li
         // Cosine-weighted about n: proportional to the integrand's cosine for a constant sky.
         vec3 local = squareToCosineHemisphere(u.xy);
         ls.wi = frameToWorld(local, n);
-        ls.pdf = cosineHemispherePdf(local);
+        ls.pdf = cosineHemispherePdf(local.z);
         ls.radiance = light.emission;
         return ls.pdf > 0.0;
     }
