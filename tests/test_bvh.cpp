@@ -463,9 +463,9 @@ struct SurfaceCase {
 struct SurfaceResult {
     uint32_t firstPrimitive, selfHit, secondPrimitive;
     float offset;
-    glm::vec4 position, normal;
+    glm::vec4 position, normal, shading;
 };
-static_assert(sizeof(SurfaceCase) == 48 && sizeof(SurfaceResult) == 48);
+static_assert(sizeof(SurfaceCase) == 48 && sizeof(SurfaceResult) == 64);
 }  // namespace
 
 TEST(Bvh, SecondaryRaysNeverReHitTheirOwnSurface) {
@@ -473,6 +473,7 @@ TEST(Bvh, SecondaryRaysNeverReHitTheirOwnSurface) {
     const float scales[] = {1e-3f, 1e-2f, 1e-1f, 1.0f, 1e1f, 1e2f, 1e3f};
     std::vector<gpu::Primitive> scene;
     std::vector<float> scaleOf;
+    std::vector<gpu::TriangleNormals> shadingNormals;
     for (float s : scales) {
         for (int far = 0; far < 2; ++far) {
             // Near the world origin, and far from it (where a small primitive has few bits).
@@ -480,6 +481,13 @@ TEST(Bvh, SecondaryRaysNeverReHitTheirOwnSurface) {
             for (int i = 0; i < 30; ++i) {
                 vec3 c = base + s * rng.inBox(-20, 20);
                 scene.push_back(triangle(c + s * rng.inBox(-1, 1), c + s * rng.inBox(-1, 1), c + s * rng.inBox(-1, 1)));
+                if (i % 2) {
+                    // Every other triangle carries vertex normals, all three the same unit
+                    // vector, so the interpolated shading normal must be exactly that vector.
+                    vec3 m = rng.unitVector();
+                    shadingNormals.push_back({glm::vec4(m, 0), glm::vec4(m, 0), glm::vec4(m, 0)});
+                    scene.back().typeAndNormals |= uint32_t(shadingNormals.size()) << 2;
+                }
                 scene.push_back(sphere(base + s * rng.inBox(-20, 20), s * rng.uniform(0.3f, 1.0f)));
                 vec3 q = base + s * rng.inBox(-20, 20);
                 scene.push_back(quad(q, s * rng.uniform(0.3f, 2.0f) * rng.unitVector(),
@@ -530,7 +538,7 @@ TEST(Bvh, SecondaryRaysNeverReHitTheirOwnSurface) {
     gpu::Buffer resultBuffer(ctx, cases.size() * sizeof(SurfaceResult), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     auto nodes = gpu::Buffer::fromVector(ctx, bvh.nodes);
     auto primitives = gpu::Buffer::fromVector(ctx, bvh.primitives);
-    gpu::Buffer normals(ctx, sizeof(gpu::TriangleNormals), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    auto normals = gpu::Buffer::fromVector(ctx, shadingNormals);
     VkDescriptorType storage = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     gpu::Kernel kernel(ctx, "tests/bvh_surface", {storage, storage, storage, storage, storage}, sizeof(uint32_t));
     kernel.bind(0, caseBuffer);
@@ -553,7 +561,20 @@ TEST(Bvh, SecondaryRaysNeverReHitTheirOwnSurface) {
         float magnitude = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
         // Wächter-Binder moves each coordinate by at most 256 ulps (or 2^-16 near zero).
         bool offsetOk = r.offset <= 256.0f * 1.2e-7f * 1.8f * magnitude + 3e-5f;
-        bool normalOk = std::abs(glm::length(vec3(r.normal)) - 1.0f) < 1e-5f && std::abs(r.normal.w - 1.0f) < 1e-5f;
+        // Geometric normal: the unflipped front normal of SCENE_FORMAT.md; shading normal:
+        // the vertex normal where given, else the geometric normal.
+        const gpu::Primitive& prim = scene[target[i]];
+        uint32_t type = prim.typeAndNormals & gpu::PRIM_TYPE_MASK;
+        vec3 front = type == gpu::PRIM_TRIANGLE ? glm::normalize(glm::cross(prim.p1 - prim.p0, prim.p2 - prim.p0))
+                     : type == gpu::PRIM_QUAD   ? glm::normalize(glm::cross(prim.p1, prim.p2))
+                                                : glm::normalize(p - prim.p0);
+        uint32_t normalsIndex = prim.typeAndNormals >> 2;
+        vec3 shading = normalsIndex ? vec3(shadingNormals[normalsIndex - 1].n0) : front;
+        // For spheres the expected normal comes from the float position p, whose rounding
+        // (a few ulps of |p|) is not small against a tiny radius far from the origin.
+        float tolerance = 1e-4f + (type == gpu::PRIM_SPHERE ? 4.0f * 1.2e-7f * magnitude / prim.p1.x : 0.0f);
+        bool normalOk = glm::length(vec3(r.normal) - front) < tolerance &&
+                        glm::length(vec3(r.shading) - shading) < tolerance;
         selfHits += r.selfHit;
         largeOffsets += !offsetOk;
         badNormals += !normalOk;
@@ -565,7 +586,7 @@ TEST(Bvh, SecondaryRaysNeverReHitTheirOwnSurface) {
                 << cases[i].outLocal.z << "," << cases[i].outLocal.w << ")\n";
     }
     std::cout << "[ bvh offset ] " << cases.size() << " cases, " << valid << " hit their target, " << selfHits
-              << " self-hits, " << largeOffsets << " large offsets\n";
+              << " self-hits, " << largeOffsets << " large offsets, " << badNormals << " wrong normals\n";
     if (selfHits || largeOffsets || badNormals) std::ofstream(test::outputPath("bvh_self_intersection.txt")) << log.str();
     EXPECT_GT(valid, cases.size() * 7 / 10) << "most first rays should reach their target primitive";
     EXPECT_EQ(selfHits, 0u) << "see build/test-output/bvh_self_intersection.txt";

@@ -22,7 +22,8 @@ struct SurfaceResult {
     uint secondPrimitive;  // closest hit of the second ray (NO_HIT if nothing)
     float offset;          // |offsetRayOrigin(p, n) - p|
     vec4 position;         // xyz: surfaceAt position, w: self-hit t (if any)
-    vec4 normal;           // xyz: geometric normal, w: |shading normal|
+    vec4 normal;           // xyz: geometric normal
+    vec4 shading;          // xyz: shading normal
 };
 
 layout(std430, binding = 0) readonly restrict buffer Cases { SurfaceCase cases[]; };
@@ -39,6 +40,7 @@ void main() {
     result.offset = 0.0;
     result.position = vec4(0.0);
     result.normal = vec4(0.0);
+    result.shading = vec4(0.0);
     vec3 origin = cases[i].origin.xyz;
     vec3 dir = cases[i].dir.xyz;
     Hit hit;
@@ -56,7 +58,8 @@ void main() {
         result.secondPrimitive = traceClosest(newOrigin, newDir, FLOAT_MAX, second) ? second.primitive : NO_HIT;
         result.offset = length(newOrigin - sp.position);
         result.position = vec4(sp.position, result.selfHit != 0u ? t : 0.0);
-        result.normal = vec4(sp.geometricNormal, length(sp.shadingNormal));
+        result.normal = vec4(sp.geometricNormal, 0.0);
+        result.shading = vec4(sp.shadingNormal, 0.0);
     }
     results[i] = result;
 }
