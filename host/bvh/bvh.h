@@ -43,4 +43,8 @@ std::optional<CpuHit> intersectBruteForce(const std::vector<gpu::Primitive>& pri
 // Bounds of one primitive.
 void primitiveBounds(const gpu::Primitive& primitive, glm::vec3& lo, glm::vec3& hi);
 
+// Depth of the deepest leaf (root = 0); the builder keeps it <= BVH_MAX_DEPTH, the size of
+// the traversal stacks on both sides.
+uint32_t bvhDepth(const Bvh& bvh);
+
 }  // namespace penumbra

@@ -40,6 +40,12 @@ struct BvhNode {
     uint primCount;
 };
 
+// Deepest leaf the builder produces (root = depth 0). Traversal keeps at most one deferred
+// node per level on its stack, so a stack of BVH_MAX_DEPTH entries never overflows.
+#define BVH_MAX_DEPTH 64
+// Closest-hit result meaning "no primitive was hit".
+PENUMBRA_CONST uint NO_HIT = 0xffffffffu;
+
 // ---- Primitives -----------------------------------------------------------------------
 PENUMBRA_CONST uint PRIM_TRIANGLE = 0u;  // p0, p1, p2 = vertices, counter-clockwise = front
 PENUMBRA_CONST uint PRIM_SPHERE = 1u;    // p0 = centre, p1.x = radius

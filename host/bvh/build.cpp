@@ -1,0 +1,284 @@
+// Binned SAH construction of the BVH over triangles, spheres and quads together, flattened
+// depth-first for the GPU. Binning follows Wald 2007, "On fast Construction of SAH-based
+// Bounding Volume Hierarchies" (IEEE RT'07), and pbrt-v4 (4th ed., section 7.3.2): centroids
+// are binned into `binCount` equal bins on each axis and the best of the binCount - 1
+// planes per axis wins. Traversal is in traverse.cpp and shaders/geometry/bvh.glsl.
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <numeric>
+
+#include "bvh/bvh.h"
+
+namespace penumbra {
+
+namespace {
+
+struct Aabb {
+    glm::vec3 lo{FLT_MAX};
+    glm::vec3 hi{-FLT_MAX};
+
+    void grow(glm::vec3 p) {
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+    }
+    void grow(const Aabb& b) {
+        lo = glm::min(lo, b.lo);
+        hi = glm::max(hi, b.hi);
+    }
+    // Surface area; 0 for an empty (inverted) box.
+    float area() const {
+        glm::vec3 d = hi - lo;
+        if (d.x < 0.0f || d.y < 0.0f || d.z < 0.0f) return 0.0f;
+        return 2.0f * (d.x * d.y + d.y * d.z + d.z * d.x);
+    }
+};
+
+float nodeArea(const gpu::BvhNode& node) {
+    Aabb box{node.boundsMin, node.boundsMax};
+    return box.area();
+}
+
+// ceil(log2(n)) for n >= 1: the depth a median split needs below a node of n primitives.
+uint32_t ceilLog2(uint32_t n) {
+    uint32_t bits = 0;
+    while ((uint64_t(1) << bits) < n) ++bits;
+    return bits;
+}
+
+// A subtree of `count` primitives rooted at `depth` can always be finished with median
+// splits (each halving the count) without any leaf deeper than BVH_MAX_DEPTH.
+bool depthBoundHolds(uint32_t depth, uint32_t count) { return depth + ceilLog2(count) <= BVH_MAX_DEPTH; }
+
+constexpr uint32_t kNoParent = 0xffffffffu;
+
+// A range [begin, end) of the index array still to be turned into a subtree whose root goes
+// to the next free node; `parent` is the interior node whose right-child offset points here.
+struct Task {
+    uint32_t begin, end, depth, parent;
+};
+
+class Builder {
+public:
+    Builder(const std::vector<gpu::Primitive>& primitives, const BvhOptions& options)
+        : m_maxLeaf(std::max(1u, options.maxLeafSize)), m_binCount(std::clamp(options.binCount, 2u, 256u)) {
+        size_t n = primitives.size();
+        m_bounds.resize(n);
+        m_centroids.resize(n);
+        for (size_t i = 0; i < n; ++i) {
+            primitiveBounds(primitives[i], m_bounds[i].lo, m_bounds[i].hi);
+            m_centroids[i] = 0.5f * (m_bounds[i].lo + m_bounds[i].hi);
+        }
+        m_index.resize(n);
+        std::iota(m_index.begin(), m_index.end(), 0u);
+    }
+
+    // Builds depth-first with an explicit stack: the left child is pushed last, so it is
+    // built next and lands at parent + 1; the right child patches its parent's offset.
+    std::vector<gpu::BvhNode> build() {
+        std::vector<gpu::BvhNode> nodes;
+        nodes.reserve(2 * m_index.size() / std::max(1u, m_maxLeaf / 2) + 1);
+        std::vector<Task> stack{{0, uint32_t(m_index.size()), 0, kNoParent}};
+        while (!stack.empty()) {
+            Task task = stack.back();
+            stack.pop_back();
+            uint32_t nodeIndex = uint32_t(nodes.size());
+            if (task.parent != kNoParent) nodes[task.parent].offset = nodeIndex;
+
+            Aabb bounds, centroidBounds;
+            for (uint32_t i = task.begin; i < task.end; ++i) {
+                bounds.grow(m_bounds[m_index[i]]);
+                centroidBounds.grow(m_centroids[m_index[i]]);
+            }
+            gpu::BvhNode node{};
+            node.boundsMin = bounds.lo;
+            node.boundsMax = bounds.hi;
+            uint32_t mid = split(task, bounds, centroidBounds);
+            if (mid == task.begin) {  // leaf
+                node.offset = task.begin;
+                node.primCount = task.end - task.begin;
+                nodes.push_back(node);
+                continue;
+            }
+            node.offset = 0;  // patched when the right child is built
+            node.primCount = 0;
+            nodes.push_back(node);
+            stack.push_back({mid, task.end, task.depth + 1, nodeIndex});
+            stack.push_back({task.begin, mid, task.depth + 1, kNoParent});
+        }
+        return nodes;
+    }
+
+    const std::vector<uint32_t>& order() const { return m_index; }
+
+private:
+    struct Bin {
+        Aabb bounds;
+        uint32_t count = 0;
+    };
+
+    // Partitions the task's range and returns where the right half starts, or task.begin
+    // for "make a leaf".
+    uint32_t split(const Task& task, const Aabb& bounds, const Aabb& centroidBounds) {
+        uint32_t count = task.end - task.begin;
+        if (count <= 1) return task.begin;
+        glm::vec3 extent = centroidBounds.hi - centroidBounds.lo;
+        int longest = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
+        float area = bounds.area();
+        // All centroids coincide (or the node has no area to weigh splits by): binning cannot
+        // separate anything, so split the range in half when the leaf would be too big.
+        if (!(extent[longest] > 0.0f) || !(area > 0.0f)) {
+            if (count <= m_maxLeaf) return task.begin;
+            return medianSplit(task, longest, extent[longest] > 0.0f);
+        }
+
+        // SAH with traversal cost 1 and intersection cost 1, normalised by the node's area
+        // (pbrt-v4 eq. 7.4): cost(split) = 1 + (A_L N_L + A_R N_R) / A, leaf cost = N.
+        float bestCost = FLT_MAX;
+        int bestAxis = -1;
+        uint32_t bestPlane = 0;  // bins [0, bestPlane] go left
+        std::vector<Bin>& bins = m_bins;
+        std::vector<float>& rightArea = m_rightArea;
+        std::vector<uint32_t>& rightCount = m_rightCount;
+        for (int axis = 0; axis < 3; ++axis) {
+            if (!(extent[axis] > 0.0f)) continue;
+            std::fill(bins.begin(), bins.end(), Bin{});
+            float lo = centroidBounds.lo[axis];
+            float scale = float(m_binCount) / extent[axis];
+            for (uint32_t i = task.begin; i < task.end; ++i) {
+                uint32_t p = m_index[i];
+                Bin& bin = bins[binOf(m_centroids[p][axis], lo, scale)];
+                bin.bounds.grow(m_bounds[p]);
+                ++bin.count;
+            }
+            // Sweep from the right, then from the left (Wald 2007, section 3.2).
+            Aabb acc;
+            uint32_t n = 0;
+            for (uint32_t b = m_binCount - 1; b > 0; --b) {
+                acc.grow(bins[b].bounds);
+                n += bins[b].count;
+                rightArea[b] = acc.area();
+                rightCount[b] = n;
+            }
+            acc = Aabb{};
+            n = 0;
+            for (uint32_t plane = 0; plane + 1 < m_binCount; ++plane) {
+                acc.grow(bins[plane].bounds);
+                n += bins[plane].count;
+                if (n == 0 || rightCount[plane + 1] == 0) continue;
+                float cost = 1.0f + (acc.area() * float(n) + rightArea[plane + 1] * float(rightCount[plane + 1])) / area;
+                if (cost < bestCost) {
+                    bestCost = cost;
+                    bestAxis = axis;
+                    bestPlane = plane;
+                }
+            }
+        }
+        if (bestAxis < 0) return count <= m_maxLeaf ? task.begin : medianSplit(task, longest, true);
+        // A leaf is cheaper than any split: keep it, unless it would exceed maxLeafSize.
+        if (count <= m_maxLeaf && bestCost >= float(count)) return task.begin;
+
+        float lo = centroidBounds.lo[bestAxis];
+        float scale = float(m_binCount) / extent[bestAxis];
+        auto first = m_index.begin() + task.begin;
+        auto last = m_index.begin() + task.end;
+        auto middle = std::partition(first, last, [&](uint32_t p) {
+            return binOf(m_centroids[p][bestAxis], lo, scale) <= bestPlane;
+        });
+        uint32_t mid = uint32_t(middle - m_index.begin());
+        // Both halves must keep the depth bound (the builder's promise to the fixed GPU
+        // stack); otherwise, and if rounding emptied a side, fall back to the median.
+        if (mid == task.begin || mid == task.end || !depthBoundHolds(task.depth + 1, mid - task.begin) ||
+            !depthBoundHolds(task.depth + 1, task.end - mid))
+            return medianSplit(task, longest, true);
+        return mid;
+    }
+
+    uint32_t binOf(float c, float lo, float scale) const {
+        float b = (c - lo) * scale;
+        return b >= float(m_binCount - 1) ? m_binCount - 1 : uint32_t(std::max(b, 0.0f));
+    }
+
+    // Object median along `axis` (nth_element, O(n)); with coincident centroids any halving
+    // is as good as another.
+    uint32_t medianSplit(const Task& task, int axis, bool sortByAxis) {
+        uint32_t mid = task.begin + (task.end - task.begin) / 2;
+        if (sortByAxis)
+            std::nth_element(m_index.begin() + task.begin, m_index.begin() + mid, m_index.begin() + task.end,
+                             [&](uint32_t a, uint32_t b) { return m_centroids[a][axis] < m_centroids[b][axis]; });
+        return mid;
+    }
+
+    uint32_t m_maxLeaf;
+    uint32_t m_binCount;
+    std::vector<Aabb> m_bounds;
+    std::vector<glm::vec3> m_centroids;
+    std::vector<uint32_t> m_index;
+    // Scratch for split(), reused across nodes.
+    std::vector<Bin> m_bins = std::vector<Bin>(m_binCount);
+    std::vector<float> m_rightArea = std::vector<float>(m_binCount);
+    std::vector<uint32_t> m_rightCount = std::vector<uint32_t>(m_binCount);
+};
+
+}  // namespace
+
+void primitiveBounds(const gpu::Primitive& primitive, glm::vec3& lo, glm::vec3& hi) {
+    uint32_t type = primitive.typeAndNormals & gpu::PRIM_TYPE_MASK;
+    if (type == gpu::PRIM_SPHERE) {
+        float r = std::abs(primitive.p1.x);
+        lo = primitive.p0 - glm::vec3(r);
+        hi = primitive.p0 + glm::vec3(r);
+    } else if (type == gpu::PRIM_QUAD) {
+        glm::vec3 a = primitive.p0, b = a + primitive.p1, c = a + primitive.p2, d = b + primitive.p2;
+        lo = glm::min(glm::min(a, b), glm::min(c, d));
+        hi = glm::max(glm::max(a, b), glm::max(c, d));
+    } else {
+        lo = glm::min(primitive.p0, glm::min(primitive.p1, primitive.p2));
+        hi = glm::max(primitive.p0, glm::max(primitive.p1, primitive.p2));
+    }
+}
+
+Bvh buildBvh(std::vector<gpu::Primitive> primitives, const BvhOptions& options) {
+    Bvh bvh;
+    if (primitives.empty()) {
+        // One empty leaf-shaped root with inverted bounds: the sign-selected slab test
+        // rejects it for every ray, so traversal never reads its (meaningless) offset.
+        bvh.nodes.push_back({glm::vec3(FLT_MAX), 0u, glm::vec3(-FLT_MAX), 0u});
+        return bvh;
+    }
+    Builder builder(primitives, options);
+    bvh.nodes = builder.build();
+    bvh.originalIndex = builder.order();
+    bvh.primitives.reserve(primitives.size());
+    for (uint32_t i : bvh.originalIndex) bvh.primitives.push_back(primitives[i]);
+
+    // Normalised SAH cost: sum over interior nodes of A/A_root * 1, over leaves of
+    // A/A_root * primCount. A root without area (all primitives at one point) weighs 1.
+    float rootArea = nodeArea(bvh.nodes[0]);
+    double cost = 0.0;
+    for (const gpu::BvhNode& node : bvh.nodes) {
+        double weight = rootArea > 0.0f ? double(nodeArea(node)) / rootArea : 1.0;
+        cost += weight * (node.primCount > 0 ? double(node.primCount) : 1.0);
+    }
+    bvh.sahCost = float(cost);
+    return bvh;
+}
+
+uint32_t bvhDepth(const Bvh& bvh) {
+    if (bvh.nodes.empty()) return 0;
+    uint32_t deepest = 0;
+    std::vector<std::pair<uint32_t, uint32_t>> stack{{0u, 0u}};  // (node, depth)
+    while (!stack.empty()) {
+        auto [index, depth] = stack.back();
+        stack.pop_back();
+        deepest = std::max(deepest, depth);
+        const gpu::BvhNode& node = bvh.nodes[index];
+        if (node.primCount == 0 && bvh.nodes.size() > 1) {
+            stack.push_back({index + 1, depth + 1});
+            stack.push_back({node.offset, depth + 1});
+        }
+    }
+    return deepest;
+}
+
+}  // namespace penumbra

@@ -1,0 +1,141 @@
+// Ray-primitive and ray-box intersection on the CPU, written in exactly the same form as
+// shaders/geometry/intersect.glsl and bvh.glsl (same operations in the same order), so that
+// tests compare like with like. Traversal lives in traverse.cpp, the tree in build.cpp.
+//
+// Contract for every test: the ray is origin + t * dir (dir need not be unit length, but is
+// in practice); a hit counts only for t strictly inside (0, tMax).
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+#include <glm/glm.hpp>
+
+#include "shared/types.h"
+
+namespace penumbra {
+
+// Möller & Trumbore 1997, "Fast, Minimum Storage Ray/Triangle Intersection", JGT 2(1).
+// Chosen over the watertight test (Woop et al. 2013) because it needs no per-ray shear
+// set-up and is cheaper on lavapipe; edges are inclusive (u >= 0, v >= 0, u + v <= 1), so a
+// ray through a shared mesh edge can only miss both triangles through rounding, which is
+// rare. uv = barycentrics of p1 and p2 (p = (1-u-v) p0 + u p1 + v p2). Either side hits.
+inline bool intersectTriangle(glm::vec3 p0, glm::vec3 p1, glm::vec3 p2, glm::vec3 origin, glm::vec3 dir,
+                              float tMax, float& t, glm::vec2& uv) {
+    glm::vec3 e1 = p1 - p0;
+    glm::vec3 e2 = p2 - p0;
+    glm::vec3 pvec = glm::cross(dir, e2);
+    float det = glm::dot(e1, pvec);
+    if (det == 0.0f) return false;  // ray parallel to the plane (or degenerate triangle)
+    float invDet = 1.0f / det;
+    glm::vec3 tvec = origin - p0;
+    float u = glm::dot(tvec, pvec) * invDet;
+    if (!(u >= 0.0f && u <= 1.0f)) return false;
+    glm::vec3 qvec = glm::cross(tvec, e1);
+    float v = glm::dot(dir, qvec) * invDet;
+    if (!(v >= 0.0f && u + v <= 1.0f)) return false;
+    float tHit = glm::dot(e2, qvec) * invDet;
+    if (!(tHit > 0.0f && tHit < tMax)) return false;
+    t = tHit;
+    uv = glm::vec2(u, v);
+    return true;
+}
+
+// Haines, Günther & Akenine-Möller 2019, "Precision Improvements for Ray/Sphere
+// Intersection", Ray Tracing Gems ch. 7: the discriminant from the squared distance of the
+// centre to the ray line (eq. 10, no catastrophic cancellation of b^2 - ac), and the two
+// roots as c/q and q/a (eq. 13-15, Press et al.) so that the smaller one keeps its digits.
+// Returns the nearer root inside (0, tMax): from inside the sphere, that is the far root.
+inline bool intersectSphere(glm::vec3 centre, float radius, glm::vec3 origin, glm::vec3 dir, float tMax,
+                            float& t) {
+    glm::vec3 f = origin - centre;
+    float a = glm::dot(dir, dir);
+    float b = -glm::dot(f, dir);                // half of the usual b, sign flipped
+    glm::vec3 l = f + (b / a) * dir;            // centre -> closest point of the ray line
+    float discriminant = a * (radius * radius - glm::dot(l, l));  // = b^2 - a c, robustly
+    if (discriminant < 0.0f) return false;
+    float c = glm::dot(f, f) - radius * radius;
+    float q = b + (b >= 0.0f ? 1.0f : -1.0f) * std::sqrt(discriminant);
+    if (q == 0.0f) return false;  // tangent at the origin itself (b = 0, discriminant = 0)
+    float t0 = c / q;
+    float t1 = q / a;
+    float tNear = glm::min(t0, t1);
+    float tFar = glm::max(t0, t1);
+    if (tNear > 0.0f && tNear < tMax) {
+        t = tNear;
+        return true;
+    }
+    if (tFar > 0.0f && tFar < tMax) {
+        t = tFar;
+        return true;
+    }
+    return false;
+}
+
+// Parallelogram origin + s edgeU + t edgeV, s, t in [0, 1]: hit the plane, then express the
+// hit in (s, t) with the dual basis (Shirley, "Ray Tracing: The Next Week", quads). Either
+// side hits. uv = (s, t).
+inline bool intersectQuad(glm::vec3 corner, glm::vec3 edgeU, glm::vec3 edgeV, glm::vec3 origin, glm::vec3 dir,
+                          float tMax, float& t, glm::vec2& uv) {
+    glm::vec3 n = glm::cross(edgeU, edgeV);
+    float denom = glm::dot(n, dir);
+    if (denom == 0.0f) return false;  // parallel to the plane (or degenerate quad)
+    float tHit = glm::dot(n, corner - origin) / denom;
+    if (!(tHit > 0.0f && tHit < tMax)) return false;
+    glm::vec3 w = n / glm::dot(n, n);
+    glm::vec3 local = (origin - corner) + tHit * dir;
+    float s = glm::dot(w, glm::cross(local, edgeV));
+    float r = glm::dot(w, glm::cross(edgeU, local));
+    if (!(s >= 0.0f && s <= 1.0f && r >= 0.0f && r <= 1.0f)) return false;
+    t = tHit;
+    uv = glm::vec2(s, r);
+    return true;
+}
+
+inline bool intersectPrimitive(const gpu::Primitive& primitive, glm::vec3 origin, glm::vec3 dir, float tMax,
+                               float& t, glm::vec2& uv) {
+    uint32_t type = primitive.typeAndNormals & gpu::PRIM_TYPE_MASK;
+    if (type == gpu::PRIM_TRIANGLE) return intersectTriangle(primitive.p0, primitive.p1, primitive.p2, origin, dir,
+                                                             tMax, t, uv);
+    if (type == gpu::PRIM_SPHERE) {
+        uv = glm::vec2(0.0f);
+        return intersectSphere(primitive.p0, primitive.p1.x, origin, dir, tMax, t);
+    }
+    if (type == gpu::PRIM_QUAD) return intersectQuad(primitive.p0, primitive.p1, primitive.p2, origin, dir, tMax,
+                                                     t, uv);
+    return false;
+}
+
+// 1 / dir with zero components replaced by 1 / 1e-20 (sign kept for -0.0 as +), so the slab
+// test below never forms 0 * inf = NaN and every inverse is finite.
+inline glm::vec3 rayInverseDirection(glm::vec3 dir) {
+    const float tiny = 1e-20f;
+    glm::vec3 d;
+    for (int i = 0; i < 3; ++i) d[i] = std::abs(dir[i]) < tiny ? (dir[i] < 0.0f ? -tiny : tiny) : dir[i];
+    return 1.0f / d;
+}
+
+// 1 + 2 gamma(3): widens the exit distance so rounding never culls a box the ray touches
+// (Ize 2013, "Robust BVH Ray Traversal", JCGT 2(2); pbrt-v4 Bounds3::IntersectP).
+inline constexpr float kBoxExitScale = 1.0000004f;
+
+// Slab test in the sign-selected form of Williams et al. 2005 ("An Efficient and Robust
+// Ray-Box Intersection Algorithm"): near planes chosen by the sign of the direction, so an
+// inverted (empty) box always misses. tEntry = where the ray enters (clamped to 0).
+inline bool intersectBox(glm::vec3 lo, glm::vec3 hi, glm::vec3 origin, glm::vec3 invDir, float tMax,
+                         float& tEntry) {
+    glm::vec3 nearP, farP;
+    for (int i = 0; i < 3; ++i) {
+        bool negative = invDir[i] < 0.0f;
+        nearP[i] = negative ? hi[i] : lo[i];
+        farP[i] = negative ? lo[i] : hi[i];
+    }
+    glm::vec3 tNear3 = (nearP - origin) * invDir;
+    glm::vec3 tFar3 = (farP - origin) * invDir;
+    float tNear = glm::max(glm::max(tNear3.x, tNear3.y), glm::max(tNear3.z, 0.0f));
+    float tFar = glm::min(glm::min(tFar3.x, tFar3.y), glm::min(tFar3.z, tMax)) * kBoxExitScale;
+    tEntry = tNear;
+    return tNear <= tFar;
+}
+
+}  // namespace penumbra

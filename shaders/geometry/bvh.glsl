@@ -1,0 +1,121 @@
+// Traversal of the flat BVH built by host/bvh/build.cpp: closest hit for camera and
+// bounce rays, any hit for shadow rays. Declares the node and primitive buffers; what a hit
+// means for shading (position, normals, material) is in surface.glsl.
+// host/bvh/traverse.cpp mirrors both loops for the CPU tests.
+#ifndef PENUMBRA_BVH_GLSL
+#define PENUMBRA_BVH_GLSL
+
+#include "shared/types.h"
+#include "geometry/intersect.glsl"
+
+// Depth-first flat nodes: an interior node's left child is the next node, `offset` its
+// right child; a leaf covers primitives[offset, offset + primCount).
+layout(std430, binding = BINDING_NODES) readonly restrict buffer BvhNodes { BvhNode nodes[]; };
+// Primitives in leaf order: Hit.primitive indexes this array.
+layout(std430, binding = BINDING_PRIMITIVES) readonly restrict buffer Primitives { Primitive primitives[]; };
+
+struct Hit {
+    float t;           // ray parameter of the hit, in (0, tMax)
+    uint primitive;    // index into primitives[], NO_HIT when nothing was hit
+    vec2 uv;           // triangle: barycentrics of p1, p2; quad: (s, t); sphere: unused
+};
+
+// Nearest hit with t in (0, tMax). Stack-based, nearest child first: both child boxes are
+// tested, the far one is deferred with its entry distance and skipped on pop if a closer
+// hit has been found meanwhile. The builder bounds leaf depth by BVH_MAX_DEPTH, and at most
+// one node per level waits on the stack, so the fixed stack cannot overflow.
+bool traceClosest(vec3 origin, vec3 dir, float tMax, out Hit hit) {
+    hit.t = tMax;
+    hit.primitive = NO_HIT;
+    hit.uv = vec2(0.0);
+    vec3 invDir = rayInverseDirection(dir);
+    uint stackNode[BVH_MAX_DEPTH];
+    float stackEntry[BVH_MAX_DEPTH];
+    int sp = 0;
+    float tEntry;
+    if (!intersectBox(nodes[0].boundsMin, nodes[0].boundsMax, origin, invDir, tMax, tEntry)) return false;
+    uint index = 0u;
+    while (true) {
+        uint offset = nodes[index].offset;
+        uint primCount = nodes[index].primCount;
+        if (primCount > 0u) {
+            for (uint i = offset; i < offset + primCount; ++i) {
+                float t;
+                vec2 uv;
+                if (intersectPrimitive(primitives[i], origin, dir, hit.t, t, uv)) {
+                    hit.t = t;
+                    hit.primitive = i;
+                    hit.uv = uv;
+                }
+            }
+        } else {
+            uint left = index + 1u;
+            uint right = offset;
+            float tLeft, tRight;
+            bool hitLeft = intersectBox(nodes[left].boundsMin, nodes[left].boundsMax, origin, invDir, hit.t, tLeft);
+            bool hitRight = intersectBox(nodes[right].boundsMin, nodes[right].boundsMax, origin, invDir, hit.t, tRight);
+            if (hitLeft && hitRight) {
+                bool leftFirst = tLeft <= tRight;
+                stackNode[sp] = leftFirst ? right : left;
+                stackEntry[sp] = leftFirst ? tRight : tLeft;
+                ++sp;
+                index = leftFirst ? left : right;
+                continue;
+            }
+            if (hitLeft || hitRight) {
+                index = hitLeft ? left : right;
+                continue;
+            }
+        }
+        // Pop the next deferred node that can still hold something nearer than the hit.
+        bool found = false;
+        while (sp > 0) {
+            --sp;
+            if (stackEntry[sp] <= hit.t * BOX_EXIT_SCALE) {
+                index = stackNode[sp];
+                found = true;
+                break;
+            }
+        }
+        if (!found) break;
+    }
+    return hit.primitive != NO_HIT;
+}
+
+// Whether anything is hit with t in (0, tMax): for shadow rays, stops at the first hit
+// found, in no particular order.
+bool traceAny(vec3 origin, vec3 dir, float tMax) {
+    vec3 invDir = rayInverseDirection(dir);
+    uint stackNode[BVH_MAX_DEPTH];
+    int sp = 0;
+    float tEntry;
+    if (!intersectBox(nodes[0].boundsMin, nodes[0].boundsMax, origin, invDir, tMax, tEntry)) return false;
+    uint index = 0u;
+    while (true) {
+        uint offset = nodes[index].offset;
+        uint primCount = nodes[index].primCount;
+        if (primCount > 0u) {
+            for (uint i = offset; i < offset + primCount; ++i) {
+                float t;
+                vec2 uv;
+                if (intersectPrimitive(primitives[i], origin, dir, tMax, t, uv)) return true;
+            }
+        } else {
+            uint left = index + 1u;
+            uint right = offset;
+            float tLeft, tRight;
+            bool hitLeft = intersectBox(nodes[left].boundsMin, nodes[left].boundsMax, origin, invDir, tMax, tLeft);
+            bool hitRight = intersectBox(nodes[right].boundsMin, nodes[right].boundsMax, origin, invDir, tMax, tRight);
+            if (hitLeft && hitRight) stackNode[sp++] = right;
+            if (hitLeft || hitRight) {
+                index = hitLeft ? left : right;
+                continue;
+            }
+        }
+        if (sp == 0) break;
+        index = stackNode[--sp];
+    }
+    return false;
+}
+
+#endif

@@ -1,0 +1,126 @@
+// Ray-primitive intersection for triangles, spheres and quads; no scene access here (the
+// BVH that calls these is bvh.glsl). host/bvh/intersect.h holds the same code for the CPU,
+// operation for operation, and must change with this file.
+//
+// Contract: the ray is origin + t * dir (dir need not be unit length, but is in practice);
+// a hit counts only for t strictly inside (0, tMax). Both faces of triangles and quads hit.
+#ifndef PENUMBRA_INTERSECT_GLSL
+#define PENUMBRA_INTERSECT_GLSL
+
+#include "shared/types.h"
+
+// Möller & Trumbore 1997, "Fast, Minimum Storage Ray/Triangle Intersection", JGT 2(1).
+// Chosen over the watertight test (Woop et al. 2013) because it needs no per-ray shear
+// set-up and is cheaper on lavapipe; edges are inclusive, so a ray through a shared mesh
+// edge can miss both triangles only through rounding, which is rare.
+// uv = barycentrics of p1 and p2: position = (1 - u - v) p0 + u p1 + v p2.
+bool intersectTriangle(vec3 p0, vec3 p1, vec3 p2, vec3 origin, vec3 dir, float tMax, out float t, out vec2 uv) {
+    t = 0.0;
+    uv = vec2(0.0);
+    vec3 e1 = p1 - p0;
+    vec3 e2 = p2 - p0;
+    vec3 pvec = cross(dir, e2);
+    float det = dot(e1, pvec);
+    if (det == 0.0) return false;  // ray parallel to the plane (or degenerate triangle)
+    float invDet = 1.0 / det;
+    vec3 tvec = origin - p0;
+    float u = dot(tvec, pvec) * invDet;
+    if (!(u >= 0.0 && u <= 1.0)) return false;
+    vec3 qvec = cross(tvec, e1);
+    float v = dot(dir, qvec) * invDet;
+    if (!(v >= 0.0 && u + v <= 1.0)) return false;
+    float tHit = dot(e2, qvec) * invDet;
+    if (!(tHit > 0.0 && tHit < tMax)) return false;
+    t = tHit;
+    uv = vec2(u, v);
+    return true;
+}
+
+// Haines, Günther & Akenine-Möller 2019, "Precision Improvements for Ray/Sphere
+// Intersection", Ray Tracing Gems ch. 7: the discriminant from the squared distance of the
+// centre to the ray line (eq. 10: no cancellation in b^2 - ac), the roots as c/q and q/a
+// (eq. 13-15) so the smaller keeps its digits. Returns the nearer root inside (0, tMax):
+// from inside the sphere that is the far root.
+bool intersectSphere(vec3 centre, float radius, vec3 origin, vec3 dir, float tMax, out float t) {
+    t = 0.0;
+    vec3 f = origin - centre;
+    float a = dot(dir, dir);
+    float b = -dot(f, dir);                                   // half the usual b, sign flipped
+    vec3 l = f + (b / a) * dir;                               // centre -> closest point on the line
+    float discriminant = a * (radius * radius - dot(l, l));   // = b^2 - a c, robustly
+    if (discriminant < 0.0) return false;
+    float c = dot(f, f) - radius * radius;
+    float q = b + (b >= 0.0 ? 1.0 : -1.0) * sqrt(discriminant);
+    if (q == 0.0) return false;  // tangent at the origin itself
+    float t0 = c / q;
+    float t1 = q / a;
+    float tNear = min(t0, t1);
+    float tFar = max(t0, t1);
+    if (tNear > 0.0 && tNear < tMax) {
+        t = tNear;
+        return true;
+    }
+    if (tFar > 0.0 && tFar < tMax) {
+        t = tFar;
+        return true;
+    }
+    return false;
+}
+
+// Parallelogram corner + s edgeU + t edgeV, s, t in [0, 1]: hit the plane, then (s, t) by
+// the dual basis w = n / |n|^2 (Shirley, "Ray Tracing: The Next Week", quads). uv = (s, t).
+bool intersectQuad(vec3 corner, vec3 edgeU, vec3 edgeV, vec3 origin, vec3 dir, float tMax, out float t, out vec2 uv) {
+    t = 0.0;
+    uv = vec2(0.0);
+    vec3 n = cross(edgeU, edgeV);
+    float denom = dot(n, dir);
+    if (denom == 0.0) return false;  // parallel to the plane (or degenerate quad)
+    float tHit = dot(n, corner - origin) / denom;
+    if (!(tHit > 0.0 && tHit < tMax)) return false;
+    vec3 w = n / dot(n, n);
+    vec3 local = (origin - corner) + tHit * dir;
+    float s = dot(w, cross(local, edgeV));
+    float r = dot(w, cross(edgeU, local));
+    if (!(s >= 0.0 && s <= 1.0 && r >= 0.0 && r <= 1.0)) return false;
+    t = tHit;
+    uv = vec2(s, r);
+    return true;
+}
+
+// Dispatch on the PRIM_* type (shared/types.h). Sphere hits leave uv = (0, 0).
+bool intersectPrimitive(Primitive primitive, vec3 origin, vec3 dir, float tMax, out float t, out vec2 uv) {
+    uint type = primitive.typeAndNormals & PRIM_TYPE_MASK;
+    uv = vec2(0.0);
+    t = 0.0;
+    if (type == PRIM_TRIANGLE) return intersectTriangle(primitive.p0, primitive.p1, primitive.p2, origin, dir, tMax, t, uv);
+    if (type == PRIM_SPHERE) return intersectSphere(primitive.p0, primitive.p1.x, origin, dir, tMax, t);
+    if (type == PRIM_QUAD) return intersectQuad(primitive.p0, primitive.p1, primitive.p2, origin, dir, tMax, t, uv);
+    return false;
+}
+
+// 1 / dir with components below 1e-20 in magnitude replaced by +-1e-20, so every inverse is
+// finite and the slab test never forms 0 * inf = NaN.
+vec3 rayInverseDirection(vec3 dir) {
+    const float tiny = 1e-20;
+    vec3 d = mix(dir, mix(vec3(tiny), vec3(-tiny), lessThan(dir, vec3(0.0))), lessThan(abs(dir), vec3(tiny)));
+    return 1.0 / d;
+}
+
+// 1 + 2 gamma(3): widens the exit distance so rounding never culls a box the ray touches
+// (Ize 2013, "Robust BVH Ray Traversal", JCGT 2(2); pbrt-v4 Bounds3::IntersectP).
+const float BOX_EXIT_SCALE = 1.0000004;
+
+// Slab test in the sign-selected form of Williams et al. 2005 ("An Efficient and Robust
+// Ray-Box Intersection Algorithm"): the near planes are chosen by the sign of the direction,
+// so an inverted (empty) box always misses. tEntry = where the ray enters (clamped to 0).
+bool intersectBox(vec3 lo, vec3 hi, vec3 origin, vec3 invDir, float tMax, out float tEntry) {
+    bvec3 negative = lessThan(invDir, vec3(0.0));
+    vec3 tNear3 = (mix(lo, hi, negative) - origin) * invDir;
+    vec3 tFar3 = (mix(hi, lo, negative) - origin) * invDir;
+    float tNear = max(max(tNear3.x, tNear3.y), max(tNear3.z, 0.0));
+    float tFar = min(min(tFar3.x, tFar3.y), min(tFar3.z, tMax)) * BOX_EXIT_SCALE;
+    tEntry = tNear;
+    return tNear <= tFar;
+}
+
+#endif

@@ -1,0 +1,79 @@
+// What a closest hit means for shading: position, geometric (front) normal, interpolated
+// shading normal, material and light of the primitive; and where to start the next ray
+// from that point. Declares the per-vertex normal buffer; traversal is in bvh.glsl.
+//
+// Normals are NOT flipped toward the viewer here: geometricNormal is always the front
+// normal of SCENE_FORMAT.md (triangles: counter-clockwise, normalize(cross(v1-v0, v2-v0));
+// quads: normalize(cross(edge_u, edge_v)); spheres: outward), and shadingNormal is the
+// interpolated vertex normal as given. Integrators decide which side they are on (one-sided
+// emitters need the unflipped front normal).
+#ifndef PENUMBRA_SURFACE_GLSL
+#define PENUMBRA_SURFACE_GLSL
+
+#include "shared/types.h"
+#include "geometry/bvh.glsl"
+
+// Per-vertex shading normals of triangles whose typeAndNormals >> 2 is non-zero
+// (normals[(typeAndNormals >> 2) - 1]).
+layout(std430, binding = BINDING_NORMALS) readonly restrict buffer TriangleNormalsBuffer { TriangleNormals normals[]; };
+
+struct SurfacePoint {
+    vec3 position;         // on the primitive (world space)
+    vec3 geometricNormal;  // unit front normal, never flipped
+    vec3 shadingNormal;    // unit; interpolated vertex normal, else the geometric normal
+    uint material;         // index into materials[]
+    uint light;            // index into lights[], NO_LIGHT if the primitive does not emit
+    uint primitiveType;    // PRIM_*
+};
+
+// The surface point of `hit` (which must be a hit: hit.primitive != NO_HIT) for the ray
+// origin + t dir that found it. Positions come from the primitive's own parameters
+// (barycentrics, (s, t), or the sphere's centre and radius), which is more accurate than
+// origin + t dir, so that offsetRayOrigin starts from a point on the surface.
+SurfacePoint surfaceAt(Hit hit, vec3 origin, vec3 dir) {
+    Primitive primitive = primitives[hit.primitive];
+    SurfacePoint sp;
+    sp.material = primitive.material;
+    sp.light = primitive.light;
+    sp.primitiveType = primitive.typeAndNormals & PRIM_TYPE_MASK;
+    if (sp.primitiveType == PRIM_SPHERE) {
+        vec3 outward = normalize(origin + hit.t * dir - primitive.p0);
+        sp.position = primitive.p0 + primitive.p1.x * outward;
+        sp.geometricNormal = outward;
+        sp.shadingNormal = outward;
+    } else if (sp.primitiveType == PRIM_QUAD) {
+        sp.position = primitive.p0 + hit.uv.x * primitive.p1 + hit.uv.y * primitive.p2;
+        sp.geometricNormal = normalize(cross(primitive.p1, primitive.p2));
+        sp.shadingNormal = sp.geometricNormal;
+    } else {
+        vec3 b = vec3(1.0 - hit.uv.x - hit.uv.y, hit.uv.x, hit.uv.y);
+        sp.position = b.x * primitive.p0 + b.y * primitive.p1 + b.z * primitive.p2;
+        sp.geometricNormal = normalize(cross(primitive.p1 - primitive.p0, primitive.p2 - primitive.p0));
+        sp.shadingNormal = sp.geometricNormal;
+        uint normalsIndex = primitive.typeAndNormals >> 2;
+        if (normalsIndex != 0u) {
+            TriangleNormals tn = normals[normalsIndex - 1u];
+            vec3 n = b.x * tn.n0.xyz + b.y * tn.n1.xyz + b.z * tn.n2.xyz;
+            float len2 = dot(n, n);
+            if (len2 > 0.0) sp.shadingNormal = n * inversesqrt(len2);  // degenerate: keep geometric
+        }
+    }
+    return sp;
+}
+
+// Wächter & Binder 2019, "A Fast and Robust Method for Avoiding Self-Intersection", Ray
+// Tracing Gems ch. 6: moves p off the surface along n by a few ULPs of each coordinate
+// (integer arithmetic on the float bits, so the step scales with |p|), or by a fixed
+// epsilon for coordinates near zero where ULPs are too small. n = the unit geometric normal
+// flipped to the side the new ray leaves on (not the shading normal).
+const float OFFSET_ORIGIN = 1.0 / 32.0;
+const float OFFSET_FLOAT_SCALE = 1.0 / 65536.0;
+const float OFFSET_INT_SCALE = 256.0;
+
+vec3 offsetRayOrigin(vec3 p, vec3 n) {
+    ivec3 ofI = ivec3(OFFSET_INT_SCALE * n);
+    vec3 pI = intBitsToFloat(floatBitsToInt(p) + mix(ofI, -ofI, lessThan(p, vec3(0.0))));
+    return mix(pI, p + OFFSET_FLOAT_SCALE * n, lessThan(abs(p), vec3(OFFSET_ORIGIN)));
+}
+
+#endif
