@@ -23,11 +23,17 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// The first line of a tinygltf message, without nlohmann's "[json.exception...] parse error at" prefix.
 std::string firstLine(const std::string& text) {
     size_t start = text.find_first_not_of(" \t\r\n");
     if (start == std::string::npos) return {};
     size_t end = text.find_first_of("\r\n", start);
-    return text.substr(start, end == std::string::npos ? std::string::npos : end - start);
+    std::string line = text.substr(start, end == std::string::npos ? std::string::npos : end - start);
+    if (line.rfind("[json.exception.", 0) == 0) {
+        size_t at = line.find("line ");
+        line = at != std::string::npos ? line.substr(at) : line.substr(std::min(line.size(), line.find("] ") + 2));
+    }
+    return line;
 }
 
 std::string at(const char* array, size_t index) { return std::string(array) + "[" + std::to_string(index) + "]"; }

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <numbers>
 #include <sstream>
@@ -33,17 +34,59 @@ std::string readText(const fs::path& file, const std::string& label) {
     return text.str();
 }
 
-// nlohmann reports "[json.exception.parse_error.101] parse error at line 3, column 5: syntax
-// error while parsing ..."; keep "line 3, column 5: syntax error ..." after the file name.
+// Follows the parser through the document so that an error thrown mid-parse can name the
+// JSON path of the value being read (nlohmann's events: key, value, object/array start/end).
+class PathTracker {
+public:
+    bool operator()(int /*depth*/, json::parse_event_t event, json& parsed) {
+        using E = json::parse_event_t;
+        if (event == E::object_start || event == E::array_start) {
+            m_frames.push_back({event == E::array_start, 0, {}});
+        } else if (event == E::key) {
+            m_frames.back().key = parsed.get<std::string>();
+        } else if (event == E::object_end || event == E::array_end) {
+            m_frames.pop_back();
+            finishValue();
+        } else if (event == E::value) {
+            finishValue();
+        }
+        return true;
+    }
+    std::string path() const {
+        std::string result;
+        for (const Frame& f : m_frames) result = f.isArray ? indexPath(result, f.index) : joinPath(result, f.key);
+        return result;
+    }
+
+private:
+    struct Frame {
+        bool isArray;
+        size_t index;
+        std::string key;
+    };
+    void finishValue() {
+        if (!m_frames.empty() && m_frames.back().isArray) ++m_frames.back().index;
+    }
+    std::vector<Frame> m_frames;
+};
+
+// Syntax errors: nlohmann reports "[json.exception.parse_error.101] parse error at line 3,
+// column 5: syntax error while parsing ..."; keep "line 3, column 5: syntax error ...".
+// A number literal beyond double range (1e999) throws out_of_range instead: name its path.
 json parseJson(const std::string& text, const std::string& label) {
+    PathTracker tracker;
     try {
-        return json::parse(text);
+        return json::parse(text, std::ref(tracker));
     } catch (const json::parse_error& e) {
         std::string what = e.what();
         size_t at = what.find("line ");
         std::string detail = at != std::string::npos ? what.substr(at) : "byte " + std::to_string(e.byte) + ": " + what;
         std::replace(detail.begin(), detail.end(), '\n', ' ');
         throwInputError(label, "", detail);
+    } catch (const json::exception& e) {
+        std::string what = e.what();
+        size_t at = what.find("] ");
+        throwInputError(label, tracker.path(), "number is not finite (" + what.substr(at == std::string::npos ? 0 : at + 2) + ")");
     }
 }
 

@@ -3,6 +3,8 @@
 // Validation of the result is load_json.cpp's.
 #include <algorithm>
 #include <cctype>
+#include <cmath>
+#include <cstdlib>
 #include <variant>
 
 #include "core/errors.h"
@@ -63,6 +65,13 @@ void applyOverride(nlohmann::json& doc, const Override& o) {
     // so `integrator.strategy=bsdf` needs no shell-quoted JSON string.
     nlohmann::json value = nlohmann::json::parse(o.value, nullptr, /*allow_exceptions=*/false);
     if (value.is_discarded()) value = o.value;
+    // A JSON number beyond double range (1e999) fails to parse; keep it a number (+-inf) so
+    // that validation reports "not finite" at its path rather than "expected a number".
+    bool numeric = !o.value.empty() && (std::isdigit((unsigned char)o.value[0]) ||
+                                        (o.value.size() > 1 && o.value[0] == '-' && std::isdigit((unsigned char)o.value[1])));
+    char* end = nullptr;
+    double number = numeric && value.is_string() ? std::strtod(o.value.c_str(), &end) : 0.0;
+    if (end && *end == '\0' && std::isinf(number)) value = number;
 
     nlohmann::json* node = &doc;
     std::string where;  // the path walked so far, for messages
