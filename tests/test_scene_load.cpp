@@ -254,3 +254,31 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"MissingGltf", R"({"shapes": [{"type": "gltf", "file": "missing.glb"}]})",
                 "shapes[0].file: cannot open"}),
     [](const ::testing::TestParamInfo<BadCase>& info) { return std::string(info.param.name); });
+
+// The example scenes shipped in scenes/ load without errors or notes.
+TEST(SceneLoad, ExampleScenesLoad) {
+    std::filesystem::path dir = std::filesystem::path(PENUMBRA_SOURCE_DIR) / "scenes";
+    Scene ao = loadScene(dir / "default.json");
+    EXPECT_EQ(ao.integrator.type, IntegratorType::AmbientOcclusion);
+    EXPECT_EQ(ao.film.width, 512u);
+    EXPECT_EQ(ao.film.height, 384u);
+    EXPECT_EQ(ao.sampler.spp, 64u);
+    EXPECT_TRUE(ao.notes.empty());
+
+    Scene model = loadScene(dir / "gltf_model.json");
+    EXPECT_EQ(model.integrator.type, IntegratorType::Direct);
+    EXPECT_TRUE(model.notes.empty());
+    size_t triangles = 0, emitters = 0;
+    for (const Shape& s : model.shapes) {
+        triangles += s.indices.size() / 3;
+        emitters += s.isEmitter();
+    }
+    EXPECT_EQ(triangles, 8192u);
+    EXPECT_EQ(emitters, 1u);
+    ASSERT_EQ(model.lights.size(), 1u);
+
+    // The binary copy of the model is the same geometry.
+    Scene glb = loadScene(dir / "models" / "torus_knot.glb");
+    ASSERT_EQ(glb.shapes.size(), 1u);
+    EXPECT_EQ(glb.shapes[0].indices.size(), 3u * 8192u);
+}
