@@ -386,5 +386,10 @@ TEST(GltfLoad, MalformedFilesAreInputErrors) {
     m.addMeshNode(m.triangle());
     m.addNode({{"mesh", 3}});
     EXPECT_NE(loadError(writeFile(dir / "mesh.gltf", m.gltf())).find("nodes[1].mesh: mesh 3 does not exist"), std::string::npos);
+    GltfBuilder z;  // an accessor without bufferView (all zeros) claiming 10^12 elements
+    z.addMeshNode({{"attributes", {{"POSITION", 0}}}});
+    z.doc["accessors"] = {{{"componentType", 5126}, {"count", 1000000000000}, {"type", "VEC3"}}};
+    z.bin = {0, 0, 0, 0};
+    EXPECT_NE(loadError(writeFile(dir / "zeros.gltf", z.gltf())).find("accessors[0].count: too large"), std::string::npos);
     EXPECT_EQ(loadError(dir / "absent.glb"), (dir / "absent.glb").string() + ": cannot open file (no such file)");
 }

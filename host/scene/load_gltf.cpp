@@ -128,7 +128,12 @@ AccessorView Importer::view(int index, const std::string& usedAt, int expectedTy
     if (v.componentSize <= 0 || v.components <= 0) fail(path, "unknown componentType or type");
     v.normalized = a.normalized;
     v.count = a.count;
-    if (a.bufferView < 0) return v;  // all zeros
+    if (a.bufferView < 0) {
+        // All zeros, and no buffer bounds its count: cap it so a corrupt count cannot
+        // allocate without limit.
+        if (v.count > (size_t(1) << 24)) fail(path + ".count", "too large for an accessor without bufferView");
+        return v;
+    }
     if (size_t(a.bufferView) >= m_model.bufferViews.size())
         fail(path + ".bufferView", "bufferView " + std::to_string(a.bufferView) + " does not exist");
     const tinygltf::BufferView& bv = m_model.bufferViews[a.bufferView];

@@ -384,11 +384,15 @@ private:
         float fovY = r && r->has("fov_y") ? r->at("fov_y").number() : m_modelCamera ? m_modelCamera->fovY : 40.0f;
         if (m_modelCamera) return Camera{m_modelCamera->eye, m_modelCamera->target, m_modelCamera->up, fovY};
         glm::vec3 lo(INFINITY), hi(-INFINITY);
+        auto grow = [&](glm::vec3 p) { lo = glm::min(lo, p); hi = glm::max(hi, p); };
         for (const Shape& s : m_scene.shapes) {
-            if (s.type == ShapeType::Sphere) { lo = glm::min(lo, s.center - s.radius); hi = glm::max(hi, s.center + s.radius); }
-            for (glm::vec3 p : {s.origin, s.origin + s.edgeU, s.origin + s.edgeV, s.origin + s.edgeU + s.edgeV})
-                if (s.type == ShapeType::Quad) { lo = glm::min(lo, p); hi = glm::max(hi, p); }
-            for (glm::vec3 p : s.positions) { lo = glm::min(lo, p); hi = glm::max(hi, p); }
+            if (s.type == ShapeType::Sphere) {
+                grow(s.center - s.radius);
+                grow(s.center + s.radius);
+            } else if (s.type == ShapeType::Quad) {
+                for (glm::vec3 p : {s.origin, s.origin + s.edgeU, s.origin + s.edgeV, s.origin + s.edgeU + s.edgeV}) grow(p);
+            }
+            for (glm::vec3 p : s.positions) grow(p);
         }
         Camera c;
         c.fovY = fovY;
