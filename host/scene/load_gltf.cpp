@@ -1,0 +1,490 @@
+// glTF 2.0 import (.gltf and .glb) through tinygltf: triangle primitives with node
+// transforms, base colour and emission of materials, KHR_lights_punctual lights and the
+// first camera. Every index, offset and count from the file is bounds-checked here, since
+// tinygltf leaves most of that to its caller. Joining the result to a Scene is load_json.cpp's.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <numbers>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <tiny_gltf.h>
+
+#include "core/errors.h"
+#include "scene/gltf_import.h"
+
+namespace penumbra {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The first line of a tinygltf message, without nlohmann's "[json.exception...] parse error at" prefix.
+std::string firstLine(const std::string& text) {
+    size_t start = text.find_first_not_of(" \t\r\n");
+    if (start == std::string::npos) return {};
+    size_t end = text.find_first_of("\r\n", start);
+    std::string line = text.substr(start, end == std::string::npos ? std::string::npos : end - start);
+    if (line.rfind("[json.exception.", 0) == 0) {
+        size_t at = line.find("line ");
+        line = at != std::string::npos ? line.substr(at) : line.substr(std::min(line.size(), line.find("] ") + 2));
+    }
+    return line;
+}
+
+std::string at(const char* array, size_t index) { return std::string(array) + "[" + std::to_string(index) + "]"; }
+
+// Textures are optional in SCENE_FORMAT.md and not used: skip decoding images.
+bool skipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int, void*) {
+    return true;
+}
+
+// A bounds-checked view of an accessor's elements (component type and count as stored).
+struct AccessorView {
+    const unsigned char* data = nullptr;  // null: no bufferView, all zeros (glTF 2.0 §5.1)
+    size_t stride = 0, count = 0;
+    int componentType = 0, components = 0, componentSize = 0;
+    bool normalized = false;
+
+    // Component c of element i as a double; normalized integers map to [0,1] / [-1,1]
+    // (glTF 2.0 §3.11, "Animations"/"Meshes" normalized integer formulas).
+    double get(size_t i, int c) const {
+        if (!data) return 0.0;
+        const unsigned char* p = data + i * stride + size_t(c) * componentSize;
+        auto load = [p](auto value) { std::memcpy(&value, p, sizeof value); return value; };
+        switch (componentType) {
+            case TINYGLTF_COMPONENT_TYPE_BYTE: {
+                double x = load(int8_t{});
+                return normalized ? std::max(x / 127.0, -1.0) : x;
+            }
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: {
+                double x = load(uint8_t{});
+                return normalized ? x / 255.0 : x;
+            }
+            case TINYGLTF_COMPONENT_TYPE_SHORT: {
+                double x = load(int16_t{});
+                return normalized ? std::max(x / 32767.0, -1.0) : x;
+            }
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+                double x = load(uint16_t{});
+                return normalized ? x / 65535.0 : x;
+            }
+            case TINYGLTF_COMPONENT_TYPE_INT: return load(int32_t{});
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
+                double x = load(uint32_t{});
+                return normalized ? x / 4294967295.0 : x;
+            }
+            case TINYGLTF_COMPONENT_TYPE_FLOAT: return load(float{});
+            default: return load(double{});
+        }
+    }
+    glm::dvec3 vec3(size_t i) const { return {get(i, 0), get(i, 1), get(i, 2)}; }
+};
+
+class Importer {
+public:
+    Importer(const tinygltf::Model& model, std::string label) : m_model(model), m_label(std::move(label)) {}
+
+    GltfImport run();
+
+private:
+    [[noreturn]] void fail(const std::string& path, const std::string& message) const {
+        throwInputError(m_label, path, message);
+    }
+    void note(const std::string& text) { m_result.notes.push_back(m_label + ": " + text); }
+
+    AccessorView view(int index, const std::string& usedAt, int expectedType);
+    glm::dmat4 localTransform(const tinygltf::Node& node, const std::string& path) const;
+    void checkHierarchy() const;
+    void loadMaterials();
+    void addPrimitive(const tinygltf::Primitive& prim, const glm::dmat4& world, const std::string& path);
+    void addLight(const tinygltf::Node& node, const glm::dmat4& world, const std::string& path);
+    void addCamera(const tinygltf::Node& node, const glm::dmat4& world, const std::string& path);
+
+    const tinygltf::Model& m_model;
+    std::string m_label;
+    GltfImport m_result;
+    std::vector<glm::vec3> m_emission;  // per glTF material: emissiveFactor * emissiveStrength
+    std::vector<bool> m_doubleSided;
+    size_t m_degenerate = 0, m_nonTriangles = 0, m_noPositions = 0, m_badNormals = 0;
+    bool m_orthographicSeen = false;
+};
+
+AccessorView Importer::view(int index, const std::string& usedAt, int expectedType) {
+    if (index < 0 || size_t(index) >= m_model.accessors.size())
+        fail(usedAt, "accessor " + std::to_string(index) + " does not exist");
+    const tinygltf::Accessor& a = m_model.accessors[index];
+    std::string path = at("accessors", index);
+    if (a.sparse.isSparse) fail(path, "sparse accessors are not supported");
+    if (a.type != expectedType) fail(path, "unexpected accessor type for " + usedAt);
+    AccessorView v;
+    v.componentType = a.componentType;
+    v.componentSize = tinygltf::GetComponentSizeInBytes(uint32_t(a.componentType));
+    v.components = tinygltf::GetNumComponentsInType(uint32_t(a.type));
+    if (v.componentSize <= 0 || v.components <= 0) fail(path, "unknown componentType or type");
+    v.normalized = a.normalized;
+    v.count = a.count;
+    if (a.bufferView < 0) {
+        // All zeros, and no buffer bounds its count: cap it so a corrupt count cannot
+        // allocate without limit.
+        if (v.count > (size_t(1) << 24)) fail(path + ".count", "too large for an accessor without bufferView");
+        return v;
+    }
+    if (size_t(a.bufferView) >= m_model.bufferViews.size())
+        fail(path + ".bufferView", "bufferView " + std::to_string(a.bufferView) + " does not exist");
+    const tinygltf::BufferView& bv = m_model.bufferViews[a.bufferView];
+    std::string bvPath = at("bufferViews", a.bufferView);
+    if (bv.buffer < 0 || size_t(bv.buffer) >= m_model.buffers.size())
+        fail(bvPath + ".buffer", "buffer " + std::to_string(bv.buffer) + " does not exist");
+    const std::vector<unsigned char>& data = m_model.buffers[bv.buffer].data;
+    if (bv.byteOffset > data.size() || bv.byteLength > data.size() - bv.byteOffset)
+        fail(bvPath, "byte range " + std::to_string(bv.byteOffset) + "+" + std::to_string(bv.byteLength) +
+                         " exceeds its buffer (" + std::to_string(data.size()) + " bytes)");
+    size_t element = size_t(v.componentSize) * v.components;
+    v.stride = bv.byteStride ? bv.byteStride : element;
+    if (v.stride < element) fail(bvPath + ".byteStride", "smaller than one element of " + path);
+    if (v.count > 0) {
+        // Every element takes at least one byte, so count <= byteLength keeps the product
+        // below in 64 bits; likewise stride <= byteLength when there are two elements or more.
+        bool fits = a.byteOffset <= bv.byteLength && v.count <= bv.byteLength &&
+                    (v.count == 1 || v.stride <= bv.byteLength) &&
+                    a.byteOffset + (v.count - 1) * v.stride + element <= bv.byteLength;
+        if (!fits) fail(path, "reads past the end of bufferView " + std::to_string(a.bufferView));
+    }
+    v.data = data.data() + bv.byteOffset + a.byteOffset;
+    return v;
+}
+
+glm::dmat4 Importer::localTransform(const tinygltf::Node& node, const std::string& path) const {
+    auto finite = [](const std::vector<double>& v) { return std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); }); };
+    if (!finite(node.matrix) || !finite(node.translation) || !finite(node.rotation) || !finite(node.scale))
+        fail(path, "non-finite transform");
+    if (!node.matrix.empty()) {
+        if (node.matrix.size() != 16) fail(path + ".matrix", "expected 16 numbers");
+        return glm::make_mat4(node.matrix.data());  // column-major in glTF and glm alike
+    }
+    if (!node.translation.empty() && node.translation.size() != 3) fail(path + ".translation", "expected 3 numbers");
+    if (!node.rotation.empty() && node.rotation.size() != 4) fail(path + ".rotation", "expected 4 numbers");
+    if (!node.scale.empty() && node.scale.size() != 3) fail(path + ".scale", "expected 3 numbers");
+    glm::dmat4 t(1.0), r(1.0), s(1.0);
+    if (!node.translation.empty()) t = glm::translate(t, glm::make_vec3(node.translation.data()));
+    if (!node.scale.empty()) s = glm::scale(s, glm::make_vec3(node.scale.data()));
+    if (!node.rotation.empty()) {
+        // Unit quaternion (x, y, z, w) to a rotation matrix (Shoemake 1985), columns listed.
+        glm::dvec4 q = glm::make_vec4(node.rotation.data());
+        if (glm::length(q) == 0.0) fail(path + ".rotation", "zero quaternion");
+        q = glm::normalize(q);
+        double x = q.x, y = q.y, z = q.z, w = q.w;
+        r[0] = {1 - 2 * (y * y + z * z), 2 * (x * y + z * w), 2 * (x * z - y * w), 0};
+        r[1] = {2 * (x * y - z * w), 1 - 2 * (x * x + z * z), 2 * (y * z + x * w), 0};
+        r[2] = {2 * (x * z + y * w), 2 * (y * z - x * w), 1 - 2 * (x * x + y * y), 0};
+    }
+    return t * r * s;  // glTF: M = T * R * S
+}
+
+// glTF requires the nodes to form disjoint strict trees: every child index valid, no node
+// with two parents, and (then) every node reachable from a parentless node, else it sits on
+// a cycle. Checking the whole array also catches cycles outside the rendered scene.
+void Importer::checkHierarchy() const {
+    const auto& nodes = m_model.nodes;
+    std::vector<int> parent(nodes.size(), -1);
+    for (size_t i = 0; i < nodes.size(); ++i) {
+        for (size_t c = 0; c < nodes[i].children.size(); ++c) {
+            int child = nodes[i].children[c];
+            std::string path = at("nodes", i) + ".children[" + std::to_string(c) + "]";
+            if (child < 0 || size_t(child) >= nodes.size()) fail(path, "node " + std::to_string(child) + " does not exist");
+            if (size_t(child) == i) fail(path, "node cycle: node " + std::to_string(i) + " is its own child");
+            if (parent[child] >= 0)
+                fail(path, "node cycle or shared node: node " + std::to_string(child) + " already has parent " +
+                               std::to_string(parent[child]));
+            parent[child] = int(i);
+        }
+    }
+    std::vector<char> reached(nodes.size(), 0);
+    std::vector<size_t> stack;
+    for (size_t i = 0; i < nodes.size(); ++i)
+        if (parent[i] < 0) stack.push_back(i);
+    while (!stack.empty()) {
+        size_t n = stack.back();
+        stack.pop_back();
+        reached[n] = 1;
+        for (int child : nodes[n].children) stack.push_back(size_t(child));
+    }
+    for (size_t i = 0; i < nodes.size(); ++i)
+        if (!reached[i]) fail(at("nodes", i), "node cycle: node " + std::to_string(i) + " is its own ancestor");
+}
+
+void Importer::loadMaterials() {
+    for (size_t i = 0; i < m_model.materials.size(); ++i) {
+        const tinygltf::Material& mat = m_model.materials[i];
+        std::string path = at("materials", i);
+        const std::vector<double>& base = mat.pbrMetallicRoughness.baseColorFactor;
+        glm::dvec3 albedo(1.0);  // glTF default base colour
+        if (!base.empty()) {
+            if (base.size() != 4) fail(path + ".pbrMetallicRoughness.baseColorFactor", "expected 4 numbers");
+            albedo = glm::make_vec3(base.data());
+        }
+        glm::dvec3 emission(0.0);
+        if (!mat.emissiveFactor.empty()) {
+            if (mat.emissiveFactor.size() != 3) fail(path + ".emissiveFactor", "expected 3 numbers");
+            emission = glm::make_vec3(mat.emissiveFactor.data());
+        }
+        auto ext = mat.extensions.find("KHR_materials_emissive_strength");
+        if (ext != mat.extensions.end() && ext->second.Has("emissiveStrength")) {
+            const tinygltf::Value& strength = ext->second.Get("emissiveStrength");
+            if (!strength.IsNumber())
+                fail(path + ".extensions.KHR_materials_emissive_strength.emissiveStrength", "expected a number");
+            emission *= strength.GetNumberAsDouble();
+        }
+        auto bad = [](glm::dvec3 c) { return !(c.x >= 0 && c.y >= 0 && c.z >= 0) || !std::isfinite(c.x + c.y + c.z) || std::max({c.x, c.y, c.z}) > 3e38; };
+        if (bad(albedo)) fail(path + ".pbrMetallicRoughness.baseColorFactor", "negative or non-finite");
+        if (bad(emission)) fail(path + ".emissiveFactor", "negative or non-finite emission");
+        Material m;
+        m.name = m_label + ":" + (mat.name.empty() ? path : mat.name);
+        m.kd = glm::clamp(glm::vec3(albedo), 0.0f, 1.0f);
+        m_result.materials.push_back(m);
+        m_emission.push_back(glm::vec3(emission));
+        m_doubleSided.push_back(mat.doubleSided);
+    }
+}
+
+void Importer::addPrimitive(const tinygltf::Primitive& prim, const glm::dmat4& world, const std::string& path) {
+    int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+    if (mode > TINYGLTF_MODE_TRIANGLE_FAN) fail(path + ".mode", "unknown mode " + std::to_string(mode));
+    if (mode < TINYGLTF_MODE_TRIANGLES) { ++m_nonTriangles; return; }
+    if (prim.material >= 0 && size_t(prim.material) >= m_model.materials.size())
+        fail(path + ".material", "material " + std::to_string(prim.material) + " does not exist");
+    auto position = prim.attributes.find("POSITION");
+    if (position == prim.attributes.end()) { ++m_noPositions; return; }
+
+    Shape shape;
+    shape.type = ShapeType::Mesh;
+    AccessorView pos = view(position->second, path + ".attributes.POSITION", TINYGLTF_TYPE_VEC3);
+    shape.positions.resize(pos.count);
+    for (size_t i = 0; i < pos.count; ++i) {
+        glm::dvec3 p = glm::dvec3(world * glm::dvec4(pos.vec3(i), 1.0));
+        if (!std::isfinite(p.x + p.y + p.z) || std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)}) > 3e38)
+            fail(path + ".attributes.POSITION", "vertex " + std::to_string(i) + " is not finite");
+        shape.positions[i] = glm::vec3(p);
+    }
+    if (auto normal = prim.attributes.find("NORMAL"); normal != prim.attributes.end()) {
+        AccessorView nv = view(normal->second, path + ".attributes.NORMAL", TINYGLTF_TYPE_VEC3);
+        if (nv.count != pos.count)
+            fail(path + ".attributes.NORMAL", std::to_string(nv.count) + " normals for " + std::to_string(pos.count) + " positions");
+        // Normals transform with the inverse transpose of the linear part.
+        glm::dmat3 normalMatrix = glm::inverse(glm::transpose(glm::dmat3(world)));
+        shape.normals.resize(nv.count);
+        for (size_t i = 0; i < nv.count && !shape.normals.empty(); ++i) {
+            glm::dvec3 n = normalMatrix * nv.vec3(i);
+            double len = glm::length(n);
+            if (!(len > 1e-30) || !std::isfinite(len)) { shape.normals.clear(); ++m_badNormals; break; }
+            shape.normals[i] = glm::vec3(n / len);
+        }
+    }
+
+    std::vector<uint32_t> order;
+    if (prim.indices >= 0) {
+        AccessorView iv = view(prim.indices, path + ".indices", TINYGLTF_TYPE_SCALAR);
+        if (iv.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && iv.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+            iv.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
+            fail(path + ".indices", "indices must be unsigned byte, short or int");
+        order.resize(iv.count);
+        for (size_t i = 0; i < iv.count; ++i) {
+            double index = iv.get(i, 0);
+            if (index >= double(pos.count))
+                fail(path + ".indices", "index " + std::to_string(uint64_t(index)) + " out of range (" +
+                                            std::to_string(pos.count) + " vertices)");
+            order[i] = uint32_t(index);
+        }
+    } else {
+        if (pos.count > std::numeric_limits<uint32_t>::max()) fail(path, "too many vertices");
+        order.resize(pos.count);
+        for (size_t i = 0; i < order.size(); ++i) order[i] = uint32_t(i);
+    }
+
+    // Triangle lists as they are; strips and fans unrolled (glTF 2.0 §3.7.2.1 topology).
+    std::vector<std::array<uint32_t, 3>> triangles;
+    if (mode == TINYGLTF_MODE_TRIANGLES) {
+        if (order.size() % 3 != 0)
+            fail(path, std::to_string(order.size()) + " triangle list indices is not a multiple of 3");
+        for (size_t i = 0; i + 2 < order.size(); i += 3) triangles.push_back({order[i], order[i + 1], order[i + 2]});
+    } else {
+        for (size_t i = 0; i + 2 < order.size(); ++i) {
+            if (mode == TINYGLTF_MODE_TRIANGLE_FAN) triangles.push_back({order[0], order[i + 1], order[i + 2]});
+            else if (i % 2 == 0) triangles.push_back({order[i], order[i + 1], order[i + 2]});
+            else triangles.push_back({order[i + 1], order[i], order[i + 2]});
+        }
+    }
+    // A mirroring transform turns counter-clockwise into clockwise: glTF says the sign of
+    // the determinant decides the winding, so swap two corners to keep the front face.
+    bool mirrored = glm::determinant(glm::dmat3(world)) < 0.0;
+    for (auto [a, b, c] : triangles) {
+        if (mirrored) std::swap(b, c);
+        const glm::vec3 &pa = shape.positions[a], &pb = shape.positions[b], &pc = shape.positions[c];
+        float area = 0.5f * glm::length(glm::cross(pb - pa, pc - pa));
+        if (!(area > 0.0f) || !std::isfinite(area)) { ++m_degenerate; continue; }
+        shape.indices.insert(shape.indices.end(), {a, b, c});
+    }
+    if (shape.indices.empty()) return;
+    if (prim.material >= 0) {
+        shape.emission = m_emission[prim.material];
+        shape.twoSided = m_doubleSided[prim.material] && shape.isEmitter();
+    }
+    m_result.shapes.push_back(std::move(shape));
+    m_result.shapeMaterials.push_back(prim.material);
+}
+
+void Importer::addLight(const tinygltf::Node& node, const glm::dmat4& world, const std::string& path) {
+    auto ext = node.extensions.find("KHR_lights_punctual");
+    if (ext == node.extensions.end() || !ext->second.Has("light")) return;
+    std::string extPath = path + ".extensions.KHR_lights_punctual.light";
+    const tinygltf::Value& index = ext->second.Get("light");
+    if (!index.IsNumber() || index.GetNumberAsInt() < 0 || size_t(index.GetNumberAsInt()) >= m_model.lights.size())
+        fail(extPath, "no such light in KHR_lights_punctual.lights");
+    size_t li = size_t(index.GetNumberAsInt());
+    const tinygltf::Light& src = m_model.lights[li];
+    std::string lightPath = "extensions.KHR_lights_punctual.lights[" + std::to_string(li) + "]";
+    if (src.type == "spot") fail(lightPath, "spot lights are unsupported (only point and directional)");
+    glm::dvec3 color(1.0);
+    if (!src.color.empty()) {
+        if (src.color.size() != 3) fail(lightPath + ".color", "expected 3 numbers");
+        color = glm::make_vec3(src.color.data());
+    }
+    glm::dvec3 value = color * src.intensity;
+    if (!(value.x >= 0 && value.y >= 0 && value.z >= 0) || !std::isfinite(value.x + value.y + value.z))
+        fail(lightPath, "negative or non-finite intensity");
+    Light light;
+    light.intensity = glm::vec3(value);  // point: candela read as W/sr; directional: lux as W/m^2
+    if (src.type == "point") {
+        light.type = LightType::Point;
+        light.position = glm::vec3(world * glm::dvec4(0, 0, 0, 1));
+    } else if (src.type == "directional") {
+        light.type = LightType::Directional;
+        glm::dvec3 d = glm::dmat3(world) * glm::dvec3(0, 0, -1);  // lights point down their local -Z
+        if (!(glm::length(d) > 0.0)) fail(path, "transform collapses the light direction");
+        light.direction = glm::vec3(glm::normalize(d));
+    } else {
+        fail(lightPath + ".type", "unknown light type \"" + src.type + "\"");
+    }
+    m_result.lights.push_back(light);
+}
+
+void Importer::addCamera(const tinygltf::Node& node, const glm::dmat4& world, const std::string& path) {
+    if (node.camera < 0 || m_result.camera) return;
+    if (size_t(node.camera) >= m_model.cameras.size())
+        fail(path + ".camera", "camera " + std::to_string(node.camera) + " does not exist");
+    const tinygltf::Camera& cam = m_model.cameras[node.camera];
+    if (cam.type != "perspective") {
+        if (!m_orthographicSeen) note("orthographic camera ignored (only perspective cameras are used)");
+        m_orthographicSeen = true;
+        return;
+    }
+    double yfov = cam.perspective.yfov;
+    if (!(yfov > 0.0 && yfov < std::numbers::pi))
+        fail(at("cameras", node.camera) + ".perspective.yfov", "must be in (0, pi) radians");
+    // glTF cameras look down their local -Z with +Y up (glTF 2.0 §3.10.1).
+    glm::dvec3 eye = glm::dvec3(world * glm::dvec4(0, 0, 0, 1));
+    glm::dvec3 forward = glm::dmat3(world) * glm::dvec3(0, 0, -1);
+    glm::dvec3 up = glm::dmat3(world) * glm::dvec3(0, 1, 0);
+    if (!(glm::length(forward) > 0.0) || !(glm::length(up) > 0.0) || !std::isfinite(eye.x + eye.y + eye.z))
+        fail(path, "camera transform is degenerate");
+    Camera c;
+    c.eye = glm::vec3(eye);
+    c.target = glm::vec3(eye + glm::normalize(forward));
+    c.up = glm::vec3(glm::normalize(up));
+    c.fovY = float(glm::degrees(yfov));
+    m_result.camera = c;
+}
+
+GltfImport Importer::run() {
+    static const char* supported[] = {"KHR_lights_punctual", "KHR_materials_emissive_strength"};
+    for (const std::string& ext : m_model.extensionsRequired)
+        if (std::find(std::begin(supported), std::end(supported), ext) == std::end(supported))
+            fail("extensionsRequired", "unsupported required extension \"" + ext + "\"");
+    checkHierarchy();
+    loadMaterials();
+
+    // The default scene, else the first, else (no scenes at all) every root node.
+    std::vector<int> roots;
+    if (!m_model.scenes.empty()) {
+        size_t s = m_model.defaultScene >= 0 ? size_t(m_model.defaultScene) : 0;
+        if (s >= m_model.scenes.size()) fail("scene", "scene " + std::to_string(s) + " does not exist");
+        roots = m_model.scenes[s].nodes;
+        for (int r : roots)
+            if (r < 0 || size_t(r) >= m_model.nodes.size()) fail(at("scenes", s) + ".nodes", "node " + std::to_string(r) + " does not exist");
+    } else {
+        std::vector<char> isChild(m_model.nodes.size(), 0);
+        for (const auto& n : m_model.nodes)
+            for (int c : n.children) isChild[c] = 1;
+        for (size_t i = 0; i < m_model.nodes.size(); ++i)
+            if (!isChild[i]) roots.push_back(int(i));
+    }
+
+    // Depth first in document order, iteratively so that deep hierarchies cannot overflow
+    // the stack. The hierarchy is a forest (checkHierarchy), but a scene may still list a
+    // node twice or list a child as a root.
+    std::vector<char> visited(m_model.nodes.size(), 0);
+    std::vector<std::pair<int, glm::dmat4>> stack;
+    for (auto r = roots.rbegin(); r != roots.rend(); ++r) stack.emplace_back(*r, glm::dmat4(1.0));
+    while (!stack.empty()) {
+        auto [index, parentWorld] = stack.back();
+        stack.pop_back();
+        std::string path = at("nodes", index);
+        if (visited[index]) fail(path, "node cycle: node " + std::to_string(index) + " is reached twice from the scene's roots");
+        visited[index] = 1;
+        const tinygltf::Node& node = m_model.nodes[index];
+        glm::dmat4 world = parentWorld * localTransform(node, path);
+        if (node.mesh >= 0) {
+            if (size_t(node.mesh) >= m_model.meshes.size()) fail(path + ".mesh", "mesh " + std::to_string(node.mesh) + " does not exist");
+            const auto& prims = m_model.meshes[node.mesh].primitives;
+            for (size_t p = 0; p < prims.size(); ++p)
+                addPrimitive(prims[p], world, at("meshes", node.mesh) + ".primitives[" + std::to_string(p) + "]");
+        }
+        addLight(node, world, path);
+        addCamera(node, world, path);
+        for (auto c = node.children.rbegin(); c != node.children.rend(); ++c) stack.emplace_back(*c, world);
+    }
+
+    if (m_degenerate) note("skipped " + std::to_string(m_degenerate) + " degenerate (zero-area) triangles");
+    if (m_nonTriangles) note("skipped " + std::to_string(m_nonTriangles) + " point/line primitives (only triangles are rendered)");
+    if (m_noPositions) note("skipped " + std::to_string(m_noPositions) + " primitives without POSITION");
+    if (m_badNormals) note(std::to_string(m_badNormals) + " primitives had zero or non-finite normals; they are shaded flat");
+    return std::move(m_result);
+}
+
+}  // namespace
+
+GltfImport importGltf(const fs::path& file, const std::string& label) {
+    std::error_code ec;
+    if (!fs::exists(file, ec)) throwInputError(label, "", "cannot open file (no such file)");
+    if (fs::is_directory(file, ec)) throwInputError(label, "", "cannot open file (it is a directory)");
+    std::ifstream in(file, std::ios::binary);
+    std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (!in.good() && !in.eof()) throwInputError(label, "", "cannot read file");
+    if (bytes.size() > std::numeric_limits<uint32_t>::max()) throwInputError(label, "", "file too large (4 GiB or more)");
+
+    tinygltf::TinyGLTF loader;
+    loader.SetImageLoader(skipImage, nullptr);
+    tinygltf::Model model;
+    std::string err, warn;
+    std::string baseDir = file.parent_path().string();
+    bool ok = false;
+    try {
+        // A .glb starts with the magic "glTF"; anything else is read as JSON (.gltf).
+        if (bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0)
+            ok = loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), unsigned(bytes.size()), baseDir);
+        else
+            ok = loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
+                                            unsigned(bytes.size()), baseDir);
+    } catch (const std::exception& e) {
+        throwInputError(label, "", firstLine(e.what()));
+    }
+    if (!ok) throwInputError(label, "", err.empty() ? "not a valid glTF file" : firstLine(err));
+    return Importer(model, label).run();
+}
+
+}  // namespace penumbra

@@ -1,0 +1,481 @@
+// loadScene: reads a JSON scene file (or wraps a glTF model in a scene document), applies
+// --set overrides, then validates and converts every section of SCENE_FORMAT.md into a
+// Scene. Type and range checks come from JsonReader; glTF geometry from load_gltf.cpp.
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <numbers>
+#include <sstream>
+
+#include "core/errors.h"
+#include "scene/gltf_import.h"
+#include "scene/json_reader.h"
+#include "scene/load.h"
+
+namespace penumbra {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+constexpr float kPi = std::numbers::pi_v<float>;
+
+std::string readText(const fs::path& file, const std::string& label) {
+    std::error_code ec;
+    if (!fs::exists(file, ec)) throwInputError(label, "", "cannot open file (no such file)");
+    if (fs::is_directory(file, ec)) throwInputError(label, "", "cannot open file (it is a directory)");
+    std::ifstream in(file, std::ios::binary);
+    if (!in) throwInputError(label, "", std::string("cannot open file (") + std::strerror(errno) + ")");
+    std::ostringstream text;
+    text << in.rdbuf();
+    return text.str();
+}
+
+// Follows the parser through the document so that an error thrown mid-parse can name the
+// JSON path of the value being read (nlohmann's events: key, value, object/array start/end).
+class PathTracker {
+public:
+    bool operator()(int /*depth*/, json::parse_event_t event, json& parsed) {
+        using E = json::parse_event_t;
+        if (event == E::object_start || event == E::array_start) {
+            m_frames.push_back({event == E::array_start, 0, {}});
+        } else if (event == E::key) {
+            m_frames.back().key = parsed.get<std::string>();
+        } else if (event == E::object_end || event == E::array_end) {
+            m_frames.pop_back();
+            finishValue();
+        } else if (event == E::value) {
+            finishValue();
+        }
+        return true;
+    }
+    std::string path() const {
+        std::string result;
+        for (const Frame& f : m_frames) result = f.isArray ? indexPath(result, f.index) : joinPath(result, f.key);
+        return result;
+    }
+
+private:
+    struct Frame {
+        bool isArray;
+        size_t index;
+        std::string key;
+    };
+    void finishValue() {
+        if (!m_frames.empty() && m_frames.back().isArray) ++m_frames.back().index;
+    }
+    std::vector<Frame> m_frames;
+};
+
+// Syntax errors: nlohmann reports "[json.exception.parse_error.101] parse error at line 3,
+// column 5: syntax error while parsing ..."; keep "line 3, column 5: syntax error ...".
+// A number literal beyond double range (1e999) throws out_of_range instead: name its path.
+json parseJson(const std::string& text, const std::string& label) {
+    PathTracker tracker;
+    try {
+        return json::parse(text, std::ref(tracker));
+    } catch (const json::parse_error& e) {
+        std::string what = e.what();
+        size_t at = what.find("line ");
+        std::string detail = at != std::string::npos ? what.substr(at) : "byte " + std::to_string(e.byte) + ": " + what;
+        std::replace(detail.begin(), detail.end(), '\n', ' ');
+        throwInputError(label, "", detail);
+    } catch (const json::exception& e) {
+        std::string what = e.what();
+        size_t at = what.find("] ");
+        throwInputError(label, tracker.path(), "number is not finite (" + what.substr(at == std::string::npos ? 0 : at + 2) + ")");
+    }
+}
+
+// Total area of a triangle mesh; 0 when empty.
+float meshArea(const Shape& s) {
+    double area = 0.0;
+    for (size_t t = 0; t + 2 < s.indices.size(); t += 3) {
+        glm::vec3 a = s.positions[s.indices[t]], b = s.positions[s.indices[t + 1]], c = s.positions[s.indices[t + 2]];
+        area += 0.5 * double(glm::length(glm::cross(b - a, c - a)));
+    }
+    return float(area);
+}
+
+class SceneBuilder {
+public:
+    SceneBuilder(Scene& scene, std::string label, fs::path baseDir, bool directModel)
+        : m_scene(scene), m_label(std::move(label)), m_baseDir(std::move(baseDir)), m_direct(directModel) {}
+
+    void build(const json& doc) {
+        JsonReader root(doc, m_label);
+        root.expectKeys({"camera", "film", "sampler", "integrator", "materials", "shapes", "lights"}, "a scene");
+        if (auto film = root.find("film")) readFilm(*film);
+        if (auto sampler = root.find("sampler")) readSampler(*sampler);
+        readIntegrator(root.find("integrator"));
+        readMaterials(root.find("materials"));
+        if (auto shapes = root.find("shapes"))
+            for (size_t i = 0; i < shapes->size(); ++i) readShape((*shapes)[i]);
+        if (auto lights = root.find("lights"))
+            for (size_t i = 0; i < lights->size(); ++i) readLight((*lights)[i]);
+        readCamera(root.find("camera"));
+        if (m_direct) litModelFallback();
+    }
+
+private:
+    void readFilm(const JsonReader& r) {
+        r.expectKeys({"width", "height"}, "film");
+        if (auto w = r.find("width")) m_scene.film.width = uint32_t(w->integer(1, 16384));
+        if (auto h = r.find("height")) m_scene.film.height = uint32_t(h->integer(1, 16384));
+    }
+
+    void readSampler(const JsonReader& r) {
+        r.expectKeys({"spp", "seed", "sample_offset"}, "sampler");
+        SamplerSettings& s = m_scene.sampler;
+        if (auto spp = r.find("spp")) s.spp = uint32_t(spp->integer(1, UINT32_MAX));
+        if (auto seed = r.find("seed")) s.seed = seed->uint32();
+        if (auto offset = r.find("sample_offset")) s.sampleOffset = offset->uint32();
+        // Sample indices sample_offset + i must not wrap around in 32 bits, or partial renders
+        // meant to be disjoint would share samples.
+        if (uint64_t(s.sampleOffset) + s.spp > uint64_t(UINT32_MAX) + 1)
+            r.fail("sample_offset + spp exceeds 2^32 (sample indices would wrap)");
+    }
+
+    void readIntegrator(const std::optional<JsonReader>& r) {
+        IntegratorSettings& s = m_scene.integrator;
+        std::string type = r && r->has("type") ? r->at("type").choice({"ao", "direct"}) : "direct";
+        if (type == "ao") {
+            r->expectKeys({"type", "sampling", "max_distance"}, "the ao integrator");
+            s.type = IntegratorType::AmbientOcclusion;
+            s.json = {{"type", "ao"}, {"sampling", "cosine"}, {"max_distance", 1e30}};
+            if (auto v = r->find("sampling"))
+                s.aoSampling = v->choice({"cosine", "uniform"}) == "cosine" ? AoSampling::Cosine : AoSampling::Uniform;
+            if (auto v = r->find("max_distance")) {
+                s.aoMaxDistance = v->number();
+                if (!(s.aoMaxDistance > 0.0f)) v->fail("must be > 0");
+            }
+        } else {
+            if (r) r->expectKeys({"type", "strategy", "heuristic", "light_samples", "bsdf_samples", "sphere_sampling",
+                                  "light_selection"}, "the direct integrator");
+            s.type = IntegratorType::Direct;
+            s.json = {{"type", "direct"},       {"strategy", "mis"},    {"heuristic", "power"},
+                      {"light_samples", 1},     {"bsdf_samples", 1},    {"sphere_sampling", "solid_angle"},
+                      {"light_selection", "power"}};
+            if (r) readDirect(*r, s);
+        }
+        // The header attribute shows the options as given, defaults filled in.
+        if (r)
+            for (const auto& item : r->json().items()) s.json[item.key()] = item.value();
+    }
+
+    static void readDirect(const JsonReader& r, IntegratorSettings& s) {
+        if (auto v = r.find("strategy")) {
+            std::string x = v->choice({"light", "bsdf", "mis", "mixture"});
+            s.strategy = x == "light" ? Strategy::Light : x == "bsdf" ? Strategy::Bsdf : x == "mis" ? Strategy::Mis : Strategy::Mixture;
+        }
+        if (auto v = r.find("heuristic"))
+            s.heuristic = v->choice({"balance", "power"}) == "balance" ? Heuristic::Balance : Heuristic::Power;
+        if (auto v = r.find("light_samples")) s.lightSamples = uint32_t(v->integer(0, 1 << 16));
+        if (auto v = r.find("bsdf_samples")) s.bsdfSamples = uint32_t(v->integer(0, 1 << 16));
+        if (auto v = r.find("sphere_sampling")) {
+            std::string x = v->choice({"area", "cap", "solid_angle"});
+            s.sphereSampling = x == "area" ? SphereSampling::Area : x == "cap" ? SphereSampling::Cap : SphereSampling::SolidAngle;
+        }
+        if (auto v = r.find("light_selection"))
+            s.lightSelection = v->choice({"uniform", "power"}) == "uniform" ? LightSelection::Uniform : LightSelection::Power;
+        // A strategy with no samples of its own would render only what the camera sees directly.
+        bool lightUsed = s.strategy != Strategy::Bsdf, bsdfUsed = s.strategy != Strategy::Light;
+        uint32_t used = (lightUsed ? s.lightSamples : 0) + (bsdfUsed ? s.bsdfSamples : 0);
+        if (used == 0) r.fail("the strategy takes no samples (raise light_samples or bsdf_samples)");
+    }
+
+    void readMaterials(const std::optional<JsonReader>& r) {
+        m_scene.materials = {Material{"default", MaterialType::Diffuse, glm::vec3(0.8f), glm::vec3(0.0f), 20.0f}};
+        if (!r) return;
+        for (const std::string& name : r->keys()) {
+            JsonReader m = r->at(name.c_str());
+            std::string type = m.has("type") ? m.at("type").choice({"diffuse", "phong"}) : "diffuse";
+            Material mat{name};
+            auto unitColor = [&](const char* key, glm::vec3 fallback) {
+                glm::vec3 c = m.colorOr(key, fallback);
+                if (c.x > 1.0f || c.y > 1.0f || c.z > 1.0f) m.at(key).fail("components must be in [0, 1]");
+                return c;
+            };
+            if (type == "diffuse") {
+                m.expectKeys({"type", "albedo"}, "a diffuse material");
+                mat.type = MaterialType::Diffuse;
+                mat.kd = unitColor("albedo", glm::vec3(0.8f));
+            } else {
+                m.expectKeys({"type", "kd", "ks", "exponent"}, "a phong material");
+                mat.type = MaterialType::Phong;
+                mat.kd = unitColor("kd", glm::vec3(0.5f));
+                mat.ks = unitColor("ks", glm::vec3(0.5f));
+                mat.exponent = m.numberOr("exponent", 20.0f);
+                if (mat.exponent < 0.0f) m.at("exponent").fail("must be >= 0");
+                // kd + ks <= 1 keeps the normalized Phong BRDF from reflecting more than it
+                // receives (Lafortune & Willems 1994); a small tolerance absorbs decimal rounding.
+                for (int c = 0; c < 3; ++c)
+                    if (mat.kd[c] + mat.ks[c] > 1.0f + 1e-6f)
+                        m.fail("kd + ks exceeds 1 in the " + std::string(c == 0 ? "red" : c == 1 ? "green" : "blue") +
+                               " channel (" + std::to_string(mat.kd[c]) + " + " + std::to_string(mat.ks[c]) + ")");
+            }
+            m_materialIndex[name] = uint32_t(m_scene.materials.size());
+            m_scene.materials.push_back(mat);
+        }
+    }
+
+    uint32_t materialOf(const JsonReader& shape) const {
+        auto r = shape.find("material");
+        if (!r) return 0;
+        std::string name = r->string();
+        auto it = m_materialIndex.find(name);
+        if (it == m_materialIndex.end()) r->fail("unknown material \"" + name + "\"");
+        return it->second;
+    }
+
+    void readShape(const JsonReader& r) {
+        std::string type = r.at("type").choice({"sphere", "quad", "mesh", "gltf"});
+        if (type == "sphere") r.expectKeys({"type", "center", "radius", "material", "emission", "power"}, "a sphere");
+        if (type == "quad") r.expectKeys({"type", "origin", "edge_u", "edge_v", "material", "emission", "power", "two_sided"}, "a quad");
+        if (type == "mesh")
+            r.expectKeys({"type", "positions", "indices", "normals", "material", "emission", "power", "two_sided"}, "a mesh");
+        if (type == "gltf") r.expectKeys({"type", "file", "material", "emission", "power", "two_sided"}, "a gltf shape");
+        if (r.has("emission") && r.has("power")) r.fail("has both \"emission\" and \"power\"; give one");
+
+        Shape s;
+        s.material = materialOf(r);
+        s.twoSided = r.has("two_sided") && r.at("two_sided").boolean();
+        if (type == "gltf") return readGltfShape(r, s);
+        float area = 0.0f;
+        if (type == "sphere") {
+            s.type = ShapeType::Sphere;
+            s.center = r.at("center").vec3();
+            s.radius = r.at("radius").number();
+            if (!(s.radius > 0.0f)) r.at("radius").fail("must be > 0");
+        } else if (type == "quad") {
+            s.type = ShapeType::Quad;
+            s.origin = r.at("origin").vec3();
+            s.edgeU = r.at("edge_u").vec3();
+            s.edgeV = r.at("edge_v").vec3();
+            area = glm::length(glm::cross(s.edgeU, s.edgeV));
+            if (!(area > 0.0f) || !std::isfinite(area))
+                r.fail("quad has zero or non-finite area (edge_u and edge_v must be non-zero and not parallel)");
+        } else {
+            readMesh(r, s);
+            area = meshArea(s);
+        }
+        if (auto e = r.find("emission")) s.emission = e->color();
+        if (auto p = r.find("power")) {
+            glm::vec3 power = p->color();
+            // Uniform emitters, SCENE_FORMAT.md: P = Le * pi * A per emitting face (cosine-weighted
+            // hemisphere integral), so Le = P/(pi A), or P/(2 pi A) with two faces; a sphere
+            // (A = 4 pi r^2, one outward face) gives Le = P/(4 pi^2 r^2).
+            float denominator = s.type == ShapeType::Sphere ? 4.0f * kPi * kPi * s.radius * s.radius
+                                                           : (s.twoSided ? 2.0f : 1.0f) * kPi * area;
+            s.emission = power / denominator;
+            if (!std::isfinite(s.emission.x + s.emission.y + s.emission.z))
+                p->fail("radiance from this power is not finite (the shape is too small)");
+        }
+        m_scene.shapes.push_back(std::move(s));
+    }
+
+    void readMesh(const JsonReader& r, Shape& s) {
+        s.type = ShapeType::Mesh;
+        JsonReader positions = r.at("positions"), indices = r.at("indices");
+        std::vector<float> p = positions.numbers();
+        if (p.size() % 3 != 0) positions.fail("length " + std::to_string(p.size()) + " is not a multiple of 3");
+        size_t vertices = p.size() / 3;
+        for (size_t v = 0; v < vertices; ++v) s.positions.emplace_back(p[3 * v], p[3 * v + 1], p[3 * v + 2]);
+
+        size_t n = indices.size();
+        if (n == 0) indices.fail("mesh has no triangles");
+        if (n % 3 != 0) indices.fail("length " + std::to_string(n) + " is not a multiple of 3");
+        s.indices.resize(n);
+        for (size_t i = 0; i < n; ++i) {
+            const json& v = indices.json()[i];
+            int64_t index = v.is_number_unsigned() ? int64_t(std::min<uint64_t>(v.get<uint64_t>(), INT64_MAX))
+                                                   : indices[i].integer(0, INT64_MAX);
+            if (uint64_t(index) >= vertices)
+                indices[i].fail("index " + std::to_string(index) + " out of range (" + std::to_string(vertices) + " vertices)");
+            s.indices[i] = uint32_t(index);
+        }
+        for (size_t t = 0; t < n; t += 3) {
+            glm::vec3 a = s.positions[s.indices[t]], b = s.positions[s.indices[t + 1]], c = s.positions[s.indices[t + 2]];
+            float area = 0.5f * glm::length(glm::cross(b - a, c - a));
+            if (!(area > 0.0f) || !std::isfinite(area))
+                indices.fail("triangle " + std::to_string(t / 3) + " has zero or non-finite area");
+        }
+        if (auto normals = r.find("normals")) {
+            std::vector<float> nv = normals->numbers();
+            if (nv.size() != p.size())
+                normals->fail("has " + std::to_string(nv.size()) + " numbers, positions has " + std::to_string(p.size()));
+            for (size_t v = 0; v < vertices; ++v) {
+                glm::vec3 normal(nv[3 * v], nv[3 * v + 1], nv[3 * v + 2]);
+                float len = glm::length(normal);
+                if (!(len > 0.0f) || !std::isfinite(len)) (*normals)[3 * v].fail("normal " + std::to_string(v) + " has zero length");
+                s.normals.push_back(normal / len);
+            }
+        }
+    }
+
+    void readGltfShape(const JsonReader& r, const Shape& settings) {
+        JsonReader fileField = r.at("file");
+        fs::path file = m_baseDir / fileField.string();
+        std::error_code ec;
+        if (!fs::exists(file, ec)) fileField.fail("cannot open \"" + file.string() + "\" (no such file)");
+        GltfImport model = importGltf(file, file.string());
+
+        // The file's materials join the scene unless the shape names its own.
+        uint32_t firstMaterial = uint32_t(m_scene.materials.size());
+        bool ownMaterial = r.has("material");
+        if (!ownMaterial) m_scene.materials.insert(m_scene.materials.end(), model.materials.begin(), model.materials.end());
+        glm::vec3 emission = r.has("emission") ? r.at("emission").color() : glm::vec3(0.0f);
+        if (auto p = r.find("power")) {
+            // As for a mesh: the power spreads over the total area of all primitives.
+            float area = 0.0f;
+            for (const Shape& s : model.shapes) area += meshArea(s);
+            emission = p->color() / ((settings.twoSided ? 2.0f : 1.0f) * kPi * area);
+            if (!std::isfinite(emission.x + emission.y + emission.z)) p->fail("the model has no area to emit from");
+        }
+        for (size_t i = 0; i < model.shapes.size(); ++i) {
+            Shape& s = model.shapes[i];
+            int fileMaterial = model.shapeMaterials[i];
+            s.material = ownMaterial ? settings.material : fileMaterial < 0 ? 0 : firstMaterial + uint32_t(fileMaterial);
+            if (r.has("emission") || r.has("power")) s.emission = emission;
+            if (r.has("two_sided")) s.twoSided = settings.twoSided;
+            m_scene.shapes.push_back(std::move(s));
+        }
+        m_scene.lights.insert(m_scene.lights.end(), model.lights.begin(), model.lights.end());
+        m_scene.notes.insert(m_scene.notes.end(), model.notes.begin(), model.notes.end());
+        if (!m_modelCamera) m_modelCamera = model.camera;
+    }
+
+    void readLight(const JsonReader& r) {
+        std::string type = r.at("type").choice({"point", "directional", "environment"});
+        Light light;
+        if (type == "point") {
+            r.expectKeys({"type", "position", "power", "intensity"}, "a point light");
+            light.type = LightType::Point;
+            light.position = r.at("position").vec3();
+            if (r.has("power") == r.has("intensity")) r.fail("give exactly one of \"power\" (W) and \"intensity\" (W/sr)");
+            // Isotropic point light: I = P / (4 pi) W/sr.
+            light.intensity = r.has("power") ? r.at("power").color() / (4.0f * kPi) : r.at("intensity").color();
+        } else if (type == "directional") {
+            r.expectKeys({"type", "direction", "irradiance"}, "a directional light");
+            light.type = LightType::Directional;
+            JsonReader direction = r.at("direction");
+            glm::vec3 d = direction.vec3();
+            float len = glm::length(d);
+            if (!(len > 0.0f) || !std::isfinite(len)) direction.fail("must be a non-zero vector");
+            light.direction = d / len;
+            light.intensity = r.at("irradiance").color();
+        } else {
+            r.expectKeys({"type", "radiance"}, "an environment light");
+            light.type = LightType::Environment;
+            light.intensity = r.colorOr("radiance", glm::vec3(1.0f));
+            bool second = std::any_of(m_scene.lights.begin(), m_scene.lights.end(),
+                                      [](const Light& l) { return l.type == LightType::Environment; });
+            if (second) r.fail("only one environment light is allowed");
+        }
+        m_scene.lights.push_back(light);
+    }
+
+    // A model rendered on its own has no camera in a scene file: use its own first camera,
+    // else frame the scene bounds. Fields given with --set replace those of either.
+    Camera automaticCamera(const std::optional<JsonReader>& r) const {
+        float fovY = r && r->has("fov_y") ? r->at("fov_y").number() : m_modelCamera ? m_modelCamera->fovY : 40.0f;
+        if (m_modelCamera) return Camera{m_modelCamera->eye, m_modelCamera->target, m_modelCamera->up, fovY};
+        glm::vec3 lo(INFINITY), hi(-INFINITY);
+        auto grow = [&](glm::vec3 p) { lo = glm::min(lo, p); hi = glm::max(hi, p); };
+        for (const Shape& s : m_scene.shapes) {
+            if (s.type == ShapeType::Sphere) {
+                grow(s.center - s.radius);
+                grow(s.center + s.radius);
+            } else if (s.type == ShapeType::Quad) {
+                for (glm::vec3 p : {s.origin, s.origin + s.edgeU, s.origin + s.edgeV, s.origin + s.edgeU + s.edgeV}) grow(p);
+            }
+            for (glm::vec3 p : s.positions) grow(p);
+        }
+        Camera c;
+        c.fovY = fovY;
+        if (!(lo.x <= hi.x)) return c;  // nothing to frame
+        glm::vec3 center = 0.5f * (lo + hi);
+        float radius = std::max(0.5f * glm::length(hi - lo), 1e-3f);
+        // The bounding sphere fits a cone of half-angle theta when the eye is radius/sin(theta)
+        // away; theta is the smaller of the vertical and horizontal half fields of view.
+        float tanHalf = std::tan(glm::radians(std::clamp(fovY, 1.0f, 179.0f)) * 0.5f);
+        float aspect = float(m_scene.film.width) / float(m_scene.film.height);
+        float theta = std::atan(tanHalf * std::min(1.0f, aspect));
+        c.target = center;
+        c.eye = center + glm::vec3(0.0f, 0.0f, radius / std::sin(theta));  // looking along -Z
+        c.up = {0.0f, 1.0f, 0.0f};
+        return c;
+    }
+
+    void readCamera(const std::optional<JsonReader>& r) {
+        Camera c = m_direct ? automaticCamera(r) : Camera{};
+        if (r) {
+            r->expectKeys({"eye", "target", "up", "fov_y"}, "camera");
+            c.eye = r->vec3Or("eye", c.eye);
+            c.target = r->vec3Or("target", c.target);
+            c.up = r->vec3Or("up", c.up);
+            c.fovY = r->numberOr("fov_y", c.fovY);
+        }
+        std::string where = r ? r->path() : "camera";
+        if (!(c.fovY > 0.0f && c.fovY < 180.0f)) throwInputError(m_label, joinPath(where, "fov_y"), "must be in (0, 180) degrees");
+        glm::vec3 view = c.target - c.eye;
+        if (!(glm::length(view) > 0.0f) || !std::isfinite(glm::length(view)))
+            throwInputError(m_label, joinPath(where, "target"), "must differ from eye");
+        glm::vec3 side = glm::cross(glm::normalize(view), c.up);
+        if (!(glm::length(side) > 1e-6f * glm::length(c.up)) || !std::isfinite(glm::length(side)))
+            throwInputError(m_label, joinPath(where, "up"), "must be non-zero and not parallel to the view direction");
+        m_scene.camera = c;
+    }
+
+    // SCENE_FORMAT.md "glTF input": an unlit model would render black.
+    void litModelFallback() {
+        bool emissive = std::any_of(m_scene.shapes.begin(), m_scene.shapes.end(), [](const Shape& s) { return s.isEmitter(); });
+        if (!m_scene.lights.empty() || emissive) return;
+        m_scene.lights.push_back(Light{LightType::Environment, glm::vec3(0.0f), glm::vec3(0.0f), glm::vec3(1.0f)});
+        m_scene.notes.push_back(m_label + ": no lights or emissive materials; lit by a constant white environment (radiance 1)");
+    }
+
+    Scene& m_scene;
+    std::string m_label;
+    fs::path m_baseDir;
+    bool m_direct;
+    std::map<std::string, uint32_t> m_materialIndex;
+    std::optional<Camera> m_modelCamera;
+};
+
+}  // namespace
+
+Scene loadScene(const fs::path& file, const std::vector<Override>& overrides) {
+    std::string label = file.string();
+    std::string ext = file.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    bool direct = ext == ".gltf" || ext == ".glb";
+
+    json doc;
+    if (direct) {
+        // A model on its own is the scene {"shapes": [{"type": "gltf", "file": ...}]}, so that
+        // --set works on it exactly as on a scene file.
+        std::error_code ec;
+        if (!fs::exists(file, ec)) throwInputError(label, "", "cannot open file (no such file)");
+        doc = {{"shapes", json::array({{{"type", "gltf"}, {"file", file.filename().string()}}})}};
+    } else {
+        doc = parseJson(readText(file, label), label);
+    }
+    for (const Override& o : overrides) applyOverride(doc, o);
+
+    Scene scene;
+    scene.path = label;
+    scene.name = file.stem().string();
+    try {
+        SceneBuilder(scene, label, file.parent_path(), direct).build(doc);
+    } catch (const json::exception& e) {
+        // Not expected (JsonReader checks types first); still bad input, never a crash.
+        throwInputError(label, "", e.what());
+    }
+    return scene;
+}
+
+}  // namespace penumbra

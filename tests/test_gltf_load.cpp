@@ -1,0 +1,395 @@
+// glTF import: the tests write small .gltf/.glb files (buffers as base64 data URIs, or a GLB
+// binary chunk) and check transforms, cameras, lights and their units, emission, the
+// unlit-model fallback, and that malformed files give one-line InputErrors, never crashes.
+#include <cmath>
+#include <cstring>
+#include <numbers>
+
+#include <gtest/gtest.h>
+
+#include "scene/load.h"
+#include "scene_test_util.h"
+
+using namespace penumbra;
+using nlohmann::json;
+using test::freshTempDir;
+using test::loadError;
+using test::writeFile;
+
+namespace {
+
+void expectVec(glm::vec3 actual, glm::vec3 expected, float tolerance = 1e-5f) {
+    EXPECT_NEAR(actual.x, expected.x, tolerance);
+    EXPECT_NEAR(actual.y, expected.y, tolerance);
+    EXPECT_NEAR(actual.z, expected.z, tolerance);
+}
+
+std::string base64(const std::vector<uint8_t>& bytes) {
+    static const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string out;
+    for (size_t i = 0; i < bytes.size(); i += 3) {
+        uint32_t n = uint32_t(bytes[i]) << 16;
+        if (i + 1 < bytes.size()) n |= uint32_t(bytes[i + 1]) << 8;
+        if (i + 2 < bytes.size()) n |= bytes[i + 2];
+        out += table[(n >> 18) & 63];
+        out += table[(n >> 12) & 63];
+        out += i + 1 < bytes.size() ? table[(n >> 6) & 63] : '=';
+        out += i + 2 < bytes.size() ? table[n & 63] : '=';
+    }
+    return out;
+}
+
+// Builds a glTF document: binary data goes into one buffer, each array into its own
+// bufferView and accessor.
+struct GltfBuilder {
+    json doc = {{"asset", {{"version", "2.0"}}}, {"scenes", {{{"nodes", json::array()}}}}, {"scene", 0}};
+    std::vector<uint8_t> bin;
+
+    int addAccessor(const void* data, size_t bytes, int componentType, size_t count, const char* type, size_t stride = 0) {
+        while (bin.size() % 4) bin.push_back(0);
+        json view = {{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", bytes}};
+        if (stride) view["byteStride"] = stride;
+        bin.insert(bin.end(), static_cast<const uint8_t*>(data), static_cast<const uint8_t*>(data) + bytes);
+        doc["bufferViews"].push_back(view);
+        doc["accessors"].push_back({{"bufferView", doc["bufferViews"].size() - 1}, {"componentType", componentType},
+                                    {"count", count}, {"type", type}});
+        return int(doc["accessors"].size()) - 1;
+    }
+    int positions(const std::vector<float>& p) { return addAccessor(p.data(), p.size() * 4, 5126, p.size() / 3, "VEC3"); }
+    int indices(const std::vector<uint32_t>& i) { return addAccessor(i.data(), i.size() * 4, 5125, i.size(), "SCALAR"); }
+
+    // A mesh with one primitive, instanced by a new root node; returns the node index.
+    int addMeshNode(json primitive, json node = json::object()) {
+        doc["meshes"].push_back({{"primitives", {primitive}}});
+        node["mesh"] = doc["meshes"].size() - 1;
+        return addNode(node);
+    }
+    int addNode(json node, bool root = true) {
+        doc["nodes"].push_back(node);
+        int index = int(doc["nodes"].size()) - 1;
+        if (root) doc["scenes"][0]["nodes"].push_back(index);
+        return index;
+    }
+    // The unit right triangle in the z = 0 plane, counter-clockwise seen from +z.
+    json triangle() {
+        return {{"attributes", {{"POSITION", positions({0, 0, 0, 1, 0, 0, 0, 1, 0})}}}, {"indices", indices({0, 1, 2})}};
+    }
+
+    std::string gltf() const {
+        json d = doc;
+        d["buffers"] = {{{"byteLength", bin.size()}, {"uri", "data:application/octet-stream;base64," + base64(bin)}}};
+        return d.dump();
+    }
+    // GLB container: 12-byte header, a JSON chunk padded with spaces, a BIN chunk padded with zeros.
+    std::string glb() const {
+        json d = doc;
+        d["buffers"] = {{{"byteLength", bin.size()}}};
+        std::string text = d.dump();
+        while (text.size() % 4) text += ' ';
+        std::vector<uint8_t> data = bin;
+        while (data.size() % 4) data.push_back(0);
+        std::string out;
+        auto u32 = [&out](uint32_t v) { out.append(reinterpret_cast<const char*>(&v), 4); };  // little-endian host
+        out += "glTF";
+        u32(2);
+        u32(uint32_t(12 + 8 + text.size() + 8 + data.size()));
+        u32(uint32_t(text.size()));
+        u32(0x4E4F534A);  // "JSON"
+        out += text;
+        u32(uint32_t(data.size()));
+        u32(0x004E4942);  // "BIN\0"
+        out.append(data.begin(), data.end());
+        return out;
+    }
+};
+
+std::string noteStartingWith(const Scene& s, const std::string& prefix) {
+    for (const std::string& n : s.notes)
+        if (n.rfind(prefix, 0) == 0) return n;
+    return "";
+}
+
+}  // namespace
+
+TEST(GltfLoad, NodeTranslationAndScaleAreApplied) {
+    GltfBuilder b;
+    b.addMeshNode(b.triangle(), {{"translation", {1, 2, 3}}, {"scale", {2, 2, 2}}});
+    auto file = writeFile(freshTempDir() / "model.gltf", b.gltf());
+    Scene s = loadScene(file);
+    EXPECT_EQ(s.name, "model");
+    ASSERT_EQ(s.shapes.size(), 1u);
+    const Shape& mesh = s.shapes[0];
+    EXPECT_EQ(mesh.type, ShapeType::Mesh);
+    EXPECT_EQ(mesh.material, 0u);  // no glTF material: the default diffuse 0.8
+    ASSERT_EQ(mesh.positions.size(), 3u);
+    expectVec(mesh.positions[0], {1, 2, 3});
+    expectVec(mesh.positions[1], {3, 2, 3});
+    expectVec(mesh.positions[2], {1, 4, 3});
+    EXPECT_EQ(mesh.indices, (std::vector<uint32_t>{0, 1, 2}));
+    EXPECT_EQ(s.integrator.type, IntegratorType::Direct);
+    EXPECT_EQ(s.integrator.strategy, Strategy::Mis);
+    EXPECT_EQ(s.film.width, 512u);
+}
+
+TEST(GltfLoad, RotationTransformsNormalsAndParentsCompose) {
+    GltfBuilder b;
+    json prim = b.triangle();
+    prim["attributes"]["NORMAL"] = b.positions({0, 0, 1, 0, 0, 1, 0, 0, 1});
+    // Child rotated 90 degrees about +Y (quaternion x,y,z,w = 0, sin 45, 0, cos 45): +x -> -z,
+    // +z -> +x; the parent then translates by (0, 0, 5).
+    double h = std::sqrt(0.5);
+    b.doc["meshes"].push_back({{"primitives", {prim}}});
+    b.addNode({{"translation", {0, 0, 5}}, {"children", {1}}});
+    b.addNode({{"rotation", {0, h, 0, h}}, {"mesh", 0}}, false);
+    Scene s = loadScene(writeFile(freshTempDir() / "rotated.gltf", b.gltf()));
+    ASSERT_EQ(s.shapes.size(), 1u);
+    expectVec(s.shapes[0].positions[1], {0, 0, 4});
+    expectVec(s.shapes[0].positions[2], {0, 1, 5});
+    ASSERT_EQ(s.shapes[0].normals.size(), 3u);
+    expectVec(s.shapes[0].normals[0], {1, 0, 0});
+}
+
+TEST(GltfLoad, MirroringTransformKeepsFrontFace) {
+    GltfBuilder b;
+    b.addMeshNode(b.triangle(), {{"scale", {-1, 1, 1}}});
+    Scene s = loadScene(writeFile(freshTempDir() / "mirror.gltf", b.gltf()));
+    ASSERT_EQ(s.shapes.size(), 1u);
+    const Shape& m = s.shapes[0];
+    glm::vec3 n = glm::cross(m.positions[m.indices[1]] - m.positions[m.indices[0]], m.positions[m.indices[2]] - m.positions[m.indices[0]]);
+    EXPECT_GT(n.z, 0.0f);  // still counter-clockwise seen from +z
+}
+
+TEST(GltfLoad, StridedVerticesSmallIndicesAndStrips) {
+    GltfBuilder b;
+    // Interleaved position + normal (stride 24 bytes), a 4-vertex strip with byte indices.
+    std::vector<float> interleaved = {0, 0, 0, 0, 0, 1, 1, 0, 0, 0, 0, 1, 0, 1, 0, 0, 0, 1, 1, 1, 0, 0, 0, 1};
+    int pos = b.addAccessor(interleaved.data(), interleaved.size() * 4, 5126, 4, "VEC3", 24);
+    b.doc["accessors"].push_back({{"bufferView", pos}, {"byteOffset", 12}, {"componentType", 5126}, {"count", 4}, {"type", "VEC3"}});
+    std::vector<uint8_t> strip = {0, 1, 2, 3};
+    int idx = b.addAccessor(strip.data(), strip.size(), 5121, 4, "SCALAR");
+    b.addMeshNode({{"attributes", {{"POSITION", pos}, {"NORMAL", 1}}}, {"indices", idx}, {"mode", 5}});
+    Scene s = loadScene(writeFile(freshTempDir() / "strip.gltf", b.gltf()));
+    ASSERT_EQ(s.shapes.size(), 1u);
+    const Shape& m = s.shapes[0];
+    expectVec(m.positions[3], {1, 1, 0});
+    expectVec(m.normals[3], {0, 0, 1});
+    ASSERT_EQ(m.indices, (std::vector<uint32_t>{0, 1, 2, 2, 1, 3}));  // second strip triangle re-wound
+}
+
+TEST(GltfLoad, CameraFromNodeAndFovOverride) {
+    GltfBuilder b;
+    b.addMeshNode(b.triangle());
+    b.doc["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.5}, {"znear", 0.1}, {"aspectRatio", 2.0}}}}};
+    b.addNode({{"camera", 0}, {"translation", {0, 1, 10}}});
+    auto file = writeFile(freshTempDir() / "cam.gltf", b.gltf());
+    Scene s = loadScene(file);
+    expectVec(s.camera.eye, {0, 1, 10});
+    expectVec(s.camera.target, {0, 1, 9});  // looks down -Z
+    expectVec(s.camera.up, {0, 1, 0});
+    EXPECT_NEAR(s.camera.fovY, 0.5 * 180.0 / std::numbers::pi, 1e-4);
+    EXPECT_EQ(s.film.width, 512u);  // the camera's aspect ratio yields to the film
+
+    Scene t = loadScene(file, {parseOverride("camera.fov_y=30"), parseOverride("film.width=64")});
+    EXPECT_FLOAT_EQ(t.camera.fovY, 30.0f);
+    expectVec(t.camera.eye, {0, 1, 10});
+    EXPECT_EQ(t.film.width, 64u);
+}
+
+TEST(GltfLoad, FramingCameraWithoutGltfCamera) {
+    GltfBuilder b;
+    b.addMeshNode(b.triangle());
+    Scene s = loadScene(writeFile(freshTempDir() / "frame.gltf", b.gltf()));
+    // Bounds [0,1]x[0,1]x[0]: centre (0.5, 0.5, 0), bounding radius sqrt(2)/2; square film and
+    // fov 40 degrees put the eye sqrt(2)/2 / sin(20 deg) = 2.0674 along +z.
+    expectVec(s.camera.target, {0.5f, 0.5f, 0.0f});
+    expectVec(s.camera.eye, {0.5f, 0.5f, 2.0674f}, 1e-3f);
+    EXPECT_FLOAT_EQ(s.camera.fovY, 40.0f);
+}
+
+TEST(GltfLoad, PunctualLightsInPenumbraUnits) {
+    GltfBuilder b;
+    b.addMeshNode(b.triangle());
+    b.doc["extensionsUsed"] = {"KHR_lights_punctual"};
+    b.doc["extensionsRequired"] = {"KHR_lights_punctual"};
+    b.doc["extensions"]["KHR_lights_punctual"]["lights"] = {
+        {{"type", "point"}, {"color", {1, 0.5, 0}}, {"intensity", 5}},
+        {{"type", "directional"}, {"intensity", 2}}};
+    b.addNode({{"translation", {0, 3, 0}}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+    // Rotation of -90 degrees about +X turns the light's -Z into -Y (straight down).
+    double h = std::sqrt(0.5);
+    b.addNode({{"rotation", {-h, 0, 0, h}}, {"extensions", {{"KHR_lights_punctual", {{"light", 1}}}}}});
+    Scene s = loadScene(writeFile(freshTempDir() / "lights.gltf", b.gltf()));
+    ASSERT_EQ(s.lights.size(), 2u);  // and no environment fallback
+    EXPECT_EQ(s.lights[0].type, LightType::Point);
+    expectVec(s.lights[0].position, {0, 3, 0});
+    expectVec(s.lights[0].intensity, {5, 2.5, 0});  // candela = W/sr, times colour
+    EXPECT_EQ(s.lights[1].type, LightType::Directional);
+    expectVec(s.lights[1].direction, {0, -1, 0});
+    expectVec(s.lights[1].intensity, {2, 2, 2});  // lux = W/m^2
+    EXPECT_TRUE(s.notes.empty());
+}
+
+TEST(GltfLoad, EmissiveStrengthAndBaseColour) {
+    GltfBuilder b;
+    json prim = b.triangle();
+    prim["material"] = 0;
+    b.addMeshNode(prim);
+    b.doc["materials"] = {{{"pbrMetallicRoughness", {{"baseColorFactor", {1.5, 0.5, 0.25, 1}}}},
+                           {"emissiveFactor", {1, 0.5, 0.25}},
+                           {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 4}}}}}}};
+    Scene s = loadScene(writeFile(freshTempDir() / "glow.gltf", b.gltf()));
+    ASSERT_EQ(s.shapes.size(), 1u);
+    expectVec(s.shapes[0].emission, {4, 2, 1});
+    ASSERT_EQ(s.materials.size(), 2u);
+    EXPECT_EQ(s.shapes[0].material, 1u);
+    expectVec(s.materials[1].kd, {1, 0.5, 0.25});  // clamped to [0, 1]
+    EXPECT_TRUE(s.lights.empty());                  // emissive: no environment fallback
+}
+
+TEST(GltfLoad, UnlitModelGetsWhiteEnvironmentAndNote) {
+    GltfBuilder b;
+    b.addMeshNode(b.triangle());
+    auto file = writeFile(freshTempDir() / "plain.glb", b.glb());
+    Scene s = loadScene(file);
+    ASSERT_EQ(s.lights.size(), 1u);
+    EXPECT_EQ(s.lights[0].type, LightType::Environment);
+    expectVec(s.lights[0].intensity, {1, 1, 1});
+    EXPECT_EQ(s.notes, (std::vector<std::string>{
+                           file.string() + ": no lights or emissive materials; lit by a constant white environment (radiance 1)"}));
+    // The binary container carried the same triangle.
+    ASSERT_EQ(s.shapes.size(), 1u);
+    expectVec(s.shapes[0].positions[2], {0, 1, 0});
+}
+
+TEST(GltfLoad, DegenerateTrianglesSkippedWithNote) {
+    GltfBuilder b;
+    b.addMeshNode({{"attributes", {{"POSITION", b.positions({0, 0, 0, 1, 0, 0, 0, 1, 0, 2, 0, 0})}}},
+                   {"indices", b.indices({0, 1, 2, 0, 1, 3, 1, 1, 2})}});
+    auto file = writeFile(freshTempDir() / "degenerate.gltf", b.gltf());
+    Scene s = loadScene(file);
+    ASSERT_EQ(s.shapes.size(), 1u);
+    EXPECT_EQ(s.shapes[0].indices, (std::vector<uint32_t>{0, 1, 2}));
+    EXPECT_EQ(noteStartingWith(s, file.string() + ": skipped 2 degenerate"), file.string() + ": skipped 2 degenerate (zero-area) triangles");
+}
+
+TEST(GltfLoad, GltfShapeInJsonScene) {
+    auto dir = freshTempDir();
+    std::filesystem::create_directories(dir / "models");
+    GltfBuilder b;
+    json prim = b.triangle();
+    prim["material"] = 0;
+    b.addMeshNode(prim);
+    b.doc["materials"] = {{{"emissiveFactor", {1, 1, 1}}}};
+    b.doc["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.5}, {"znear", 0.1}}}}};
+    b.addNode({{"camera", 0}, {"translation", {0, 0, 50}}});
+    b.doc["extensions"]["KHR_lights_punctual"]["lights"] = {{{"type", "point"}, {"intensity", 1}}};
+    b.addNode({{"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+    writeFile(dir / "models" / "tri.gltf", b.gltf());
+    // Power 2 pi over the triangle's area 0.5: Le = P/(pi A) = 4.
+    auto file = writeFile(dir / "scene.json", R"({
+      "materials": {"red": {"albedo": [0.9, 0.1, 0.1]}},
+      "shapes": [{"type": "gltf", "file": "models/tri.gltf", "material": "red", "power": 6.283185307179586}],
+      "lights": [{"type": "environment", "radiance": 0.5}]})");
+    Scene s = loadScene(file);
+    ASSERT_EQ(s.shapes.size(), 1u);
+    EXPECT_EQ(s.shapes[0].material, 1u);
+    EXPECT_EQ(s.materials.size(), 2u);  // the file's material was replaced, not added
+    expectVec(s.shapes[0].emission, {4, 4, 4});
+    ASSERT_EQ(s.lights.size(), 2u);  // the file's point light, then the scene's environment
+    EXPECT_EQ(s.lights[0].type, LightType::Point);
+    expectVec(s.camera.eye, {0, 1, 5});  // the file's camera is ignored
+}
+
+TEST(GltfLoad, IndexOutOfRangeMessage) {
+    GltfBuilder b;
+    b.addMeshNode({{"attributes", {{"POSITION", b.positions({0, 0, 0, 1, 0, 0, 0, 1, 0})}}}, {"indices", b.indices({0, 1, 99})}});
+    auto file = writeFile(freshTempDir() / "model.gltf", b.gltf());
+    EXPECT_EQ(loadError(file), file.string() + ": meshes[0].primitives[0].indices: index 99 out of range (3 vertices)");
+}
+
+TEST(GltfLoad, AccessorPastBufferView) {
+    GltfBuilder b;
+    b.addMeshNode(b.triangle());
+    b.doc["accessors"][0]["count"] = 4;  // 48 bytes from a 36-byte view
+    auto file = writeFile(freshTempDir() / "short.gltf", b.gltf());
+    EXPECT_EQ(loadError(file), file.string() + ": accessors[0]: reads past the end of bufferView 0");
+    b.doc["accessors"][0]["count"] = 3;
+    b.doc["bufferViews"][0]["byteStride"] = 8;  // smaller than a VEC3 of floats
+    EXPECT_NE(loadError(writeFile(file, b.gltf())).find("bufferViews[0].byteStride"), std::string::npos);
+}
+
+TEST(GltfLoad, NodeCyclesAreErrors) {
+    GltfBuilder b;
+    b.addMeshNode(b.triangle(), {{"children", {1}}});
+    b.addNode({{"children", {0}}}, false);
+    auto file = writeFile(freshTempDir() / "cycle.gltf", b.gltf());
+    std::string message = loadError(file);
+    EXPECT_EQ(message.rfind(file.string() + ": nodes[", 0), 0u) << message;
+    EXPECT_NE(message.find("node cycle"), std::string::npos) << message;
+
+    GltfBuilder self;
+    self.addMeshNode(self.triangle(), {{"children", {0}}});
+    EXPECT_NE(loadError(writeFile(file, self.gltf())).find("node cycle: node 0 is its own child"), std::string::npos);
+
+    GltfBuilder twice;  // a scene listing the same root twice
+    int n = twice.addMeshNode(twice.triangle());
+    twice.doc["scenes"][0]["nodes"].push_back(n);
+    EXPECT_NE(loadError(writeFile(file, twice.gltf())).find("reached twice"), std::string::npos);
+}
+
+TEST(GltfLoad, UnsupportedRequiredExtension) {
+    GltfBuilder b;
+    b.addMeshNode(b.triangle());
+    b.doc["extensionsUsed"] = {"EXT_meshopt_compression"};
+    b.doc["extensionsRequired"] = {"EXT_meshopt_compression"};
+    auto file = writeFile(freshTempDir() / "ext.gltf", b.gltf());
+    EXPECT_EQ(loadError(file), file.string() + ": extensionsRequired: unsupported required extension \"EXT_meshopt_compression\"");
+}
+
+TEST(GltfLoad, SpotLightIsUnsupported) {
+    GltfBuilder b;
+    b.addMeshNode(b.triangle());
+    b.doc["extensions"]["KHR_lights_punctual"]["lights"] = {{{"type", "spot"}, {"spot", {{"outerConeAngle", 0.5}}}}};
+    b.addNode({{"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+    std::string message = loadError(writeFile(freshTempDir() / "spot.gltf", b.gltf()));
+    EXPECT_NE(message.find("spot lights are unsupported"), std::string::npos) << message;
+}
+
+TEST(GltfLoad, MalformedFilesAreInputErrors) {
+    auto dir = freshTempDir();
+    std::string garbage;
+    for (int i = 0; i < 4096; ++i) garbage += char((i * 2654435761u) >> 13);
+    for (const char* name : {"garbage.glb", "garbage.gltf"}) {
+        auto file = writeFile(dir / name, garbage);
+        EXPECT_EQ(loadError(file).rfind(file.string() + ": ", 0), 0u);
+    }
+    GltfBuilder b;
+    b.addMeshNode(b.triangle());
+    std::string text = b.gltf();
+    auto truncated = writeFile(dir / "truncated.gltf", text.substr(0, text.size() / 2));
+    EXPECT_EQ(loadError(truncated).rfind(truncated.string() + ": ", 0), 0u);
+    // A GLB whose header claims more JSON than there is.
+    std::string glb = b.glb();
+    uint32_t huge = 0x7fffffff;
+    std::memcpy(glb.data() + 12, &huge, 4);
+    auto badGlb = writeFile(dir / "bad.glb", glb);
+    EXPECT_EQ(loadError(badGlb).rfind(badGlb.string() + ": ", 0), 0u);
+    // A GLB cut short inside its binary chunk.
+    auto cut = writeFile(dir / "cut.glb", b.glb().substr(0, b.glb().size() - 8));
+    EXPECT_EQ(loadError(cut).rfind(cut.string() + ": ", 0), 0u);
+    // A bufferView reaching past its buffer, a mesh index that does not exist, a missing file.
+    GltfBuilder v;
+    v.addMeshNode(v.triangle());
+    v.doc["bufferViews"][0]["byteLength"] = 4000;
+    EXPECT_EQ(loadError(writeFile(dir / "view.gltf", v.gltf())).rfind((dir / "view.gltf").string() + ": ", 0), 0u);
+    GltfBuilder m;
+    m.addMeshNode(m.triangle());
+    m.addNode({{"mesh", 3}});
+    EXPECT_NE(loadError(writeFile(dir / "mesh.gltf", m.gltf())).find("nodes[1].mesh: mesh 3 does not exist"), std::string::npos);
+    GltfBuilder z;  // an accessor without bufferView (all zeros) claiming 10^12 elements
+    z.addMeshNode({{"attributes", {{"POSITION", 0}}}});
+    z.doc["accessors"] = {{{"componentType", 5126}, {"count", 1000000000000}, {"type", "VEC3"}}};
+    z.bin = {0, 0, 0, 0};
+    EXPECT_NE(loadError(writeFile(dir / "zeros.gltf", z.gltf())).find("accessors[0].count: too large"), std::string::npos);
+    EXPECT_EQ(loadError(dir / "absent.glb"), (dir / "absent.glb").string() + ": cannot open file (no such file)");
+}
