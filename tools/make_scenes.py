@@ -93,7 +93,7 @@ def veach_mis():
     """Veach & Guibas 1995, fig. 4: four glossy plates (exponent rising towards the camera)
     lit by four sphere lights of radius 0.03 .. 0.9 and equal power."""
     eye = [0, 2, 15]
-    lights_y, lights_z = 3.5, -1.0
+    lights_y, lights_z = 2.6, -1.6
     radii = [0.03, 0.1, 0.3, 0.9]
     xs = [-3.75, -1.25, 1.25, 3.75]
     colors = [[1.0, 0.35, 0.3], [1.0, 0.85, 0.3], [0.35, 0.9, 0.4], [0.35, 0.55, 1.0]]
@@ -123,7 +123,7 @@ def veach_mis():
     shapes.append(quad([-12, -2.5, -6], [0, 0, 22], [24, 0, 0], "floor"))
     shapes.append(quad([-12, -2.5, -6], [24, 0, 0], [0, 12, 0], "floor"))
     return {
-        "camera": {"eye": eye, "target": [0, -0.6, 1.5], "up": [0, 1, 0], "fov_y": 30},
+        "camera": {"eye": eye, "target": [0, 0.2, 0.8], "up": [0, 1, 0], "fov_y": 33},
         "film": {"width": 512, "height": 320},
         "sampler": {"spp": 16},
         "integrator": {"type": "direct", "strategy": "mis", "heuristic": "power", "light_selection": "power"},
