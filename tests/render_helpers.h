@@ -44,7 +44,8 @@ std::vector<double> expectedTopDown(const Scene& scene, const std::function<doub
 
 // Unbiasedness check of an image against its expected values when the per-sample variance
 // is unknown: the residuals are split into blocks of `block` x `block` pixels and each
-// block's mean residual must pass a two-sided t-test at level alpha / (blocks * tests).
+// block's mean residual, and the whole image's, must pass a two-sided t-test at level
+// alpha / ((blocks + 1) * tests).
 // Returns the number of failing blocks; `report` receives the worst t statistic.
 int blockTTest(const Image& image, const std::vector<double>& expected, int block, double alpha, int tests,
                std::string* report = nullptr);

@@ -39,14 +39,17 @@ fs::path writeText(const std::string& name, const std::string& text) {
 }
 
 // Runs `render FILE -o OUT` on a bad input and checks the contract of SCENE_FORMAT.md.
-void expectBadInput(const std::string& name, const std::string& text, const std::string& mustMention) {
+// The error names the file at fault: the scene, or `culprit` when that is another file.
+void expectBadInput(const std::string& name, const std::string& text, const std::string& mustMention,
+                    const std::string& culprit = "") {
     fs::path scene = writeText(name, text);
     fs::path out = test::outputPath(name + ".exr");
     fs::remove(out);
     std::string err;
     int status = test::runPenumbra("render '" + scene.string() + "' -o '" + out.string() + "' --quiet", &err);
     EXPECT_EQ(status, 2) << name << ": " << err;
-    EXPECT_NE(err.find(name), std::string::npos) << "error does not name the file: " << err;
+    const std::string& file = culprit.empty() ? name : culprit;
+    EXPECT_NE(err.find(file), std::string::npos) << "error does not name " << file << ": " << err;
     EXPECT_NE(err.find(mustMention), std::string::npos) << "error does not mention " << mustMention << ": " << err;
     ASSERT_FALSE(err.empty());
     EXPECT_EQ(err.find('\n'), err.size() - 1) << "not one line: " << err;
@@ -81,12 +84,12 @@ TEST(Cli, BadSceneInputsExitTwoWithOneLineNamingFileAndPath) {
 
     doc = smallScene();
     doc["shapes"].push_back({{"type", "gltf"}, {"file", "no-such-model.glb"}});
-    expectBadInput("missing-gltf.json", doc.dump(), "no-such-model.glb");
+    expectBadInput("missing-gltf.json", doc.dump(), "no-such-model.glb", "no-such-model.glb");
 
     writeText("malformed.gltf", "{\"asset\": {\"version\": \"2.0\"}, \"meshes\": [ {\"primitives\": [ {");
     doc = smallScene();
     doc["shapes"].push_back({{"type", "gltf"}, {"file", "malformed.gltf"}});
-    expectBadInput("bad-gltf.json", doc.dump(), "malformed.gltf");
+    expectBadInput("bad-gltf.json", doc.dump(), "line 1", "malformed.gltf");
 }
 
 TEST(Cli, MissingFilesAndBadUsageExitTwo) {
