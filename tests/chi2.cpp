@@ -363,4 +363,23 @@ Chi2Result chi2TestSquare(const std::vector<glm::dvec2>& points, const SquarePdf
     return r;
 }
 
+// ---- Discrete outcomes --------------------------------------------------------------------
+
+Chi2Result chi2TestDiscrete(const std::vector<double>& counts, const std::vector<double>& probabilities,
+                            size_t declined, const DiscreteChi2Options& o) {
+    if (counts.size() != probabilities.size() || counts.empty())
+        throw std::invalid_argument("chi2TestDiscrete: one probability per outcome, at least one outcome");
+    // One row of cells, one per outcome; the probabilities are exact, so the only
+    // "quadrature" error is the rounding of their sum.
+    Grid grid{"row", "outcome", {0.0, 1.0}, {}};
+    for (size_t k = 0; k <= counts.size(); ++k) grid.colEdges.push_back(double(k));
+    Integrated exact;
+    exact.expectedPerSample = probabilities;
+    for (double p : probabilities) exact.integral += p;
+    exact.tolerance = 1e-12 * double(probabilities.size());
+    double total = double(declined);
+    for (double c : counts) total += c;
+    return compare(grid, counts, exact, size_t(total), declined, o.significance, o.numTests, o.dumpName);
+}
+
 }  // namespace penumbra::test

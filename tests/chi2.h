@@ -71,6 +71,20 @@ struct SquareChi2Options {
 Chi2Result chi2TestSquare(const std::vector<glm::dvec2>& points, const SquarePdf& pdf,
                           const SquareChi2Options& options);
 
+// ---- Discrete outcomes ------------------------------------------------------------------
+
+struct DiscreteChi2Options {
+    double significance = 0.01;
+    int numTests = 1;
+    std::string dumpName;
+};
+
+// `counts[k]`: how often outcome k was drawn; `probabilities[k]`: its exact probability.
+// Probabilities may sum to less than 1: the rest is the chance that the sampler declines,
+// compared with `declined` as one more outcome (as for the continuous tests above).
+Chi2Result chi2TestDiscrete(const std::vector<double>& counts, const std::vector<double>& probabilities,
+                            size_t declined, const DiscreteChi2Options& options);
+
 // ---- Building blocks --------------------------------------------------------------------
 
 // Regularized upper incomplete gamma function Q(a, x) = Gamma(a, x) / Gamma(a), by series
