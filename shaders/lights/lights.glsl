@@ -190,7 +190,11 @@ float lightPdf(uint index, vec3 x, vec3 n, vec3 wi, vec3 y, vec3 ny, float d, ui
         Primitive p = primitives[light.first];
         return spherePdf(x, p.p0, p.p1.x, y, ny, d, sphereSampling);
     }
-    float cosY = abs(dot(wi, ny));
+    // Quad and mesh: p_A = 1 / area in solid angle. sampleLight declines points on the back
+    // of a one-sided light, so the density of a direction that reaches its back is 0.
+    float cosY = dot(-wi, ny);
+    if (cosY <= 0.0 && (light.flags & LIGHT_TWO_SIDED) == 0u) return 0.0;
+    cosY = abs(cosY);
     return cosY > 0.0 ? d * d / (cosY * light.area) : 0.0;
 }
 
