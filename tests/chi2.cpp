@@ -311,13 +311,14 @@ Chi2Result chi2TestSphere(const std::vector<glm::vec3>& directions, const Direct
         observed[size_t(row) * grid.cols() + size_t(col)] += 1.0;
     }
 
-    const Integrated integrated = integrateCells<glm::vec3>(
+    Integrated integrated = integrateCells<glm::vec3>(
         grid,
         [](double u, double phi) {
             const double sinTheta = std::sqrt(std::max(0.0, u * (2.0 - u)));
             return glm::vec3(float(sinTheta * std::cos(phi)), float(sinTheta * std::sin(phi)), float(1.0 - u));
         },
         pdf);
+    integrated.tolerance += o.evaluationTolerance;
     Chi2Result r = compare(grid, observed, integrated, directions.size(), invalid, o.significance, o.numTests,
                            o.dumpName);
     if (nonFinite + nonUnit > 0) {
@@ -352,8 +353,9 @@ Chi2Result chi2TestSquare(const std::vector<glm::dvec2>& points, const SquarePdf
         const int j = std::clamp(int(p.y * o.res), 0, o.res - 1);
         observed[size_t(i) * grid.cols() + size_t(j)] += 1.0;
     }
-    const Integrated integrated =
+    Integrated integrated =
         integrateCells<glm::dvec2>(grid, [](double s, double t) { return glm::dvec2(s, t); }, pdf);
+    integrated.tolerance += o.evaluationTolerance;
     Chi2Result r =
         compare(grid, observed, integrated, points.size(), invalid, o.significance, o.numTests, o.dumpName);
     if (outside > 0) {

@@ -45,6 +45,10 @@ struct SphereChi2Options {
     double significance = 0.01;  // alpha of one test, before the Sidak correction
     int numTests = 1;            // tests of this kind in the file (Sidak correction)
     std::string dumpName;        // on failure: build/test-output/<dumpName>.txt
+    // Bound on the error of the pdf's integral that comes from evaluating the pdf itself
+    // (float geometry that is ill-conditioned somewhere, e.g. rays grazing a sphere), added
+    // to the quadrature tolerance; the caller derives it. 0 for pdfs good to float precision.
+    double evaluationTolerance = 0.0;
 };
 
 // `directions`: the sampler's output, unit vectors in the pdf's frame. A zero vector marks
@@ -65,6 +69,7 @@ struct SquareChi2Options {
     double significance = 0.01;
     int numTests = 1;
     std::string dumpName;
+    double evaluationTolerance = 0.0;  // as in SphereChi2Options
 };
 
 // `points`: samples mapped to [0,1]^2; NaN marks a declined sample (as above).

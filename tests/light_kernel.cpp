@@ -67,7 +67,7 @@ std::vector<gpu::LightTestRecord> LightKernel::sample(uint32_t light, glm::vec3 
 }
 
 std::vector<double> LightKernel::pdf(uint32_t light, glm::vec3 x, glm::vec3 n, uint32_t sphereSampling,
-                                     const std::vector<glm::vec3>& directions) {
+                                     const std::vector<glm::vec3>& directions, std::vector<float>* hitDistance) {
     std::vector<glm::vec4> dirs(directions.size());
     for (size_t i = 0; i < dirs.size(); ++i) dirs[i] = glm::vec4(directions[i], 0.0f);
     auto in = gpu::Buffer::fromVector(m_ctx, dirs);
@@ -81,6 +81,10 @@ std::vector<double> LightKernel::pdf(uint32_t light, glm::vec3 x, glm::vec3 n, u
     auto records = run(push, in);
     std::vector<double> out(records.size());
     for (size_t i = 0; i < out.size(); ++i) out[i] = records[i].pdf;
+    if (hitDistance) {
+        hitDistance->resize(records.size());
+        for (size_t i = 0; i < records.size(); ++i) (*hitDistance)[i] = records[i].tracedT;
+    }
     return out;
 }
 

@@ -22,9 +22,10 @@ public:
     // `count` samples of light `light` from x (normal n): one record per sample.
     std::vector<gpu::LightTestRecord> sample(uint32_t light, glm::vec3 x, glm::vec3 n, uint32_t sphereSampling,
                                              uint32_t seed, uint32_t count);
-    // The traced pdf (see LIGHT_TEST_MODE_PDF) of each direction.
+    // The traced pdf (see LIGHT_TEST_MODE_PDF) of each direction; with `hitDistance`, also the
+    // distance of the first hit the pdf was evaluated at (0 when nothing was hit).
     std::vector<double> pdf(uint32_t light, glm::vec3 x, glm::vec3 n, uint32_t sphereSampling,
-                            const std::vector<glm::vec3>& directions);
+                            const std::vector<glm::vec3>& directions, std::vector<float>* hitDistance = nullptr);
     // `count` draws from a selection table: (item, pmf) per draw.
     std::vector<gpu::LightTestRecord> select(uint32_t table, uint32_t offset, uint32_t tableCount, uint32_t seed,
                                              uint32_t count);

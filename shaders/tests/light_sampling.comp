@@ -70,6 +70,9 @@ void main() {
         uint primitive;
         bool hitLight;
         r.pdf = tracedLightPdf(push.light, push.x, push.n, directions[i].xyz, t, primitive, hitLight);
+        r.tracedT = t;
+        r.hitPrimitive = primitive;
+        r.flags = hitLight ? LIGHT_TEST_HIT_LIGHT : 0u;
     } else {
         Rng rng = makeRng(0u, i, push.seed);
         float u = rand1(rng);

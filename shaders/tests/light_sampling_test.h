@@ -59,9 +59,9 @@ struct LightTestRecord {
     vec3 radiance;      // SAMPLE: LightSample::radiance
     float dist;         // SAMPLE: LightSample::dist
     float tracedPdf;    // SAMPLE: lightPdf at the traced first hit (0 if not the light); SELECT: pmf
-    float tracedT;      // SAMPLE: distance of the traced first hit (0 if none)
-    uint hitPrimitive;  // SAMPLE: primitive of the traced first hit (NO_HIT if none); SELECT: item
-    uint flags;         // SAMPLE: LIGHT_TEST_* bits
+    float tracedT;      // SAMPLE, PDF: distance of the traced first hit (0 if none)
+    uint hitPrimitive;  // SAMPLE, PDF: primitive of the traced first hit (NO_HIT if none); SELECT: item
+    uint flags;         // SAMPLE: LIGHT_TEST_* bits; PDF: LIGHT_TEST_HIT_LIGHT
 };
 
 #ifdef __cplusplus
