@@ -205,8 +205,8 @@ public:
             if (!(t > 0.0)) continue;
             const dvec3 y = x + t * wi;
             const double nn = glm::dot(n, n);
-            const double b1 = glm::dot(glm::cross(p[0] - y, p[2] - y), n) / nn;  // weight of p1
-            const double b2 = glm::dot(glm::cross(p[1] - y, p[0] - y), n) / nn;  // weight of p2
+            const double b1 = glm::dot(glm::cross(y - p[0], p[2] - p[0]), n) / nn;  // weight of p1
+            const double b2 = glm::dot(glm::cross(p[1] - p[0], y - p[0]), n) / nn;  // weight of p2
             const double b0 = 1.0 - b1 - b2;
             const double inside = std::min({b0, b1, b2});
             if (inside <= bestInside) continue;
@@ -269,7 +269,9 @@ Consistency checkConsistency(const std::string& name, const std::vector<LightTes
         const double error = hit ? std::abs(double(r.tracedPdf) - r.pdf) / r.pdf
                                  : std::numeric_limits<double>::infinity();
         // How far the sample's distance overshoots the shadow ray's end, relative.
-        const double overshoot = hit ? (double(r.dist) * (1.0 - 1e-4) - double(r.tracedT)) / r.dist : 0.0;
+        // (At infinity, the environment, the shadow ray has no end.)
+        const bool finite = r.dist < std::numeric_limits<float>::max();
+        const double overshoot = hit && finite ? (double(r.dist) * (1.0 - 1e-4) - double(r.tracedT)) / r.dist : 0.0;
         if (error <= kConsistency && overshoot <= 0.0) continue;
         const Allowance allowed = allowance(r);
         if (error <= kConsistency + allowed.pdf && overshoot <= allowed.distance) {
@@ -589,4 +591,237 @@ TEST(LightSampling, SphereAreaCapAndSolidAngle) {
             std::printf("[ %s ] %s\n", name.c_str(), result.message.c_str());
         }
     }
+}
+
+// ---- Mesh light ------------------------------------------------------------------------------------
+
+namespace {
+
+// Four equilateral triangles seen from the origin in different directions, none hiding
+// another, with areas 1.3, 0.117, 0.013 and 0.0012 (circumradius R: 3 sqrt(3) / 4 R^2): a
+// selection that ignored the alias table's area weights would be off by up to 250x.
+struct MeshSetup {
+    std::vector<std::array<dvec3, 3>> triangles;
+    Shape shape;
+};
+
+MeshSetup meshSetup(bool flipSecond, bool twoSided) {
+    struct Spec {
+        dvec3 centre;
+        double R;
+        dvec3 tilt;
+    };
+    const Spec specs[] = {{{0.0, 0.0, 2.5}, 1.0, {0.2, -0.1, 0.0}},
+                          {{2.0, 0.5, 0.0}, 0.3, {0.0, 0.3, 0.2}},
+                          {{-1.5, 1.0, 1.0}, 0.1, {0.1, 0.1, -0.3}},
+                          {{0.0, -2.0, 0.5}, 0.03, {-0.2, 0.0, 0.1}}};
+    MeshSetup m;
+    m.shape.type = ShapeType::Mesh;
+    m.shape.emission = vec3(0.5f, 1.0f, 2.0f);
+    m.shape.twoSided = twoSided;
+    for (size_t k = 0; k < std::size(specs); ++k) {
+        const Spec& sp = specs[k];
+        // Front normal toward the origin, tilted; counter-clockwise about it is the front.
+        const dvec3 n = glm::normalize(glm::normalize(-sp.centre) + sp.tilt);
+        const test::Frame f(n);
+        std::array<dvec3, 3> p;
+        for (int j = 0; j < 3; ++j) {
+            const double a = 2.0 * kPi * j / 3.0;
+            // Vertices in float, as the GPU holds them: the chart uses exactly those.
+            p[j] = dvec3(vec3(sp.centre + sp.R * (std::cos(a) * f.t + std::sin(a) * f.b)));
+        }
+        if (glm::dot(glm::cross(p[1] - p[0], p[2] - p[0]), n) < 0.0) std::swap(p[1], p[2]);
+        if (flipSecond && k == 1) std::swap(p[1], p[2]);  // faces away from the origin
+        m.triangles.push_back(p);
+        for (int j = 0; j < 3; ++j) {
+            m.shape.indices.push_back(uint32_t(m.shape.positions.size()));
+            m.shape.positions.push_back(vec3(p[j]));
+        }
+    }
+    return m;
+}
+
+// Within 1e-5 (barycentric) of a triangle's edge the traced ray may pass the edge by
+// rounding; that band is ~6e-5 of the uniform chart density.
+std::function<Allowance(const LightTestRecord&)> nearTriangleEdge(const MeshChart& chart) {
+    return [&chart](const LightTestRecord& r) {
+        const auto at = chart.locate(dvec3(0.0), glm::normalize(dvec3(r.wi)));
+        if (!at) return Allowance{};
+        const double sp = at->st.x * chart.parts() - at->part, t = at->st.y;
+        return std::min({sp * (1.0 - t), sp * t, 1.0 - sp}) < 1e-5 ? kAnything : Allowance{};
+    };
+}
+
+}  // namespace
+
+TEST(LightSampling, MeshTrianglesOfVeryDifferentAreas) {
+    uint32_t seed = 300;
+    for (bool twoSided : {false, true}) {
+        const std::string name = twoSided ? "mesh_two_sided" : "mesh_one_sided";
+        SCOPED_TRACE(name);
+        const MeshSetup m = meshSetup(true, twoSided);
+        const MeshChart chart(m.triangles);
+        auto arrays = buildSceneArrays(sceneWithShape(m.shape));
+        test::LightKernel kernel(arrays);
+        double total = 0.0;
+        std::vector<double> probability;
+        for (int k = 0; k < chart.parts(); ++k) total += chart.area(k);
+        for (int k = 0; k < chart.parts(); ++k)
+            probability.push_back(!twoSided && k == 1 ? 0.0 : chart.area(k) / total);
+        // One-sided: the second triangle faces away, its samples are declined.
+        LightCase lc{name, 0, vec3(0.0f), vec3(0, 0, 1), gpu::SPHERE_SOLID_ANGLE,
+                     twoSided ? 1.0 : 1.0 - chart.area(1) / total};
+        const auto samples = kernel.sample(0, lc.x, lc.n, lc.sphereSampling, seed++, kSamples);
+        checkConsistency(name, samples, nearTriangleEdge(chart), bandBound(6e-5, kSamples));
+        checkChart(kernel, lc, chart, samples);
+
+        // Which triangle each sample came from, against A_k / A (the alias table's job).
+        std::vector<double> counts(chart.parts(), 0.0);
+        size_t declined = 0;
+        for (const auto& r : samples) {
+            if (!accepted(r)) {
+                ++declined;
+                continue;
+            }
+            const auto at = chart.locate(dvec3(0.0), glm::normalize(dvec3(r.wi)));
+            ASSERT_TRUE(at.has_value());
+            counts[at->part] += 1.0;
+        }
+        std::vector<double> expected = probability;
+        if (!twoSided) {
+            expected.erase(expected.begin() + 1);
+            EXPECT_EQ(counts[1], 0.0);
+            counts.erase(counts.begin() + 1);
+        }
+        const auto r = test::chi2TestDiscrete(counts, expected, declined,
+                                              {kAlpha, kChi2Tests, "chi2_light_" + name + "_triangles"});
+        EXPECT_TRUE(r.passed) << name << " triangle choice: " << r.message;
+        std::printf("[ %s triangles ] %.0f %.0f %.0f (declined %zu) of %u; %s\n", name.c_str(), counts[0], counts[1],
+                    counts[2], declined, kSamples, r.message.c_str());
+    }
+}
+
+// ---- Environment ------------------------------------------------------------------------------------
+
+TEST(LightSampling, EnvironmentCosineAboutTheNormal) {
+    Scene scene;
+    scene.materials.push_back(Material{});
+    Light env;
+    env.type = LightType::Environment;
+    env.intensity = vec3(0.25f, 0.5f, 1.0f);
+    scene.lights.push_back(env);
+    auto arrays = buildSceneArrays(scene);
+    test::LightKernel kernel(arrays);
+    uint32_t seed = 400;
+    for (vec3 n : {vec3(0.36f, 0.48f, 0.8f), vec3(0.0f, 0.0f, -1.0f)}) {
+        const std::string name = "environment_n" + std::to_string(seed - 400);
+        SCOPED_TRACE(name);
+        const vec3 x(1.0f, 2.0f, 3.0f);
+        const auto samples = kernel.sample(0, x, n, gpu::SPHERE_SOLID_ANGLE, seed++, kSamples);
+        checkConsistency(name, samples, [](const LightTestRecord&) { return Allowance{}; }, 0.0);
+        size_t bad = 0;
+        for (const auto& r : samples)
+            if (accepted(r) && (r.radiance != env.intensity || r.dist != std::numeric_limits<float>::max())) ++bad;
+        EXPECT_EQ(bad, 0u) << name << ": radiance must be L and the distance FLOAT_MAX";
+        // Cosine about n on the direction sphere in the frame of n; the hemisphere's rim is a
+        // row edge (cap 1).
+        const test::Frame frame{dvec3(n)};
+        std::vector<vec3> local(samples.size());
+        for (size_t i = 0; i < samples.size(); ++i)
+            local[i] = accepted(samples[i]) ? vec3(frame.toLocal(dvec3(samples[i].wi))) : vec3(0.0f);
+        test::SphereChi2Options options;
+        options.capOneMinusCos = 1.0;
+        options.significance = kAlpha;
+        options.numTests = kChi2Tests;
+        options.dumpName = "chi2_light_" + name;
+        const auto r = test::chi2TestSphere(
+            local,
+            [&](const std::vector<vec3>& dirs) {
+                std::vector<vec3> world(dirs.size());
+                for (size_t i = 0; i < dirs.size(); ++i) world[i] = vec3(frame.toWorld(dvec3(dirs[i])));
+                return kernel.pdf(0, x, n, gpu::SPHERE_SOLID_ANGLE, world);
+            },
+            options);
+        EXPECT_TRUE(r.passed) << name << ": " << r.message;
+        EXPECT_NEAR(r.pdfIntegral, 1.0, r.integralTolerance) << name << ": " << r.message;
+        std::printf("[ %s ] declined %zu; %s\n", name.c_str(), countDeclined(samples), r.message.c_str());
+    }
+}
+
+// ---- Delta lights ------------------------------------------------------------------------------------
+
+TEST(LightSampling, PointAndDirectionalAreExact) {
+    // Point light at x + (1, 2, 2): d = 3 exactly, wi = (1, 2, 2) / 3, radiance I / 9 with
+    // I = (9, 18, 4.5): (1, 2, 0.5). Directional light travelling along (0, -3, 4): wi is
+    // minus the normalized direction, the radiance the irradiance E, the distance FLOAT_MAX.
+    // GLSL's division may be off by 2.5 ULP, its sqrt by as much: 3 ULP (4e-7) relative.
+    Scene scene;
+    scene.materials.push_back(Material{});
+    Light point;
+    point.type = LightType::Point;
+    const vec3 x(0.5f, -1.0f, 0.25f);
+    point.position = x + vec3(1.0f, 2.0f, 2.0f);
+    point.intensity = vec3(9.0f, 18.0f, 4.5f);
+    Light sun;
+    sun.type = LightType::Directional;
+    sun.direction = vec3(0.0f, -3.0f, 4.0f);
+    sun.intensity = vec3(2.0f, 3.0f, 5.0f);
+    scene.lights = {point, sun};
+    auto arrays = buildSceneArrays(scene);
+    test::LightKernel kernel(arrays);
+    auto near = [](double a, double b) { return std::abs(a - b) <= 3.0 * std::ldexp(1.0, -23) * std::abs(b); };
+    for (uint32_t light : {0u, 1u}) {
+        SCOPED_TRACE(light == 0 ? "point" : "directional");
+        const auto samples = kernel.sample(light, x, vec3(0, 0, 1), gpu::SPHERE_SOLID_ANGLE, 500 + light, 4096);
+        const dvec3 wi = light == 0 ? dvec3(1.0, 2.0, 2.0) / 3.0 : dvec3(0.0, 0.6, -0.8);
+        const dvec3 radiance = light == 0 ? dvec3(1.0, 2.0, 0.5) : dvec3(2.0, 3.0, 5.0);
+        size_t bad = 0;
+        for (const auto& r : samples) {
+            const bool ok = accepted(r) && (r.flags & gpu::LIGHT_TEST_DELTA) && r.pdf == 1.0f &&
+                            r.tracedPdf == 0.0f &&  // lightPdf of a delta light: no density
+                            near(r.wi.x, wi.x) && near(r.wi.y, wi.y) && near(r.wi.z, wi.z) &&
+                            near(r.radiance.x, radiance.x) && near(r.radiance.y, radiance.y) &&
+                            near(r.radiance.z, radiance.z) &&
+                            (light == 0 ? near(r.dist, 3.0) : r.dist == std::numeric_limits<float>::max());
+            if (!ok && bad++ < 3)
+                ADD_FAILURE() << "wi (" << r.wi.x << ", " << r.wi.y << ", " << r.wi.z << ") radiance (" << r.radiance.x
+                              << ", " << r.radiance.y << ", " << r.radiance.z << ") dist " << r.dist << " pdf " << r.pdf
+                              << " flags " << r.flags << " lightPdf " << r.tracedPdf;
+        }
+        EXPECT_EQ(bad, 0u);
+    }
+}
+
+// ---- The harness rejects wrong pdfs (test of the test) ------------------------------------------------
+
+TEST(LightSamplingChi2, RejectsCapPdfForSolidAngleSamples) {
+    // Both densities integrate to 1 over the visible cap: only the histogram can tell.
+    const SphereSetup s = sphereSetups()[1];
+    auto arrays = buildSceneArrays(sceneWithShape(sphereShape(s.center, s.radius)));
+    test::LightKernel kernel(arrays);
+    const SphereCapChart chart(s.center, s.radius, s.x);
+    LightCase lc{"expected_failure_sphere_cap_pdf_vs_solid_angle", 0, s.x, vec3(0, 0, 1), gpu::SPHERE_SOLID_ANGLE};
+    const auto samples = kernel.sample(0, s.x, lc.n, gpu::SPHERE_SOLID_ANGLE, 600, kSamples);
+    const auto r = chartChi2(kernel, lc, chart, samples, gpu::SPHERE_CAP, lc.name);
+    EXPECT_FALSE(r.passed) << r.message;
+    EXPECT_LT(r.pValue, r.threshold) << r.message;
+    std::printf("[ expected failure ] %s\n", r.message.c_str());
+}
+
+TEST(LightSamplingChi2, RejectsMeshPdfWithoutAreaWeighting) {
+    // The density if triangles were chosen uniformly, 1 / (K A_k) per unit area instead of
+    // 1 / A: it integrates to 1 as well.
+    const MeshSetup m = meshSetup(true, true);
+    const MeshChart chart(m.triangles);
+    auto arrays = buildSceneArrays(sceneWithShape(m.shape));
+    test::LightKernel kernel(arrays);
+    double total = 0.0;
+    for (int k = 0; k < chart.parts(); ++k) total += chart.area(k);
+    LightCase lc{"expected_failure_mesh_uniform_triangles", 0, vec3(0.0f)};
+    const auto samples = kernel.sample(0, lc.x, lc.n, gpu::SPHERE_SOLID_ANGLE, 601, kSamples);
+    const auto r = chartChi2(kernel, lc, chart, samples, gpu::SPHERE_SOLID_ANGLE, lc.name, 0.0,
+                             [&](const Located& at) { return total / (chart.parts() * chart.area(at.part)); });
+    EXPECT_FALSE(r.passed) << r.message;
+    EXPECT_NEAR(r.pdfIntegral, 1.0, r.integralTolerance) << r.message;
+    std::printf("[ expected failure ] %s\n", r.message.c_str());
 }

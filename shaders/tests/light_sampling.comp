@@ -21,16 +21,22 @@ layout(push_constant) uniform PushBlock { LightTestPush push; };
 
 // The density of wi as the integrator evaluates it for a BSDF-sampled ray: the first hit
 // along x + t wi must belong to the light, and lightPdf is taken there with the hit's
-// geometric (front) normal and distance. The environment has no geometry: lightPdf directly.
+// geometric (front) normal and distance. The environment is "hit" when the ray escapes,
+// and has no geometry: lightPdf directly. Delta lights cannot be hit (lightPdf says 0).
 float tracedLightPdf(uint index, vec3 x, vec3 n, vec3 wi, out float t, out uint primitive, out bool hitLight) {
     t = 0.0;
     primitive = NO_HIT;
     hitLight = false;
     uint type = lights[index].type;
-    if (type == LIGHT_ENVIRONMENT || type == LIGHT_POINT || type == LIGHT_DIRECTIONAL)
+    if (type == LIGHT_POINT || type == LIGHT_DIRECTIONAL)
         return lightPdf(index, x, n, wi, vec3(0.0), vec3(0.0), 0.0, push.sphereSampling);
     Hit hit;
-    if (!traceClosest(x, wi, FLOAT_MAX, hit)) return 0.0;
+    bool found = traceClosest(x, wi, FLOAT_MAX, hit);
+    if (type == LIGHT_ENVIRONMENT) {
+        hitLight = !found;
+        return found ? 0.0 : lightPdf(index, x, n, wi, vec3(0.0), vec3(0.0), 0.0, push.sphereSampling);
+    }
+    if (!found) return 0.0;
     t = hit.t;
     primitive = hit.primitive;
     SurfacePoint y = surfaceAt(hit, x, wi);
