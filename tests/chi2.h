@@ -49,6 +49,10 @@ struct SphereChi2Options {
     // (float geometry that is ill-conditioned somewhere, e.g. rays grazing a sphere), added
     // to the quadrature tolerance; the caller derives it. 0 for pdfs good to float precision.
     double evaluationTolerance = 0.0;
+    // When >= 0: the probability that the sampler declines, known in closed form; the
+    // declined samples are compared with it instead of with 1 - integral (which carries the
+    // evaluation tolerance). The caller checks the integral against it.
+    double declinedFraction = -1.0;
 };
 
 // `directions`: the sampler's output, unit vectors in the pdf's frame. A zero vector marks
@@ -70,6 +74,7 @@ struct SquareChi2Options {
     int numTests = 1;
     std::string dumpName;
     double evaluationTolerance = 0.0;  // as in SphereChi2Options
+    double declinedFraction = -1.0;    // as in SphereChi2Options
 };
 
 // `points`: samples mapped to [0,1]^2; NaN marks a declined sample (as above).
