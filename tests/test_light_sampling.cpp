@@ -49,9 +49,9 @@ using gpu::LightTestRecord;
 namespace {
 
 constexpr double kAlpha = 0.01;
-// Chi-square tests in this file that must pass: quad 4, sphere 3 strategies x 3 distances,
-// mesh 2 charts + 2 triangle frequencies, environment 2.
-constexpr int kChi2Tests = 19;
+// Chi-square tests in this file that must pass: quad 4 points + 1 two-sided from behind,
+// sphere 3 strategies x 3 distances, mesh 2 charts + 2 triangle frequencies, environment 2.
+constexpr int kChi2Tests = 20;
 constexpr uint32_t kSamples = 1u << 20;  // >= 10^6 per test
 constexpr double kPi = std::numbers::pi;
 constexpr int kChartRes = 64;
