@@ -185,7 +185,8 @@ std::string fmt(double v) {
 // Compares the histogram with N times the integrated pdf. `invalid` samples (declined by
 // the sampler) form one more cell, expected to hold the mass the pdf misses.
 Chi2Result compare(const Grid& grid, const std::vector<double>& observed, const Integrated& pdf, size_t numSamples,
-                   size_t invalid, double significance, int numTests, const std::string& dumpName) {
+                   size_t invalid, double significance, int numTests, const std::string& dumpName,
+                   double declinedFraction = -1.0) {
     Chi2Result r;
     r.pdfIntegral = pdf.integral;
     r.integralTolerance = pdf.tolerance;
@@ -195,8 +196,10 @@ Chi2Result compare(const Grid& grid, const std::vector<double>& observed, const 
     std::vector<double> obs = observed, expected(pdf.expectedPerSample.size());
     for (size_t c = 0; c < expected.size(); ++c) expected[c] = n * pdf.expectedPerSample[c];
     // Missing mass beyond the quadrature error is what declined samples should account for.
-    const double missing = 1.0 - pdf.integral;
-    const double invalidExpected = missing > pdf.tolerance ? n * missing : 0.0;
+    // A declined fraction known in closed form replaces it.
+    const double missing = declinedFraction >= 0.0 ? declinedFraction : 1.0 - pdf.integral;
+    const double invalidExpected =
+        (declinedFraction >= 0.0 ? missing > 0.0 : missing > pdf.tolerance) ? n * missing : 0.0;
     obs.push_back(double(invalid));
     expected.push_back(invalidExpected);
 
@@ -311,15 +314,16 @@ Chi2Result chi2TestSphere(const std::vector<glm::vec3>& directions, const Direct
         observed[size_t(row) * grid.cols() + size_t(col)] += 1.0;
     }
 
-    const Integrated integrated = integrateCells<glm::vec3>(
+    Integrated integrated = integrateCells<glm::vec3>(
         grid,
         [](double u, double phi) {
             const double sinTheta = std::sqrt(std::max(0.0, u * (2.0 - u)));
             return glm::vec3(float(sinTheta * std::cos(phi)), float(sinTheta * std::sin(phi)), float(1.0 - u));
         },
         pdf);
+    integrated.tolerance += o.evaluationTolerance;
     Chi2Result r = compare(grid, observed, integrated, directions.size(), invalid, o.significance, o.numTests,
-                           o.dumpName);
+                           o.dumpName, o.declinedFraction);
     if (nonFinite + nonUnit > 0) {
         r.passed = false;
         r.message = std::to_string(nonFinite) + " samples are NaN/inf and " + std::to_string(nonUnit) +
@@ -352,15 +356,36 @@ Chi2Result chi2TestSquare(const std::vector<glm::dvec2>& points, const SquarePdf
         const int j = std::clamp(int(p.y * o.res), 0, o.res - 1);
         observed[size_t(i) * grid.cols() + size_t(j)] += 1.0;
     }
-    const Integrated integrated =
+    Integrated integrated =
         integrateCells<glm::dvec2>(grid, [](double s, double t) { return glm::dvec2(s, t); }, pdf);
+    integrated.tolerance += o.evaluationTolerance;
     Chi2Result r =
-        compare(grid, observed, integrated, points.size(), invalid, o.significance, o.numTests, o.dumpName);
+        compare(grid, observed, integrated, points.size(), invalid, o.significance, o.numTests, o.dumpName,
+                o.declinedFraction);
     if (outside > 0) {
         r.passed = false;
         r.message = std::to_string(outside) + " samples lie outside [0,1]^2 (" + r.message + ")";
     }
     return r;
+}
+
+// ---- Discrete outcomes --------------------------------------------------------------------
+
+Chi2Result chi2TestDiscrete(const std::vector<double>& counts, const std::vector<double>& probabilities,
+                            size_t declined, const DiscreteChi2Options& o) {
+    if (counts.size() != probabilities.size() || counts.empty())
+        throw std::invalid_argument("chi2TestDiscrete: one probability per outcome, at least one outcome");
+    // One row of cells, one per outcome; the probabilities are exact, so the only
+    // "quadrature" error is the rounding of their sum.
+    Grid grid{"row", "outcome", {0.0, 1.0}, {}};
+    for (size_t k = 0; k <= counts.size(); ++k) grid.colEdges.push_back(double(k));
+    Integrated exact;
+    exact.expectedPerSample = probabilities;
+    for (double p : probabilities) exact.integral += p;
+    exact.tolerance = 1e-12 * double(probabilities.size());
+    double total = double(declined);
+    for (double c : counts) total += c;
+    return compare(grid, counts, exact, size_t(total), declined, o.significance, o.numTests, o.dumpName);
 }
 
 }  // namespace penumbra::test

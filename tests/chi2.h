@@ -45,6 +45,14 @@ struct SphereChi2Options {
     double significance = 0.01;  // alpha of one test, before the Sidak correction
     int numTests = 1;            // tests of this kind in the file (Sidak correction)
     std::string dumpName;        // on failure: build/test-output/<dumpName>.txt
+    // Bound on the error of the pdf's integral that comes from evaluating the pdf itself
+    // (float geometry that is ill-conditioned somewhere, e.g. rays grazing a sphere), added
+    // to the quadrature tolerance; the caller derives it. 0 for pdfs good to float precision.
+    double evaluationTolerance = 0.0;
+    // When >= 0: the probability that the sampler declines, known in closed form; the
+    // declined samples are compared with it instead of with 1 - integral (which carries the
+    // evaluation tolerance). The caller checks the integral against it.
+    double declinedFraction = -1.0;
 };
 
 // `directions`: the sampler's output, unit vectors in the pdf's frame. A zero vector marks
@@ -65,11 +73,27 @@ struct SquareChi2Options {
     double significance = 0.01;
     int numTests = 1;
     std::string dumpName;
+    double evaluationTolerance = 0.0;  // as in SphereChi2Options
+    double declinedFraction = -1.0;    // as in SphereChi2Options
 };
 
 // `points`: samples mapped to [0,1]^2; NaN marks a declined sample (as above).
 Chi2Result chi2TestSquare(const std::vector<glm::dvec2>& points, const SquarePdf& pdf,
                           const SquareChi2Options& options);
+
+// ---- Discrete outcomes ------------------------------------------------------------------
+
+struct DiscreteChi2Options {
+    double significance = 0.01;
+    int numTests = 1;
+    std::string dumpName;
+};
+
+// `counts[k]`: how often outcome k was drawn; `probabilities[k]`: its exact probability.
+// Probabilities may sum to less than 1: the rest is the chance that the sampler declines,
+// compared with `declined` as one more outcome (as for the continuous tests above).
+Chi2Result chi2TestDiscrete(const std::vector<double>& counts, const std::vector<double>& probabilities,
+                            size_t declined, const DiscreteChi2Options& options);
 
 // ---- Building blocks --------------------------------------------------------------------
 

@@ -27,8 +27,12 @@ vec3 bsdfEval(Material m, vec3 n, vec3 wo, vec3 wi) {
     if (dot(wi, n) <= 0.0 || dot(wo, n) <= 0.0) return vec3(0.0);
     vec3 f = m.kd * INV_PI;
     if (m.type == MATERIAL_PHONG) {
+        // cos^n through phongLobePdf ((n+1)/(2 pi) cos^n), not pow(): GLSL's pow is
+        // exp2(n log2 cos) with log2 good only to ~2^-21 absolute near 1, i.e. up to ~1e-3
+        // relative at n = 5000 (a 7e-5 bias in the albedo on lavapipe), and undefined for
+        // pow(0, 0). Sharing the pdf's cos^n also keeps f / pdf exact for the glossy lobe.
         float cosAlpha = dot(wi, mirrorDirection(wo, n));
-        if (cosAlpha > 0.0) f += m.ks * ((m.exponent + 2.0) * INV_TWO_PI * pow(cosAlpha, m.exponent));
+        if (cosAlpha > 0.0) f += m.ks * ((m.exponent + 2.0) / (m.exponent + 1.0) * phongLobePdf(cosAlpha, m.exponent));
     }
     return f;
 }

@@ -132,13 +132,21 @@ bool sampleLight(uint index, vec3 x, vec3 n, vec3 u, uint sphereSampling, out Li
         if (sphereSampling == SPHERE_SOLID_ANGLE) {
             float cosThetaMax, oneMinusCos;
             sphereCone(r, D, cosThetaMax, oneMinusCos);
-            vec3 local = squareToUniformCone(u.xy, cosThetaMax);
+            // Sampled in 1 - cos(thetaMax), the same quantity the pdf uses: from cosThetaMax,
+            // 1 - cosThetaMax loses its digits to float spacing near 1 for distant spheres
+            // (r/D = 1e-3: 1 - cos = 5e-7, off by ~7%), so samples would fill a cone of a
+            // different size than the one 1 / (2 pi oneMinusCos) describes.
+            vec3 local = squareToUniformConeOneMinusCos(u.xy, oneMinusCos);
             ls.wi = frameToWorld(local, -axis);
             ls.pdf = 1.0 / (TWO_PI * oneMinusCos);
             // Distance to the near intersection, from the triangle (x, centre, y):
             // d = D cos(theta) - sqrt(r^2 - D^2 sin^2(theta)), clamped at the silhouette.
+            // sin^2 from the sample's x and y, not 1 - cos^2: for a distant sphere cos is within
+            // 5e-7 of 1 and 1 - cos^2 keeps no digits, so r^2 - D^2 sin^2 and with it the
+            // distance came out up to ~1e-4 D too long, past the sphere's surface, and the
+            // shadow ray (which stops at dist (1 - 1e-4)) hit the light itself.
             float cosTheta = local.z;
-            float sin2 = max(0.0, 1.0 - cosTheta * cosTheta);
+            float sin2 = dot(local.xy, local.xy);
             ls.dist = D * cosTheta - sqrt(max(0.0, r * r - D * D * sin2));
             ls.radiance = light.emission;
             return ls.pdf > 0.0 && ls.dist > 0.0;
@@ -190,7 +198,11 @@ float lightPdf(uint index, vec3 x, vec3 n, vec3 wi, vec3 y, vec3 ny, float d, ui
         Primitive p = primitives[light.first];
         return spherePdf(x, p.p0, p.p1.x, y, ny, d, sphereSampling);
     }
-    float cosY = abs(dot(wi, ny));
+    // Quad and mesh: p_A = 1 / area in solid angle. sampleLight declines points on the back
+    // of a one-sided light, so the density of a direction that reaches its back is 0.
+    float cosY = dot(-wi, ny);
+    if (cosY <= 0.0 && (light.flags & LIGHT_TWO_SIDED) == 0u) return 0.0;
+    cosY = abs(cosY);
     return cosY > 0.0 ? d * d / (cosY * light.area) : 0.0;
 }
 
