@@ -84,7 +84,10 @@ std::string fileNamePart(const json& value) {
     if (value.is_string()) {
         text = value.get<std::string>();
     } else if (value.is_array()) {
-        for (size_t i = 0; i < value.size(); ++i) text += (i ? "_" : "") + fileNamePart(value[i]);
+        for (size_t i = 0; i < value.size(); ++i) {
+            if (i) text += '_';
+            text += fileNamePart(value[i]);
+        }
     } else {
         text = value.dump();
     }
