@@ -108,6 +108,11 @@ int batchCommand(const BatchOptions& options) {
     const bool progressLines = !options.quiet;
     const bool ticker = progressLines && isatty(STDERR_FILENO);
     Totals totals;
+    int tickerWidth = 0;  // of the ticker line on the terminal, to be blanked before the next line
+    auto endTicker = [&] {
+        if (tickerWidth > 0) std::fprintf(stderr, "\r%*s\r", tickerWidth, "");
+        tickerWidth = 0;
+    };
 
     // Declaration order is teardown order in reverse: renderer, then cache, then context.
     std::optional<gpu::Context> context;
@@ -179,8 +184,9 @@ int batchCommand(const BatchOptions& options) {
             auto progress = [&](const RenderProgress& p) {
                 if (!ticker) return;
                 double rate = p.seconds > 0 ? p.samplesDone * pixels / p.seconds : 0.0;
-                std::fprintf(stderr, "\rpenumbra: %s: %u/%u spp  %.2f M samples/s   ", tag.c_str(), p.samplesDone,
-                             p.samplesTotal, rate * 1e-6);
+                endTicker();
+                tickerWidth = std::fprintf(stderr, "penumbra: %s: %u/%u spp  %.2f M samples/s", tag.c_str(),
+                                           p.samplesDone, p.samplesTotal, rate * 1e-6);
                 std::fflush(stderr);
             };
             const auto renderStart = Clock::now();
@@ -200,24 +206,27 @@ int batchCommand(const BatchOptions& options) {
             ++totals.rendered;
             totals.renderSeconds += renderSeconds;
             totals.samples += pixels * scene.sampler.spp;
+            endTicker();
             if (progressLines)
-                std::fprintf(stderr, "%spenumbra: %s: rendered %u spp in %.2f s (%.2f M samples/s; %s%s)\n",
-                             ticker ? "\r" : "", tag.c_str(), scene.sampler.spp, seconds,
+                std::fprintf(stderr, "penumbra: %s: rendered %u spp in %.2f s (%.2f M samples/s; %s%s)\n",
+                             tag.c_str(), scene.sampler.spp, seconds,
                              renderSeconds > 0 ? pixels * scene.sampler.spp / renderSeconds * 1e-6 : 0.0,
                              reuse ? "scene upload reused" : "scene uploaded",
                              why == "missing" ? "" : ("; replaced output: " + why).c_str());
         } catch (const InputError& e) {
+            endTicker();
             ++totals.failedInput;
-            std::fprintf(stderr, "%spenumbra: %s: failed (bad input): %s\n", ticker ? "\r" : "", tag.c_str(),
+            std::fprintf(stderr, "penumbra: %s: failed (bad input): %s\n", tag.c_str(),
                          oneLine(e.what()).c_str());
         } catch (const std::exception& e) {
+            endTicker();
             if (g_stop) {
                 totals.notRun = mine.size() - n;
-                std::fprintf(stderr, "%spenumbra: %s: interrupted, nothing written\n", ticker ? "\r" : "", tag.c_str());
+                std::fprintf(stderr, "penumbra: %s: interrupted, nothing written\n", tag.c_str());
                 break;
             }
             ++totals.failedRuntime;
-            std::fprintf(stderr, "%spenumbra: %s: failed: %s\n", ticker ? "\r" : "", tag.c_str(),
+            std::fprintf(stderr, "penumbra: %s: failed: %s\n", tag.c_str(),
                          oneLine(e.what()).c_str());
         }
     }
