@@ -353,8 +353,9 @@ TEST(Batch, InterruptedBatchLeavesNoPartialOutputAndResumes) {
     EXPECT_EQ(WEXITSTATUS(status), 1) << err;
     EXPECT_TRUE(fs::exists(dir / "quick.exr")) << err;
     EXPECT_FALSE(fs::exists(dir / "slow.exr")) << err;
-    EXPECT_NE(err.find("slow.exr: interrupted, nothing written"), std::string::npos) << err;
-    EXPECT_NE(err.find("batch interrupted: rendered 1,"), std::string::npos) << err;
+    // The signal lands in the slow render ("interrupted, nothing written") or, on a loaded
+    // machine, just before it starts; either way the slow job counts as not run.
+    EXPECT_NE(err.find("batch interrupted: rendered 1, skipped 0, failed 0, not run 1,"), std::string::npos) << err;
     for (const auto& entry : fs::directory_iterator(dir))  // no temporary file left behind
         EXPECT_TRUE(entry.path().extension() != ".tmp" && entry.path().filename().string().find("slow") ==
                                                              std::string::npos)
