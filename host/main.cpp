@@ -60,6 +60,16 @@ int main(int argc, char** argv) {
     renderCmd->add_option("-o,--output", render.output, "output EXR (default: SCENE-stem.exr here)");
     renderCmd->add_option("--png", render.png, "also write an sRGB 8-bit PNG");
 
+    BatchOptions batch;
+    CLI::App* batchCmd = app.add_subcommand("batch", "render every job of a job file (docs/BATCH.md)");
+    batchCmd->add_option("jobs", batch.jobFile, "job file (.json)")->required();
+    batchCmd->add_option("--task", batch.task, "run only jobs j with j % TASKS == TASK (0-based)")
+        ->check(CLI::NonNegativeNumber);
+    batchCmd->add_option("--tasks", batch.tasks, "number of tasks the jobs are split into")->check(CLI::PositiveNumber);
+    batchCmd->add_option("--device", batch.device, "Vulkan device index (see 'penumbra devices'; or PENUMBRA_DEVICE)");
+    batchCmd->add_flag("--list", batch.list, "print the jobs (of this task) and exit, rendering nothing");
+    batchCmd->add_flag("--quiet", batch.quiet, "no per-job progress or notes on stderr (failures and summary stay)");
+
     std::vector<std::string> mergeInputs;
     std::string mergeOutput;
     CLI::App* mergeCmd = app.add_subcommand("merge", "average partial renders weighted by their spp");
@@ -86,6 +96,7 @@ int main(int argc, char** argv) {
             render.overrides = collectOverrides(sets, spp, seed, width, height);
             return renderCommand(render);
         }
+        if (batchCmd->parsed()) return batchCommand(batch);
         if (mergeCmd->parsed()) return mergeCommand(mergeInputs, mergeOutput);
         if (compareCmd->parsed()) return compareCommand(compareA, compareB);
         if (devicesCmd->parsed()) return devicesCommand();

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <fstream>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include "gpu_fixture.h"
 #include "render/renderer.h"
@@ -140,8 +141,10 @@ std::string slurp(const std::string& path) {
 }  // namespace
 
 int runPenumbra(const std::string& args, std::string* err, std::string* out) {
-    auto errPath = outputPath("cli-stderr.txt").string();
-    auto outPath = outputPath("cli-stdout.txt").string();
+    // Per process: ctest runs tests in parallel processes that share test-output/.
+    const std::string tag = std::to_string(getpid());
+    auto errPath = outputPath("cli-stderr-" + tag + ".txt").string();
+    auto outPath = outputPath("cli-stdout-" + tag + ".txt").string();
     std::string cmd = std::string("'") + PENUMBRA_EXECUTABLE + "' " + args + " >'" + outPath + "' 2>'" + errPath + "'";
     int status = std::system(cmd.c_str());
     if (err) *err = slurp(errPath);

@@ -18,7 +18,18 @@ struct RenderOptions {
     bool quiet = false;
 };
 
+// penumbra batch (docs/BATCH.md).
+struct BatchOptions {
+    std::string jobFile;
+    int device = -1;
+    bool quiet = false;
+    bool list = false;  // print this task's jobs (index, output, origin) to stdout instead
+    int task = -1;      // with tasks: run only jobs j with j % tasks == task
+    int tasks = -1;
+};
+
 int renderCommand(const RenderOptions& options);
+int batchCommand(const BatchOptions& options);
 int mergeCommand(const std::vector<std::string>& inputs, const std::string& output);
 int compareCommand(const std::string& a, const std::string& b);
 int devicesCommand();

@@ -1,4 +1,4 @@
-// Compute pipeline creation, descriptor updates and dispatch recording.
+// Compute pipeline creation, descriptor sets and updates, and dispatch recording.
 #include "gpu/kernel.h"
 
 #include "gpu/shaders.h"
@@ -6,8 +6,8 @@
 
 namespace penumbra::gpu {
 
-Kernel::Kernel(const Context& context, std::string_view shaderName, std::vector<VkDescriptorType> bindings,
-               uint32_t pushConstantBytes, std::vector<uint32_t> specialization)
+Pipeline::Pipeline(const Context& context, std::string_view shaderName, std::vector<VkDescriptorType> bindings,
+                   uint32_t pushConstantBytes, std::vector<uint32_t> specialization)
     : m_context(context), m_name(shaderName), m_bindings(std::move(bindings)), m_pushBytes(pushConstantBytes) {
     VkDevice device = context.device();
     std::string what = " for shader " + m_name;
@@ -50,59 +50,80 @@ Kernel::Kernel(const Context& context, std::string_view shaderName, std::vector<
         pipelineInfo.layout = m_pipelineLayout;
         vkCheck(vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &pipelineInfo, nullptr, &m_pipeline),
                 ("create compute pipeline" + what).c_str());
-
-        if (!m_bindings.empty()) {
-            std::vector<VkDescriptorPoolSize> sizes;
-            for (VkDescriptorType type : m_bindings) sizes.push_back({type, 1});
-            VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-            poolInfo.maxSets = 1;
-            poolInfo.poolSizeCount = uint32_t(sizes.size());
-            poolInfo.pPoolSizes = sizes.data();
-            vkCheck(vkCreateDescriptorPool(device, &poolInfo, nullptr, &m_pool), ("create descriptor pool" + what).c_str());
-            VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-            alloc.descriptorPool = m_pool;
-            alloc.descriptorSetCount = 1;
-            alloc.pSetLayouts = &m_setLayout;
-            vkCheck(vkAllocateDescriptorSets(device, &alloc, &m_set), ("allocate descriptor set" + what).c_str());
-        }
     } catch (...) {
-        this->~Kernel();
+        destroy();
         throw;
     }
 }
 
-Kernel::~Kernel() {
+Pipeline::~Pipeline() { destroy(); }
+
+void Pipeline::destroy() {
     VkDevice device = m_context.device();
-    if (m_pool) vkDestroyDescriptorPool(device, m_pool, nullptr);
     if (m_pipeline) vkDestroyPipeline(device, m_pipeline, nullptr);
     if (m_pipelineLayout) vkDestroyPipelineLayout(device, m_pipelineLayout, nullptr);
     if (m_setLayout) vkDestroyDescriptorSetLayout(device, m_setLayout, nullptr);
     if (m_module) vkDestroyShaderModule(device, m_module, nullptr);
-    m_pool = VK_NULL_HANDLE;
     m_pipeline = VK_NULL_HANDLE;
     m_pipelineLayout = VK_NULL_HANDLE;
     m_setLayout = VK_NULL_HANDLE;
     m_module = VK_NULL_HANDLE;
 }
 
+Kernel::Kernel(const Context& context, std::string_view shaderName, std::vector<VkDescriptorType> bindings,
+               uint32_t pushConstantBytes, std::vector<uint32_t> specialization)
+    : Kernel(context, std::make_shared<const Pipeline>(context, shaderName, std::move(bindings), pushConstantBytes,
+                                                       std::move(specialization))) {}
+
+Kernel::Kernel(const Context& context, std::shared_ptr<const Pipeline> pipeline)
+    : m_context(context), m_pipeline(std::move(pipeline)) {
+    if (m_pipeline->bindings().empty()) return;
+    std::string what = " for shader " + m_pipeline->name();
+    VkDevice device = context.device();
+    std::vector<VkDescriptorPoolSize> sizes;
+    for (VkDescriptorType type : m_pipeline->bindings()) sizes.push_back({type, 1});
+    VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    poolInfo.maxSets = 1;
+    poolInfo.poolSizeCount = uint32_t(sizes.size());
+    poolInfo.pPoolSizes = sizes.data();
+    vkCheck(vkCreateDescriptorPool(device, &poolInfo, nullptr, &m_pool), ("create descriptor pool" + what).c_str());
+    VkDescriptorSetLayout setLayout = m_pipeline->setLayout();
+    VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+    alloc.descriptorPool = m_pool;
+    alloc.descriptorSetCount = 1;
+    alloc.pSetLayouts = &setLayout;
+    VkResult result = vkAllocateDescriptorSets(device, &alloc, &m_set);
+    if (result != VK_SUCCESS) {
+        vkDestroyDescriptorPool(device, m_pool, nullptr);
+        m_pool = VK_NULL_HANDLE;
+        vkCheck(result, ("allocate descriptor set" + what).c_str());
+    }
+}
+
+Kernel::~Kernel() {
+    if (m_pool) vkDestroyDescriptorPool(m_context.device(), m_pool, nullptr);  // frees m_set too
+}
+
 void Kernel::bind(uint32_t binding, const Buffer& buffer) {
-    if (binding >= m_bindings.size()) throw GpuError("binding out of range for shader " + m_name);
+    const auto& bindings = m_pipeline->bindings();
+    if (binding >= bindings.size()) throw GpuError("binding out of range for shader " + m_pipeline->name());
     VkDescriptorBufferInfo info{buffer.handle(), 0, VK_WHOLE_SIZE};
     VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
     write.dstSet = m_set;
     write.dstBinding = binding;
     write.descriptorCount = 1;
-    write.descriptorType = m_bindings[binding];
+    write.descriptorType = bindings[binding];
     write.pBufferInfo = &info;
     vkUpdateDescriptorSets(m_context.device(), 1, &write, 0, nullptr);
 }
 
 void Kernel::record(VkCommandBuffer cmd, uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ,
                     const void* push) const {
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_pipeline);
-    if (m_set) vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_pipelineLayout, 0, 1, &m_set, 0, nullptr);
-    if (m_pushBytes && push)
-        vkCmdPushConstants(cmd, m_pipelineLayout, VK_SHADER_STAGE_COMPUTE_BIT, 0, m_pushBytes, push);
+    const Pipeline& p = *m_pipeline;
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.handle());
+    if (m_set) vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout(), 0, 1, &m_set, 0, nullptr);
+    if (p.pushBytes() && push)
+        vkCmdPushConstants(cmd, p.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, p.pushBytes(), push);
     vkCmdDispatch(cmd, groupsX, groupsY, groupsZ);
 }
 

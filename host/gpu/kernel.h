@@ -1,9 +1,11 @@
 // One compute pipeline with its descriptor set: the embedded shader, the descriptor
 // types of bindings 0..n-1 of set 0, an optional push-constant block, and optional
-// specialization constants (constant_id i = specialization[i]).
+// specialization constants (constant_id i = specialization[i]). The pipeline (where the
+// driver compiles the shader) can be shared between kernels; see gpu/kernel_cache.h.
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -15,10 +17,43 @@
 
 namespace penumbra::gpu {
 
+// The immutable, costly part of a kernel: shader module, layouts and compute pipeline.
+// Holds no buffers, so any number of Kernels may share one.
+class Pipeline {
+public:
+    Pipeline(const Context& context, std::string_view shaderName, std::vector<VkDescriptorType> bindings,
+             uint32_t pushConstantBytes = 0, std::vector<uint32_t> specialization = {});
+    ~Pipeline();
+    Pipeline(const Pipeline&) = delete;
+    Pipeline& operator=(const Pipeline&) = delete;
+
+    const std::string& name() const { return m_name; }
+    const std::vector<VkDescriptorType>& bindings() const { return m_bindings; }
+    uint32_t pushBytes() const { return m_pushBytes; }
+    VkDescriptorSetLayout setLayout() const { return m_setLayout; }
+    VkPipelineLayout layout() const { return m_pipelineLayout; }
+    VkPipeline handle() const { return m_pipeline; }
+
+private:
+    void destroy();
+
+    const Context& m_context;
+    std::string m_name;
+    std::vector<VkDescriptorType> m_bindings;
+    uint32_t m_pushBytes = 0;
+    VkShaderModule m_module = VK_NULL_HANDLE;
+    VkDescriptorSetLayout m_setLayout = VK_NULL_HANDLE;
+    VkPipelineLayout m_pipelineLayout = VK_NULL_HANDLE;
+    VkPipeline m_pipeline = VK_NULL_HANDLE;
+};
+
 class Kernel {
 public:
+    // Creates its own pipeline.
     Kernel(const Context& context, std::string_view shaderName, std::vector<VkDescriptorType> bindings,
            uint32_t pushConstantBytes = 0, std::vector<uint32_t> specialization = {});
+    // Shares `pipeline` (e.g. from a KernelCache); only the descriptor set is its own.
+    Kernel(const Context& context, std::shared_ptr<const Pipeline> pipeline);
     ~Kernel();
     Kernel(const Kernel&) = delete;
     Kernel& operator=(const Kernel&) = delete;
@@ -32,15 +67,11 @@ public:
     // Dispatches once and waits for the result.
     void run(uint32_t groupsX, uint32_t groupsY = 1, uint32_t groupsZ = 1, const void* push = nullptr) const;
 
+    const Pipeline& pipeline() const { return *m_pipeline; }
+
 private:
     const Context& m_context;
-    std::string m_name;
-    std::vector<VkDescriptorType> m_bindings;
-    uint32_t m_pushBytes = 0;
-    VkShaderModule m_module = VK_NULL_HANDLE;
-    VkDescriptorSetLayout m_setLayout = VK_NULL_HANDLE;
-    VkPipelineLayout m_pipelineLayout = VK_NULL_HANDLE;
-    VkPipeline m_pipeline = VK_NULL_HANDLE;
+    std::shared_ptr<const Pipeline> m_pipeline;
     VkDescriptorPool m_pool = VK_NULL_HANDLE;
     VkDescriptorSet m_set = VK_NULL_HANDLE;
 };

@@ -24,8 +24,12 @@ std::vector<VkDescriptorType> renderBindings() {
     return types;
 }
 
-Renderer::Renderer(const gpu::Context& context, const Scene& scene)
-    : m_context(context), m_scene(scene), m_arrays(buildSceneArrays(scene)), m_params(makeRenderParams(scene, m_arrays)) {
+Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelCache* kernels)
+    : m_context(context),
+      m_kernels(kernels),
+      m_scene(scene),
+      m_arrays(buildSceneArrays(scene)),
+      m_params(makeRenderParams(scene, m_arrays)) {
     using gpu::Buffer;
     m_paramsBuffer = Buffer(context, sizeof(gpu::RenderParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
     m_paramsBuffer.upload(&m_params, sizeof(m_params));
@@ -39,8 +43,15 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene)
     m_lightTable = Buffer::fromVector(context, m_arrays.lightTable);
     m_meshTable = Buffer::fromVector(context, m_arrays.meshTable);
 
-    m_kernel = std::make_unique<gpu::Kernel>(context, kernelName(scene.integrator.type), renderBindings(),
-                                             uint32_t(sizeof(gpu::PassConstants)));
+    createKernel();
+    reset();
+}
+
+void Renderer::createKernel() {
+    const char* name = kernelName(m_scene.integrator.type);
+    const uint32_t pushBytes = uint32_t(sizeof(gpu::PassConstants));
+    m_kernel = m_kernels ? m_kernels->kernel(name, renderBindings(), pushBytes)
+                         : std::make_unique<gpu::Kernel>(m_context, name, renderBindings(), pushBytes);
     m_kernel->bind(BINDING_PARAMS, m_paramsBuffer);
     m_kernel->bind(BINDING_ACCUM, m_accum);
     m_kernel->bind(BINDING_NODES, m_nodes);
@@ -50,6 +61,20 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene)
     m_kernel->bind(BINDING_LIGHTS, m_lights);
     m_kernel->bind(BINDING_LIGHT_TABLE, m_lightTable);
     m_kernel->bind(BINDING_MESH_TABLE, m_meshTable);
+}
+
+void Renderer::retarget(const Scene& scene) {
+    const Scene& old = m_scene;
+    if (scene.film.width != old.film.width || scene.film.height != old.film.height ||
+        scene.integrator.lightSelection != old.integrator.lightSelection ||
+        scene.shapes.size() != old.shapes.size() || scene.materials.size() != old.materials.size() ||
+        scene.lights.size() != old.lights.size())
+        throw std::logic_error("Renderer::retarget: " + scene.path + " does not share the uploaded scene of " + old.path);
+    const bool sameKernel = scene.integrator.type == old.integrator.type;
+    m_scene = scene;
+    m_params = makeRenderParams(m_scene, m_arrays);
+    m_paramsBuffer.upload(&m_params, sizeof(m_params));
+    if (!sameKernel) createKernel();
     reset();
 }
 

@@ -10,6 +10,7 @@
 #include "gpu/buffer.h"
 #include "gpu/context.h"
 #include "gpu/kernel.h"
+#include "gpu/kernel_cache.h"
 #include "image/image.h"
 #include "render/scene_arrays.h"
 #include "scene/scene.h"
@@ -24,7 +25,17 @@ struct RenderProgress {
 
 class Renderer {
 public:
-    Renderer(const gpu::Context& context, const Scene& scene);
+    // `kernels`, if given, supplies the integrator's pipeline, so that Renderers for several
+    // scenes in one process (penumbra batch) compile each integrator once.
+    Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelCache* kernels = nullptr);
+
+    // Makes `scene` the next render while keeping everything uploaded: only RenderParams
+    // (camera, sampler, integrator options) are re-uploaded, the kernel is switched if the
+    // integrator type changed, and the accumulation is cleared. `scene` must flatten to the
+    // same SceneArrays as the current scene: same geometry, materials, lights, film size and
+    // light_selection (the caller knows, e.g. same file and overrides of camera/sampler/
+    // integrator only). Throws std::logic_error when a checkable part of that differs.
+    void retarget(const Scene& scene);
 
     // Clears the accumulation buffer (the next sample index restarts at 0).
     void reset();
@@ -44,7 +55,10 @@ public:
     const gpu::RenderParams& params() const { return m_params; }
 
 private:
+    void createKernel();
+
     const gpu::Context& m_context;
+    gpu::KernelCache* m_kernels = nullptr;
     Scene m_scene;
     SceneArrays m_arrays;
     gpu::RenderParams m_params;

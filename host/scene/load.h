@@ -26,6 +26,10 @@ Override parseOverride(const std::string& text);
 // way (and appending when an index equals the array's size). Throws InputError.
 void applyOverride(nlohmann::json& doc, const Override& override);
 
+// Reads and parses a JSON file; InputError names `label` and, for a syntax error, the line
+// and column (shared by scene files and penumbra batch job files).
+nlohmann::json readJsonFile(const std::filesystem::path& file, const std::string& label);
+
 // Loads a scene: *.json as a scene file, *.gltf / *.glb as a glTF model rendered on its
 // own (SCENE_FORMAT.md "glTF input"). Overrides are applied to the JSON document before
 // validation (for glTF input, to the scene document that wraps the model).

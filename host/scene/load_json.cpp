@@ -448,6 +448,8 @@ private:
 
 }  // namespace
 
+json readJsonFile(const fs::path& file, const std::string& label) { return parseJson(readText(file, label), label); }
+
 Scene loadScene(const fs::path& file, const std::vector<Override>& overrides) {
     std::string label = file.string();
     std::string ext = file.extension().string();

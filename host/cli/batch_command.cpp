@@ -1,0 +1,253 @@
+// `penumbra batch`: renders the jobs of a job file (batch/job_file.h) in one process with
+// one Vulkan context, skipping jobs whose output is already complete, so that an
+// interrupted batch resumes. Reuse across jobs: compute pipelines always (KernelCache),
+// the uploaded scene when consecutive jobs differ only in camera, sampler or integrator.
+// Exit status rule and summary: docs/BATCH.md.
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <unistd.h>
+
+#include "batch/job_file.h"
+#include "cli/commands.h"
+#include "core/errors.h"
+#include "gpu/context.h"
+#include "gpu/kernel_cache.h"
+#include "image/image.h"
+#include "render/renderer.h"
+
+namespace penumbra {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+std::atomic<bool> g_stop{false};
+extern "C" void onStop(int) { g_stop = true; }
+
+double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+std::string oneLine(std::string text) {
+    for (char& c : text)
+        if (c == '\n' || c == '\r') c = ' ';
+    return text;
+}
+
+// Empty when `output` holds this job's finished render: an EXR that reads back whole
+// (writes are atomic, so a partial one cannot exist; a foreign or damaged file fails
+// here) and whose header matches the job: size, spp, seed, sample_offset and integrator.
+// Otherwise why not, for the progress line.
+std::string incompleteReason(const fs::path& output, const Scene& scene) {
+    std::error_code ec;
+    if (!fs::exists(output, ec)) return "missing";
+    Image image;
+    try {
+        image = readExr(output);
+    } catch (const std::exception&) {
+        return "unreadable";
+    }
+    const ImageMetadata& m = image.meta;
+    if (!m.spp) return "no penumbra:spp";
+    if (*m.spp != int64_t(scene.sampler.spp))
+        return "has " + std::to_string(*m.spp) + " spp, job wants " + std::to_string(scene.sampler.spp);
+    if (image.width != scene.film.width || image.height != scene.film.height) return "other film size";
+    if (m.seed && *m.seed != int64_t(scene.sampler.seed)) return "other seed";
+    if (m.sampleOffset && *m.sampleOffset != int64_t(scene.sampler.sampleOffset)) return "other sample_offset";
+    if (m.integrator && *m.integrator != scene.integrator.json.dump()) return "other integrator";
+    return {};
+}
+
+// Creates the output's directory if needed and fails (exit 1) if it cannot be written,
+// before any time is spent rendering.
+void prepareOutput(const fs::path& file) {
+    fs::path dir = file.parent_path();
+    if (dir.empty()) dir = ".";
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec) throw std::runtime_error("cannot write " + file.string() + ": cannot create " + dir.string() + " (" +
+                                     ec.message() + ")");
+    if (!fs::is_directory(dir, ec))
+        throw std::runtime_error("cannot write " + file.string() + ": " + dir.string() + " is not a directory");
+    if (access(dir.c_str(), W_OK) != 0)
+        throw std::runtime_error("cannot write " + file.string() + ": directory " + dir.string() + " is not writable");
+}
+
+struct Totals {
+    size_t rendered = 0, skipped = 0, failedInput = 0, failedRuntime = 0, notRun = 0;
+    double renderSeconds = 0.0;
+    double samples = 0.0;  // pixel samples rendered
+    size_t uploads = 0, uploadsReused = 0;
+};
+
+}  // namespace
+
+int batchCommand(const BatchOptions& options) {
+    const auto start = Clock::now();
+    if ((options.task >= 0) != (options.tasks >= 0))
+        throw InputError("--task and --tasks go together (task I of N, 0 <= I < N)");
+    const size_t tasks = options.tasks >= 0 ? size_t(options.tasks) : 1;
+    const size_t task = options.task >= 0 ? size_t(options.task) : 0;
+    if (tasks == 0 || task >= tasks)
+        throw InputError("--task " + std::to_string(task) + " --tasks " + std::to_string(tasks) +
+                         ": need 0 <= task < tasks");
+
+    const std::vector<BatchJob> all = loadJobFile(options.jobFile);
+    std::vector<size_t> mine;  // this task's share: jobs j with j % tasks == task
+    for (size_t j = task; j < all.size(); j += tasks) mine.push_back(j);
+
+    if (options.list) {
+        for (size_t j : mine)
+            std::printf("%zu\t%s\t%s\n", j, all[j].output.string().c_str(), all[j].origin.c_str());
+        return 0;
+    }
+
+    const bool progressLines = !options.quiet;
+    const bool ticker = progressLines && isatty(STDERR_FILENO);
+    Totals totals;
+    int tickerWidth = 0;  // of the ticker line on the terminal, to be blanked before the next line
+    auto endTicker = [&] {
+        if (tickerWidth > 0) std::fprintf(stderr, "\r%*s\r", tickerWidth, "");
+        tickerWidth = 0;
+    };
+
+    // Declaration order is teardown order in reverse: renderer, then cache, then context.
+    std::optional<gpu::Context> context;
+    std::optional<gpu::KernelCache> kernels;
+    std::unique_ptr<Renderer> renderer;
+    const BatchJob* uploaded = nullptr;  // the job whose scene the renderer holds
+
+    g_stop = false;
+    auto previousInt = std::signal(SIGINT, onStop);
+    auto previousTerm = std::signal(SIGTERM, onStop);  // Slurm's scancel and time limit
+
+    for (size_t n = 0; n < mine.size(); ++n) {
+        const BatchJob& job = all[mine[n]];
+        char counter[64];
+        std::snprintf(counter, sizeof counter, "[%zu/%zu] job %zu ", n + 1, mine.size(), mine[n]);
+        const std::string tag = counter + job.output.string();
+        if (g_stop) {
+            totals.notRun = mine.size() - n;
+            break;
+        }
+        try {
+            Scene scene = loadScene(job.scene, job.overrides);
+            std::string why = incompleteReason(job.output, scene);
+            if (why.empty()) {
+                std::error_code ec;
+                bool pngMissing = !job.png.empty() && !fs::exists(job.png, ec);
+                if (pngMissing) writePng(job.png, readExr(job.output));
+                ++totals.skipped;
+                if (progressLines)
+                    std::fprintf(stderr, "penumbra: %s: skipped, already complete%s\n", tag.c_str(),
+                                 pngMissing ? " (PNG written from it)" : "");
+                continue;
+            }
+            prepareOutput(job.output);
+            if (!job.png.empty()) prepareOutput(job.png);
+            printNotes(scene.notes, options.quiet);
+
+            if (!context) {
+                gpu::ContextOptions contextOptions;
+                contextOptions.deviceIndex = options.device;
+                try {
+                    context.emplace(contextOptions);
+                } catch (const std::exception& e) {
+                    // No device for this job means none for the others: stop here.
+                    std::fprintf(stderr, "penumbra: %s: failed: %s\n", tag.c_str(), oneLine(e.what()).c_str());
+                    ++totals.failedRuntime;
+                    totals.notRun = mine.size() - n - 1;
+                    break;
+                }
+                kernels.emplace(*context);
+            }
+            const bool reuse = renderer && uploaded && sharesSceneUpload(*uploaded, job) &&
+                               renderer->scene().integrator.lightSelection == scene.integrator.lightSelection &&
+                               renderer->scene().film.width == scene.film.width &&
+                               renderer->scene().film.height == scene.film.height;
+            const auto jobStart = Clock::now();
+            uploaded = nullptr;
+            if (reuse) {
+                renderer->retarget(scene);
+                ++totals.uploadsReused;
+            } else {
+                renderer.reset();  // free the previous scene's device memory first
+                renderer = std::make_unique<Renderer>(*context, scene, &*kernels);
+                ++totals.uploads;
+            }
+            uploaded = &job;
+
+            const double pixels = double(scene.film.width) * scene.film.height;
+            auto progress = [&](const RenderProgress& p) {
+                if (!ticker) return;
+                double rate = p.seconds > 0 ? p.samplesDone * pixels / p.seconds : 0.0;
+                endTicker();
+                tickerWidth = std::fprintf(stderr, "penumbra: %s: %u/%u spp  %.2f M samples/s", tag.c_str(),
+                                           p.samplesDone, p.samplesTotal, rate * 1e-6);
+                std::fflush(stderr);
+            };
+            const auto renderStart = Clock::now();
+            try {
+                renderer->renderAll(progress, &g_stop);
+            } catch (...) {
+                renderer.reset();  // state unknown after a failed or interrupted render
+                uploaded = nullptr;
+                throw;
+            }
+            const double renderSeconds = secondsSince(renderStart);
+            const double seconds = secondsSince(jobStart);  // with upload and pipeline, as `render` counts
+            Image image = renderer->readback(seconds);
+            writeExr(job.output, image);
+            if (!job.png.empty()) writePng(job.png, image);
+
+            ++totals.rendered;
+            totals.renderSeconds += renderSeconds;
+            totals.samples += pixels * scene.sampler.spp;
+            endTicker();
+            if (progressLines)
+                std::fprintf(stderr, "penumbra: %s: rendered %u spp in %.2f s (%.2f M samples/s; %s%s)\n",
+                             tag.c_str(), scene.sampler.spp, seconds,
+                             renderSeconds > 0 ? pixels * scene.sampler.spp / renderSeconds * 1e-6 : 0.0,
+                             reuse ? "scene upload reused" : "scene uploaded",
+                             why == "missing" ? "" : ("; replaced output: " + why).c_str());
+        } catch (const InputError& e) {
+            endTicker();
+            ++totals.failedInput;
+            std::fprintf(stderr, "penumbra: %s: failed (bad input): %s\n", tag.c_str(),
+                         oneLine(e.what()).c_str());
+        } catch (const std::exception& e) {
+            endTicker();
+            if (g_stop) {
+                totals.notRun = mine.size() - n;
+                std::fprintf(stderr, "penumbra: %s: interrupted, nothing written\n", tag.c_str());
+                break;
+            }
+            ++totals.failedRuntime;
+            std::fprintf(stderr, "penumbra: %s: failed: %s\n", tag.c_str(),
+                         oneLine(e.what()).c_str());
+        }
+    }
+    std::signal(SIGINT, previousInt);
+    std::signal(SIGTERM, previousTerm);
+
+    const size_t failed = totals.failedInput + totals.failedRuntime;
+    char scope[64] = "";
+    if (tasks > 1) std::snprintf(scope, sizeof scope, "task %zu of %zu, ", task, tasks);
+    std::fprintf(stderr,
+                 "penumbra: batch %s: rendered %zu, skipped %zu, failed %zu, not run %zu, of %zu jobs (%s%zu in the "
+                 "file) in %.2f s; %.2f M samples/s while rendering; scene uploads %zu, reused %zu; pipelines "
+                 "created %zu, reused %zu\n",
+                 g_stop ? "interrupted" : "done", totals.rendered, totals.skipped, failed, totals.notRun, mine.size(),
+                 scope, all.size(), secondsSince(start),
+                 totals.renderSeconds > 0 ? totals.samples / totals.renderSeconds * 1e-6 : 0.0, totals.uploads,
+                 totals.uploadsReused, kernels ? kernels->pipelinesCreated() : size_t(0),
+                 kernels ? kernels->pipelinesReused() : size_t(0));
+    if (totals.failedInput > 0) return 2;
+    if (totals.failedRuntime > 0 || g_stop) return 1;
+    return 0;
+}
+
+}  // namespace penumbra

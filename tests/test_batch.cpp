@@ -1,0 +1,503 @@
+// penumbra batch (docs/BATCH.md): job file validation and sweep expansion, outputs equal to
+// `penumbra render` of the same job, resuming after an interruption, failing jobs that do
+// not stop the others, and the reuse of pipelines and uploads between jobs. Also merge of
+// N partials, which splitting one render over a cluster relies on.
+#include <chrono>
+#include <csignal>
+#include <cstring>
+#include <fcntl.h>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sys/wait.h>
+#include <thread>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "batch/job_file.h"
+#include "core/errors.h"
+#include "gpu/kernel_cache.h"
+#include "gpu_fixture.h"
+#include "image/image.h"
+#include "render/renderer.h"
+#include "render_helpers.h"
+
+using namespace penumbra;
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+namespace {
+
+// A tiny lit scene: a floor, a sphere, a sphere light and a point light, so that both
+// integrators (and every light-selection mode) produce a non-trivial image.
+json litScene() {
+    return {
+        {"camera", {{"eye", {0, 1, 4}}, {"target", {0, 0.5, 0}}, {"fov_y", 40}}},
+        {"film", {{"width", 16}, {"height", 12}}},
+        {"sampler", {{"spp", 4}}},
+        {"integrator", {{"type", "direct"}}},
+        {"materials", {{"floor", {{"type", "diffuse"}, {"albedo", {0.5, 0.5, 0.5}}}}}},
+        {"shapes",
+         {{{"type", "quad"}, {"origin", {-2, 0, -2}}, {"edge_u", {0, 0, 4}}, {"edge_v", {4, 0, 0}}, {"material", "floor"}},
+          {{"type", "sphere"}, {"center", {0, 0.5, 0}}, {"radius", 0.5}},
+          {{"type", "sphere"}, {"center", {1, 2, 1}}, {"radius", 0.3}, {"emission", {5, 5, 5}}}}},
+        {"lights", {{{"type", "point"}, {"position", {-1, 2, 1}}, {"power", {20, 20, 20}}}}},
+    };
+}
+
+// A fresh directory build/test-output/batch/<name>.
+fs::path freshDir(const std::string& name) {
+    fs::path dir = test::outputPath("batch") / name;
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir;
+}
+
+fs::path writeJson(const fs::path& path, const json& doc) {
+    std::ofstream(path) << doc.dump(2);
+    return path;
+}
+
+// Shell-quoted (test paths hold no quotes).
+std::string q(const fs::path& p) {
+    std::string quoted = p.string();
+    quoted.insert(quoted.begin(), '\'');
+    quoted.push_back('\'');
+    return quoted;
+}
+
+bool samePixels(const Image& a, const Image& b) {
+    return a.width == b.width && a.height == b.height && a.rgb.size() == b.rgb.size() &&
+           std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)) == 0;
+}
+
+// The number after `key` in the summary line ("rendered 3, skipped 1, ..."), or -1.
+int summaryCount(const std::string& err, const std::string& key) {
+    std::smatch m;
+    if (!std::regex_search(err, m, std::regex("batch (done|interrupted): .*\\b" + key + " ([0-9]+)"))) return -1;
+    return std::stoi(m[2]);
+}
+
+int countLines(const std::string& text, const std::string& needle) {
+    int n = 0;
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);) n += line.find(needle) != std::string::npos;
+    return n;
+}
+
+// loadJobFile must fail with one InputError naming the file and `jsonPath`.
+void expectJobFileError(const fs::path& dir, const std::string& name, const json& doc, const std::string& jsonPath) {
+    fs::path file = writeJson(dir / name, doc);
+    try {
+        loadJobFile(file);
+        ADD_FAILURE() << name << ": accepted";
+    } catch (const InputError& e) {
+        std::string what = e.what();
+        EXPECT_NE(what.find(file.string() + ": " + jsonPath), std::string::npos) << name << ": " << what;
+        EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+    }
+}
+
+}  // namespace
+
+TEST(Batch, SweepsExpandInOrderWithPlaceholdersAndPathsRelativeToTheJobFile) {
+    fs::path dir = freshDir("expand");
+    json doc = {
+        {"set", {{"sampler.spp", 2}}},
+        {"jobs",
+         {{{"scene", "scenes/a.json"}, {"output", "out/single.exr"}, {"set", {"camera.fov_y=30"}}, {"png", true}},
+          {{"scene", "a.json"},
+           {"output", "out/frame_{i:04}.exr"},
+           {"png", "png/{value}.png"},
+           {"sweep", {{"path", "camera.eye"}, {"values", {{0, 1, 4}, {1.5, 1, 4}}}}}},
+          {{"scene", "/abs/b.json"},
+           {"output", "grid/{integrator.strategy}-{sampler.spp}-{i}.exr"},
+           {"set", {{"integrator.heuristic", "balance"}}},
+           {"sweep",
+            {{{"path", "integrator.strategy"}, {"values", {"light", "bsdf"}}},
+             {{"path", "sampler.spp"}, {"values", {4, 16, 64}}}}}}}},
+    };
+    auto jobs = loadJobFile(writeJson(dir / "jobs.json", doc));
+    ASSERT_EQ(jobs.size(), 1u + 2u + 6u);
+
+    EXPECT_EQ(jobs[0].scene, dir / "scenes/a.json");
+    EXPECT_EQ(jobs[0].output, dir / "out/single.exr");
+    EXPECT_EQ(jobs[0].png, dir / "out/single.png");
+    ASSERT_EQ(jobs[0].overrides.size(), 2u);  // the file's set, then the job's
+    EXPECT_EQ(jobs[0].overrides[0].path, "sampler.spp");
+    EXPECT_EQ(jobs[0].overrides[1].path, "camera.fov_y");
+    EXPECT_EQ(jobs[0].overrides[1].value, "30");
+    EXPECT_EQ(jobs[0].origin, "jobs[0]");
+
+    EXPECT_EQ(jobs[1].output, dir / "out/frame_0000.exr");
+    EXPECT_EQ(jobs[2].output, dir / "out/frame_0001.exr");
+    EXPECT_EQ(jobs[2].png, dir / "png/1.5_1_4.png");
+    EXPECT_EQ(jobs[2].overrides.back().path, "camera.eye");
+    EXPECT_EQ(jobs[2].overrides.back().value, "[1.5,1,4]");
+    EXPECT_NE(jobs[2].origin.find("jobs[1] sweep 1"), std::string::npos) << jobs[2].origin;
+
+    // Cartesian product, the last path fastest; {i} counts within the entry.
+    const char* expected[] = {"light-4-0", "light-16-1", "light-64-2", "bsdf-4-3", "bsdf-16-4", "bsdf-64-5"};
+    for (int k = 0; k < 6; ++k) {
+        const BatchJob& job = jobs[3 + k];
+        EXPECT_EQ(job.scene, fs::path("/abs/b.json"));
+        EXPECT_EQ(job.output, dir / "grid" / (std::string(expected[k]) + ".exr"));
+        ASSERT_EQ(job.overrides.size(), 4u);
+        EXPECT_EQ(job.overrides[1].value, "\"balance\"");  // JSON, parsed again by applyOverride
+    }
+
+    // A bare array is a job list too.
+    auto bare = loadJobFile(writeJson(dir / "bare.json", json::array({{{"scene", "s.json"}, {"output", "o.exr"}}})));
+    ASSERT_EQ(bare.size(), 1u);
+    EXPECT_TRUE(bare[0].overrides.empty());
+}
+
+TEST(Batch, JobFileErrorsNameFileAndJsonPath) {
+    fs::path dir = freshDir("errors");
+    auto job = [](json extra) {
+        json j = {{"scene", "s.json"}, {"output", "o.exr"}};
+        if (!extra.is_null()) j.update(extra);
+        return j;
+    };
+    expectJobFileError(dir, "unknown-key.json", {{"jobs", {job({{"spp", 4}})}}}, "jobs[0]");
+    expectJobFileError(dir, "no-output.json", {{"jobs", {{{"scene", "s.json"}}}}}, "jobs[0]: missing required field \"output\"");
+    expectJobFileError(dir, "not-exr.json", {{"jobs", {job({{"output", "o.png"}})}}}, "jobs[0].output");
+    expectJobFileError(dir, "bad-set.json", {{"jobs", {job({}), job({{"output", "p.exr"}, {"set", {"spp"}}})}}},
+                       "jobs[1].set[0]");
+    expectJobFileError(dir, "bad-set-path.json", {{"jobs", {job({{"set", {{"lights[x].power", 1}}}})}}},
+                       "jobs[0].set");
+    expectJobFileError(dir, "empty-sweep.json",
+                       {{"jobs", {job({{"sweep", {{"path", "camera.eye"}, {"values", json::array()}}}})}}},
+                       "jobs[0].sweep.values");
+    expectJobFileError(dir, "same-output.json",
+                       {{"jobs", {job({{"sweep", {{"path", "sampler.seed"}, {"values", {1, 2}}}}})}}},
+                       "jobs[0].output");
+    expectJobFileError(dir, "two-jobs-one-file.json", {{"jobs", {job({}), job({})}}}, "jobs[1].output");
+    expectJobFileError(dir, "value-of-two.json",
+                       {{"jobs",
+                         {job({{"output", "{value}.exr"},
+                               {"sweep",
+                                {{{"path", "sampler.seed"}, {"values", {1}}},
+                                 {{"path", "sampler.spp"}, {"values", {1}}}}}})}}},
+                       "jobs[0].output");
+    expectJobFileError(dir, "typo.json",
+                       {{"jobs", {job({{"output", "{j}.exr"}, {"sweep", {{"path", "sampler.seed"}, {"values", {1}}}}})}}},
+                       "jobs[0].output");
+    expectJobFileError(dir, "not-a-list.json", {{"jobs", "all of them"}}, "jobs");
+
+    // From the command line: exit 2, one line, nothing rendered.
+    fs::path file = writeJson(dir / "cli.json", {{"jobs", {job({}), job({{"set", {{"sampler.spp", 1}}}, {"color", 1}})}}});
+    std::string err;
+    EXPECT_EQ(test::runPenumbra("batch " + q(file), &err), 2);
+    EXPECT_NE(err.find(file.string() + ": jobs[1]"), std::string::npos) << err;
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+    EXPECT_FALSE(fs::exists(dir / "o.exr"));
+    std::ofstream(dir / "syntax.json") << "{\"jobs\": [\n  {\"scene\": }\n]}";
+    EXPECT_EQ(test::runPenumbra("batch " + q(dir / "syntax.json"), &err), 2);
+    EXPECT_NE(err.find("line 2"), std::string::npos) << err;
+    EXPECT_EQ(test::runPenumbra("batch " + q(dir / "missing.json"), &err), 2);
+    EXPECT_EQ(test::runPenumbra("batch " + q(file) + " --task 1", &err), 2) << "--task without --tasks";
+    EXPECT_EQ(test::runPenumbra("batch " + q(file) + " --task 3 --tasks 3", &err), 2);
+}
+
+TEST(Batch, TasksTakeEveryNthJob) {
+    fs::path dir = freshDir("tasks");
+    json doc = {{"jobs",
+                 {{{"scene", "s.json"},
+                   {"output", "f{i}.exr"},
+                   {"sweep", {{"path", "sampler.seed"}, {"values", {0, 1, 2, 3, 4, 5, 6}}}}}}}};
+    fs::path file = writeJson(dir / "jobs.json", doc);
+    std::string out;
+    ASSERT_EQ(test::runPenumbra("batch " + q(file) + " --list --task 1 --tasks 3", nullptr, &out), 0);
+    std::vector<std::string> firsts;
+    std::istringstream in(out);
+    for (std::string line; std::getline(in, line);) firsts.push_back(line.substr(0, line.find('\t')));
+    EXPECT_EQ(firsts, (std::vector<std::string>{"1", "4"})) << out;
+    ASSERT_EQ(test::runPenumbra("batch " + q(file) + " --list", nullptr, &out), 0);
+    EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 7);
+}
+
+TEST(Batch, OutputsEqualRenderOfTheSameJobAndUploadsAreReused) {
+    fs::path dir = freshDir("equal");
+    writeJson(dir / "scene.json", litScene());
+    json doc = {{"jobs",
+                 {// Three cameras of one scene: one upload, then params only.
+                  {{"scene", "scene.json"},
+                   {"output", "cam{i}.exr"},
+                   {"sweep", {{"path", "camera.eye"}, {"values", {{0, 1, 4}, {1, 1.5, 3}, {-1, 2, 4}}}}}},
+                  // Integrator switch on the same upload: ao needs its own pipeline.
+                  {{"scene", "scene.json"}, {"output", "ao.exr"}, {"set", {{"integrator", {{"type", "ao"}}}}}},
+                  // Light selection changes the light tables: a new upload.
+                  {{"scene", "scene.json"}, {"output", "uniform.exr"}, {"set", {"integrator.light_selection=uniform"}}},
+                  // Film size: a new upload. Both new uploads take the direct pipeline from the cache.
+                  {{"scene", "scene.json"}, {"output", "wide.exr"}, {"set", {{"film.width", 20}}}, {"png", true}}}}};
+    fs::path file = writeJson(dir / "jobs.json", doc);
+    std::string err;
+    ASSERT_EQ(test::runPenumbra("batch " + q(file), &err), 0) << err;
+    EXPECT_EQ(summaryCount(err, "rendered"), 6) << err;
+    EXPECT_NE(err.find("scene uploads 3, reused 3; pipelines created 2, reused 2"), std::string::npos) << err;
+    EXPECT_EQ(countLines(err, "scene upload reused"), 3) << err;
+    EXPECT_TRUE(fs::exists(dir / "wide.png"));
+
+    struct Case {
+        const char* output;
+        std::string args;
+    } cases[] = {{"cam0.exr", "--set camera.eye=[0,1,4]"},
+                 {"cam1.exr", "--set camera.eye=[1,1.5,3]"},
+                 {"cam2.exr", "--set camera.eye=[-1,2,4]"},
+                 {"ao.exr", "--set integrator={\\\"type\\\":\\\"ao\\\"}"},
+                 {"uniform.exr", "--set integrator.light_selection=uniform"},
+                 {"wide.exr", "--width 20"}};
+    for (const Case& c : cases) {
+        fs::path reference = dir / ("render-" + std::string(c.output));
+        ASSERT_EQ(test::runPenumbra("render " + q(dir / "scene.json") + " --quiet -o " + q(reference) + " " + c.args,
+                                    &err),
+                  0)
+            << err;
+        Image batch = readExr(dir / c.output), render = readExr(reference);
+        EXPECT_TRUE(samePixels(batch, render)) << c.output << " differs from penumbra render " << c.args;
+        EXPECT_EQ(batch.meta.spp, render.meta.spp);
+        EXPECT_EQ(batch.meta.integrator, render.meta.integrator);
+    }
+    // The images differ from each other, so the comparison above means something.
+    EXPECT_FALSE(samePixels(readExr(dir / "cam0.exr"), readExr(dir / "cam1.exr")));
+    EXPECT_FALSE(samePixels(readExr(dir / "cam0.exr"), readExr(dir / "uniform.exr")));
+}
+
+TEST(Batch, ResumeRendersOnlyMissingOrForeignOutputs) {
+    fs::path dir = freshDir("resume");
+    writeJson(dir / "scene.json", litScene());
+    json doc = {{"jobs",
+                 {{{"scene", "scene.json"},
+                   {"output", "out/f{i}.exr"},
+                   {"png", true},
+                   {"sweep", {{"path", "sampler.seed"}, {"values", {1, 2, 3, 4}}}}}}}};
+    fs::path file = writeJson(dir / "jobs.json", doc);
+    std::string err;
+    ASSERT_EQ(test::runPenumbra("batch " + q(file), &err), 0) << err;  // also creates out/
+    ASSERT_EQ(summaryCount(err, "rendered"), 4) << err;
+
+    // Back-date every output so that a rewrite shows in the modification time.
+    const auto old = fs::file_time_type::clock::now() - std::chrono::hours(1);
+    for (int i = 0; i < 4; ++i) fs::last_write_time(dir / ("out/f" + std::to_string(i) + ".exr"), old);
+    Image before = readExr(dir / "out/f1.exr");
+    fs::remove(dir / "out/f1.exr");                       // interrupted before it was written
+    std::ofstream(dir / "out/f2.exr") << "not an image";  // someone else's file
+    fs::remove(dir / "out/f3.png");                       // the EXR is there: only the PNG is redone
+
+    ASSERT_EQ(test::runPenumbra("batch " + q(file), &err), 0) << err;
+    EXPECT_EQ(summaryCount(err, "rendered"), 2) << err;
+    EXPECT_EQ(summaryCount(err, "skipped"), 2) << err;
+    EXPECT_EQ(countLines(err, "f0.exr: skipped"), 1) << err;
+    EXPECT_EQ(countLines(err, "f3.exr: skipped, already complete (PNG written from it)"), 1) << err;
+    EXPECT_EQ(countLines(err, "f2.exr: rendered"), 1) << err;
+    EXPECT_EQ(fs::last_write_time(dir / "out/f0.exr"), old);
+    EXPECT_EQ(fs::last_write_time(dir / "out/f3.exr"), old);
+    EXPECT_GT(fs::last_write_time(dir / "out/f1.exr"), old);
+    EXPECT_TRUE(fs::exists(dir / "out/f3.png"));
+    EXPECT_TRUE(samePixels(readExr(dir / "out/f1.exr"), before));
+    EXPECT_EQ(readExr(dir / "out/f2.exr").meta.spp, 4);
+
+    // A different spp makes every existing output incomplete.
+    doc["jobs"][0]["set"] = {{"sampler.spp", 2}};
+    writeJson(file, doc);
+    ASSERT_EQ(test::runPenumbra("batch --quiet " + q(file), &err), 0) << err;
+    EXPECT_EQ(summaryCount(err, "rendered"), 4) << err;
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << "--quiet leaves only the summary: " << err;
+}
+
+TEST(Batch, InterruptedBatchLeavesNoPartialOutputAndResumes) {
+    fs::path dir = freshDir("interrupt");
+    writeJson(dir / "scene.json", litScene());
+    // Job 1 would take minutes on lavapipe: it is only ever interrupted.
+    json doc = {{"jobs",
+                 {{{"scene", "scene.json"}, {"output", "quick.exr"}},
+                  {{"scene", "scene.json"},
+                   {"output", "slow.exr"},
+                   {"set", {{"film.width", 128}, {"film.height", 128}, {"sampler.spp", 1000000}}}}}}};
+    fs::path file = writeJson(dir / "jobs.json", doc);
+    fs::path errPath = dir / "stderr.txt";
+
+    pid_t pid = fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+        int fd = open(errPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        dup2(fd, STDERR_FILENO);
+        execl(PENUMBRA_EXECUTABLE, PENUMBRA_EXECUTABLE, "batch", file.c_str(), nullptr);
+        _exit(127);
+    }
+    auto slurp = [&] {
+        std::ifstream in(errPath);
+        return std::string(std::istreambuf_iterator<char>(in), {});
+    };
+    // Wait (bounded) until the slow job has started, then stop the batch as Slurm would.
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (!fs::exists(dir / "quick.exr") && std::chrono::steady_clock::now() < deadline)
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    kill(pid, SIGTERM);
+    int status = 0;
+    const auto stopDeadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+    while (waitpid(pid, &status, WNOHANG) == 0) {
+        if (std::chrono::steady_clock::now() > stopDeadline) {
+            kill(pid, SIGKILL);
+            waitpid(pid, &status, 0);
+            FAIL() << "batch did not stop within 20 s of SIGTERM: " << slurp();
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    std::string err = slurp();
+    ASSERT_TRUE(WIFEXITED(status)) << err;
+    EXPECT_EQ(WEXITSTATUS(status), 1) << err;
+    EXPECT_TRUE(fs::exists(dir / "quick.exr")) << err;
+    EXPECT_FALSE(fs::exists(dir / "slow.exr")) << err;
+    // The signal lands in the slow render ("interrupted, nothing written") or, on a loaded
+    // machine, just before it starts; either way the slow job counts as not run.
+    EXPECT_NE(err.find("batch interrupted: rendered 1, skipped 0, failed 0, not run 1,"), std::string::npos) << err;
+    for (const auto& entry : fs::directory_iterator(dir))  // no temporary file left behind
+        EXPECT_TRUE(entry.path().extension() != ".tmp" && entry.path().filename().string().find("slow") ==
+                                                             std::string::npos)
+            << entry.path();
+
+    // Resuming: the finished job is skipped (task 0 of 2 holds only job 0).
+    ASSERT_EQ(test::runPenumbra("batch " + q(file) + " --task 0 --tasks 2", &err), 0) << err;
+    EXPECT_EQ(summaryCount(err, "skipped"), 1) << err;
+    EXPECT_EQ(summaryCount(err, "rendered"), 0) << err;
+}
+
+TEST(Batch, FailingJobsFailAloneWithTheDocumentedStatus) {
+    fs::path dir = freshDir("failures");
+    writeJson(dir / "scene.json", litScene());
+    std::ofstream(dir / "not-a-dir") << "a file";
+    auto good = [](const std::string& out) { return json{{"scene", "scene.json"}, {"output", out}}; };
+    json runtimeOnly = {{"jobs", {good("a.exr"), good("not-a-dir/b.exr"), good("c.exr")}}};
+    fs::path file = writeJson(dir / "runtime.json", runtimeOnly);
+    std::string err;
+    EXPECT_EQ(test::runPenumbra("batch " + q(file), &err), 1) << err;
+    EXPECT_TRUE(fs::exists(dir / "a.exr"));
+    EXPECT_TRUE(fs::exists(dir / "c.exr"));
+    EXPECT_EQ(countLines(err, "not-a-dir/b.exr: failed: cannot write"), 1) << err;
+    EXPECT_EQ(summaryCount(err, "failed"), 1) << err;
+
+    json mixed = {{"jobs",
+                   {good("d.exr"),
+                    {{"scene", "missing.json"}, {"output", "e.exr"}},
+                    {{"scene", "scene.json"}, {"output", "f.exr"}, {"set", {"shapes[1].radius=-1"}}},
+                    good("not-a-dir/g.exr"),
+                    good("h.exr")}}};
+    file = writeJson(dir / "mixed.json", mixed);
+    EXPECT_EQ(test::runPenumbra("batch --quiet " + q(file), &err), 2) << "bad input outranks runtime failures: " << err;
+    for (const char* out : {"d.exr", "h.exr"}) EXPECT_TRUE(fs::exists(dir / out)) << out;
+    for (const char* out : {"e.exr", "f.exr"}) EXPECT_FALSE(fs::exists(dir / out)) << out;
+    EXPECT_EQ(countLines(err, "e.exr: failed (bad input): " + (dir / "missing.json").string()), 1) << err;
+    EXPECT_EQ(countLines(err, "f.exr: failed (bad input):"), 1) << err;
+    EXPECT_EQ(countLines(err, "shapes[1].radius"), 1) << err;
+    EXPECT_EQ(summaryCount(err, "failed"), 3) << err;
+    EXPECT_EQ(summaryCount(err, "rendered"), 2) << err;
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 4) << "three failures and the summary: " << err;
+}
+
+TEST(Batch, KernelCacheCompilesEachIntegratorOnce) {
+    const gpu::Context& context = test::gpuContext();
+    gpu::KernelCache cache(context);
+    json a = litScene(), b = litScene();
+    b["shapes"][1]["radius"] = 0.7;
+    Scene sa = test::sceneFromJson(a, "batch-cache-a"), sb = test::sceneFromJson(b, "batch-cache-b");
+    Image first, second;
+    {
+        Renderer r(context, sa, &cache);
+        r.renderAll();
+        first = r.readback(0);
+    }
+    {
+        Renderer r(context, sb, &cache);
+        r.renderAll();
+        second = r.readback(0);
+    }
+    EXPECT_EQ(cache.pipelinesCreated(), 1u);
+    EXPECT_EQ(cache.pipelinesReused(), 1u);
+    EXPECT_TRUE(samePixels(first, test::renderScene(sa)));  // same as without the cache
+    EXPECT_TRUE(samePixels(second, test::renderScene(sb)));
+
+    // Retarget keeps the upload and equals a fresh Renderer of the new camera.
+    json moved = a;
+    moved["camera"]["eye"] = {1, 2, 3};
+    Scene sm = test::sceneFromJson(moved, "batch-cache-moved");
+    Renderer r(context, sa, &cache);
+    r.renderAll();
+    r.retarget(sm);
+    r.renderAll();
+    EXPECT_TRUE(samePixels(r.readback(0), test::renderScene(sm)));
+    json wide = a;
+    wide["film"]["width"] = 20;
+    EXPECT_THROW(r.retarget(test::sceneFromJson(wide, "batch-cache-wide")), std::logic_error);
+}
+
+TEST(Batch, SharesSceneUploadOnlyForCameraSamplerAndIntegratorChanges) {
+    BatchJob a{"s.json", "a.exr", {}, {{"camera.eye", "[0,1,2]"}, {"film.width", "8"}}, "jobs[0]"};
+    BatchJob b = a;
+    b.overrides = {{"film.width", "8"}, {"sampler.spp", "64"}, {"integrator.type", "\"ao\""}, {"camera.fov_y", "20"}};
+    EXPECT_TRUE(sharesSceneUpload(a, b));
+    b.overrides.push_back({"lights[0].power", "5"});
+    EXPECT_FALSE(sharesSceneUpload(a, b));
+    BatchJob c = a;
+    c.overrides[1].value = "9";
+    EXPECT_FALSE(sharesSceneUpload(a, c));
+    BatchJob d = a;
+    d.scene = "other.json";
+    EXPECT_FALSE(sharesSceneUpload(a, d));
+    EXPECT_EQ(overrideSection("lights[0].power"), "lights");
+    EXPECT_EQ(overrideSection("camera.eye"), "camera");
+}
+
+TEST(Batch, MergeOfNPartialsEqualsTheFullRenderAndRefusesMismatches) {
+    fs::path dir = freshDir("merge");
+    fs::path scene = writeJson(dir / "scene.json", litScene());
+    const int parts = 4, each = 3;
+    std::string inputs;
+    std::string err;
+    for (int i = 0; i < parts; ++i) {
+        fs::path part = dir / ("part" + std::to_string(i) + ".exr");
+        ASSERT_EQ(test::runPenumbra("render " + q(scene) + " --quiet -o " + q(part) + " --spp " + std::to_string(each) +
+                                        " --set sampler.sample_offset=" + std::to_string(i * each),
+                                    &err),
+                  0)
+            << err;
+        inputs += q(part) + " ";
+    }
+    ASSERT_EQ(test::runPenumbra("render " + q(scene) + " --quiet -o " + q(dir / "full.exr") + " --spp " +
+                                    std::to_string(parts * each),
+                                &err),
+              0)
+        << err;
+    ASSERT_EQ(test::runPenumbra("merge " + inputs + "-o " + q(dir / "merged.exr"), &err), 0) << err;
+    Image merged = readExr(dir / "merged.exr"), full = readExr(dir / "full.exr");
+    EXPECT_EQ(merged.meta.spp, parts * each);
+    EXPECT_EQ(merged.meta.sampleOffset, 0);
+    ASSERT_EQ(merged.rgb.size(), full.rgb.size());
+    // Same sample indices as the full render: equal up to float summation order.
+    for (size_t k = 0; k < full.rgb.size(); ++k)
+        ASSERT_NEAR(merged.rgb[k], full.rgb[k], 2e-5f * (1.0f + std::abs(full.rgb[k]))) << "value " << k;
+
+    // A partial of another size.
+    fs::path small = dir / "small.exr";
+    ASSERT_EQ(test::runPenumbra("render " + q(scene) + " --quiet --width 8 --set sampler.sample_offset=100 -o " +
+                                    q(small),
+                                &err),
+              0);
+    EXPECT_EQ(test::runPenumbra("merge " + q(dir / "part0.exr") + " " + q(small) + " -o " + q(dir / "bad.exr"), &err), 2);
+    EXPECT_NE(err.find(small.string() + ": size 8x12 differs"), std::string::npos) << err;
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+    // An EXR without penumbra:spp (not a penumbra render).
+    Image foreign = readExr(dir / "part1.exr");
+    foreign.meta = {};
+    writeExr(dir / "foreign.exr", foreign);
+    EXPECT_EQ(test::runPenumbra("merge " + q(dir / "part0.exr") + " " + q(dir / "foreign.exr") + " -o " +
+                                    q(dir / "bad.exr"),
+                                &err),
+              2);
+    EXPECT_NE(err.find("foreign.exr: missing penumbra:spp"), std::string::npos) << err;
+    EXPECT_FALSE(fs::exists(dir / "bad.exr"));
+}
