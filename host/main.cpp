@@ -60,6 +60,15 @@ int main(int argc, char** argv) {
     renderCmd->add_option("-o,--output", render.output, "output EXR (default: SCENE-stem.exr here)");
     renderCmd->add_option("--png", render.png, "also write an sRGB 8-bit PNG");
 
+    PreviewOptions preview;
+    CLI::App* previewCmd = app.add_subcommand("preview", "show a scene converging in a window; change camera and strategy live");
+    addRenderOptions(previewCmd, preview.base, sets, spp, seed, width, height);
+    previewCmd->add_option("--frames", preview.frames, "exit after N frames (default: when the window closes)");
+    previewCmd->add_option("--screenshot", preview.screenshot, "at exit, write the tone-mapped image as PNG");
+    previewCmd->add_option("--script", preview.script, "timed input events (format below)");
+    previewCmd->add_option("--rows-per-frame", preview.rowsPerFrame, "rows of work per frame (default: adaptive)");
+    previewCmd->footer(previewHelp());
+
     std::vector<std::string> mergeInputs;
     std::string mergeOutput;
     CLI::App* mergeCmd = app.add_subcommand("merge", "average partial renders weighted by their spp");
@@ -85,6 +94,10 @@ int main(int argc, char** argv) {
         if (renderCmd->parsed()) {
             render.overrides = collectOverrides(sets, spp, seed, width, height);
             return renderCommand(render);
+        }
+        if (previewCmd->parsed()) {
+            preview.base.overrides = collectOverrides(sets, spp, seed, width, height);
+            return previewCommand(preview);
         }
         if (mergeCmd->parsed()) return mergeCommand(mergeInputs, mergeOutput);
         if (compareCmd->parsed()) return compareCommand(compareA, compareB);
