@@ -63,7 +63,7 @@ int main(int argc, char** argv) {
     PreviewOptions preview;
     CLI::App* previewCmd = app.add_subcommand("preview", "show a scene converging in a window; change camera and strategy live");
     addRenderOptions(previewCmd, preview.base, sets, spp, seed, width, height);
-    previewCmd->add_option("--frames", preview.frames, "exit after N frames (default: when the window closes)");
+    previewCmd->add_option("--frames", preview.frames, "exit after N frames, converged ones included (default: when the window closes)");
     previewCmd->add_option("--screenshot", preview.screenshot, "at exit, write the tone-mapped image as PNG");
     previewCmd->add_option("--script", preview.script, "timed input events (format below)");
     previewCmd->add_option("--rows-per-frame", preview.rowsPerFrame, "rows of work per frame (default: adaptive)");
