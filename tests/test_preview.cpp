@@ -27,6 +27,7 @@
 #include "image/image.h"
 #include "preview/camera_controller.h"
 #include "preview/input_script.h"
+#include "preview/integrator_controls.h"
 #include "preview/key_bindings.h"
 #include "preview/pass_scheduler.h"
 #include "shared/types.h"
@@ -226,6 +227,36 @@ TEST(PreviewKeys, HelpListsEveryScriptKey) {
     for (const char* name : {"1", "2", "3", "4", "h", "s", "+", "-", "p", "r", "q", "esc", "Esc", "H"})
         EXPECT_TRUE(actionForKeyName(name).has_value()) << name;
     EXPECT_EQ(*actionForKeyName("s"), Action::CycleSphereSampling);
+}
+
+// ---- Integrator keys ----------------------------------------------------------------------
+
+TEST(PreviewIntegratorKeys, ChangeTheOptionsAndTheJsonThatSavesRecord) {
+    IntegratorSettings settings;  // direct, mis, power, solid_angle
+    settings.json = {{"type", "direct"}};
+    EXPECT_EQ(integratorLabel(settings), "mis power, spheres solid_angle");
+    EXPECT_FALSE(applyIntegratorAction(settings, Action::StrategyMis));  // already mis: no restart
+    EXPECT_TRUE(applyIntegratorAction(settings, Action::StrategyBsdf));
+    EXPECT_EQ(settings.strategy, Strategy::Bsdf);
+    EXPECT_EQ(settings.json["strategy"], "bsdf");
+    EXPECT_TRUE(applyIntegratorAction(settings, Action::ToggleHeuristic));
+    EXPECT_EQ(settings.heuristic, Heuristic::Balance);
+    EXPECT_EQ(settings.json["heuristic"], "balance");
+    const SphereSampling cycle[] = {SphereSampling::Area, SphereSampling::Cap, SphereSampling::SolidAngle};
+    const char* names[] = {"area", "cap", "solid_angle"};
+    for (int i = 0; i < 3; ++i) {
+        EXPECT_TRUE(applyIntegratorAction(settings, Action::CycleSphereSampling));
+        EXPECT_EQ(settings.sphereSampling, cycle[i]);
+        EXPECT_EQ(settings.json["sphere_sampling"], names[i]);
+    }
+    EXPECT_EQ(integratorLabel(settings), "bsdf, spheres solid_angle");
+    EXPECT_FALSE(applyIntegratorAction(settings, Action::ExposureUp));
+
+    IntegratorSettings ao;
+    ao.type = IntegratorType::AmbientOcclusion;
+    EXPECT_FALSE(applyIntegratorAction(ao, Action::StrategyLight));  // ao has no strategies
+    EXPECT_EQ(ao.strategy, Strategy::Mis);
+    EXPECT_EQ(integratorLabel(ao), "ao cosine");
 }
 
 // ---- The program, with and without a display ---------------------------------------------

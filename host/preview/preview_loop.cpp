@@ -14,6 +14,7 @@
 #include "gpu/vk_check.h"
 #include "image/image.h"
 #include "preview/camera_controller.h"
+#include "preview/integrator_controls.h"
 #include "preview/pass_scheduler.h"
 #include "preview/swapchain.h"
 #include "preview/tone_mapper.h"
@@ -76,29 +77,6 @@ private:
     const gpu::Context& m_context;
 };
 
-const char* strategyName(Strategy s) {
-    switch (s) {
-        case Strategy::Light: return "light";
-        case Strategy::Bsdf: return "bsdf";
-        case Strategy::Mis: return "mis";
-        case Strategy::Mixture: return "mixture";
-    }
-    return "?";
-}
-const char* heuristicName(Heuristic h) { return h == Heuristic::Balance ? "balance" : "power"; }
-const char* sphereName(SphereSampling s) {
-    return s == SphereSampling::Area ? "area" : s == SphereSampling::Cap ? "cap" : "solid_angle";
-}
-
-// "mis power, spheres solid_angle" / "ao cosine": what the title shows.
-std::string integratorLabel(const IntegratorSettings& in) {
-    if (in.type == IntegratorType::AmbientOcclusion)
-        return std::string("ao ") + (in.aoSampling == AoSampling::Cosine ? "cosine" : "uniform");
-    std::string label = strategyName(in.strategy);
-    if (in.strategy == Strategy::Mis) label += std::string(" ") + heuristicName(in.heuristic);
-    return label + ", spheres " + sphereName(in.sphereSampling);
-}
-
 // A window showing the film 1:1, magnified to at least kMinWindowSide, shrunk to the screen.
 VkExtent2D initialWindowSize(uint32_t width, uint32_t height, VkExtent2D workArea) {
     double scale = 1.0;
@@ -130,7 +108,6 @@ private:
     void save();
     void updateTitle(bool force);
     void restart();
-    void setStrategy(Strategy strategy);
 
     const Scene& m_scene;
     const PreviewSettings& m_settings;
@@ -237,10 +214,11 @@ void Preview::run() {
 }
 
 bool Preview::handle(const InputEvent& event) {
+    // The height of the film on screen, in the screen coordinates drags are measured in.
     const double viewHeight = [&] {
         VkOffset2D offset;
         VkExtent2D size;
-        VkExtent2D window = m_window->framebufferSize();
+        VkExtent2D window = m_window->size();
         if (window.width == 0 || window.height == 0) return 0.0;
         fitFilm(m_scene.film.width, m_scene.film.height, window, offset, size);
         return double(size.height);
@@ -260,7 +238,6 @@ bool Preview::handle(const InputEvent& event) {
             return true;
         case InputEvent::Type::Key: break;
     }
-    const bool direct = m_integrator.type == IntegratorType::Direct;
     switch (event.action) {
         case Action::Quit: return false;
         case Action::ResetCamera:
@@ -278,40 +255,14 @@ bool Preview::handle(const InputEvent& event) {
         case Action::Save: save(); return true;
         default: break;
     }
-    if (!direct) {
-        if (!m_notedAo && !m_settings.quiet)
+    if (applyIntegratorAction(m_integrator, event.action)) {
+        m_integratorChanged = true;
+    } else if (isIntegratorAction(event.action) && m_integrator.type != IntegratorType::Direct && !m_notedAo) {
+        if (!m_settings.quiet)
             std::fprintf(stderr, "preview: strategy keys apply to the direct integrator; this scene uses ao\n");
         m_notedAo = true;
-        return true;
-    }
-    switch (event.action) {
-        case Action::StrategyLight: setStrategy(Strategy::Light); break;
-        case Action::StrategyBsdf: setStrategy(Strategy::Bsdf); break;
-        case Action::StrategyMis: setStrategy(Strategy::Mis); break;
-        case Action::StrategyMixture: setStrategy(Strategy::Mixture); break;
-        case Action::ToggleHeuristic:
-            m_integrator.heuristic = m_integrator.heuristic == Heuristic::Power ? Heuristic::Balance : Heuristic::Power;
-            m_integrator.json["heuristic"] = heuristicName(m_integrator.heuristic);
-            m_integratorChanged = true;
-            break;
-        case Action::CycleSphereSampling:
-            m_integrator.sphereSampling = m_integrator.sphereSampling == SphereSampling::Area ? SphereSampling::Cap
-                                          : m_integrator.sphereSampling == SphereSampling::Cap
-                                              ? SphereSampling::SolidAngle
-                                              : SphereSampling::Area;
-            m_integrator.json["sphere_sampling"] = sphereName(m_integrator.sphereSampling);
-            m_integratorChanged = true;
-            break;
-        default: break;
     }
     return true;
-}
-
-void Preview::setStrategy(Strategy strategy) {
-    if (m_integrator.strategy == strategy) return;
-    m_integrator.strategy = strategy;
-    m_integrator.json["strategy"] = strategyName(strategy);
-    m_integratorChanged = true;
 }
 
 void Preview::restart() {

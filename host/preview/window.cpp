@@ -119,6 +119,12 @@ VkExtent2D Window::framebufferSize() const {
     return {uint32_t(std::max(width, 0)), uint32_t(std::max(height, 0))};
 }
 
+VkExtent2D Window::size() const {
+    int width = 0, height = 0;
+    glfwGetWindowSize(m_window, &width, &height);
+    return {uint32_t(std::max(width, 0)), uint32_t(std::max(height, 0))};
+}
+
 void Window::setTitle(const std::string& title) { glfwSetWindowTitle(m_window, title.c_str()); }
 void Window::setSize(int width, int height) { glfwSetWindowSize(m_window, width, height); }
 

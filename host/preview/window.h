@@ -55,6 +55,8 @@ public:
     void requestClose();
     // Framebuffer size in pixels; 0 x 0 while minimised.
     VkExtent2D framebufferSize() const;
+    // Window size in screen coordinates, the unit of drag deltas (pixels on most screens).
+    VkExtent2D size() const;
     void setTitle(const std::string& title);
     void setSize(int width, int height);
 
