@@ -366,8 +366,15 @@ private:
     std::string m_problem;
 };
 
+#ifdef PENUMBRA_HAVE_GLFW
+#define REQUIRE_PREVIEW_BUILD() (void)0
+#else
+#define REQUIRE_PREVIEW_BUILD() GTEST_SKIP() << "built without GLFW: penumbra has no preview"
+#endif
+
 #define REQUIRE_XVFB()                                                              \
     do {                                                                            \
+        REQUIRE_PREVIEW_BUILD();                                                    \
         if (onPath("Xvfb").empty()) GTEST_SKIP() << Xvfb::instance().problem();     \
         ASSERT_TRUE(Xvfb::instance().available()) << Xvfb::instance().problem();   \
     } while (0)
@@ -406,6 +413,7 @@ std::string smallCornell() {
 }  // namespace
 
 TEST(PreviewProgram, NoDisplayExitsOneWithOneLine) {
+    REQUIRE_PREVIEW_BUILD();
     fs::path dir = freshDir("no-display");
     std::string err;
     int status = runIn(dir, "env -u DISPLAY -u WAYLAND_DISPLAY", "preview " + smallCornell(), &err);
@@ -419,6 +427,7 @@ TEST(PreviewProgram, NoDisplayExitsOneWithOneLine) {
 }
 
 TEST(PreviewProgram, UnreachableDisplayExitsOneWithOneLine) {
+    REQUIRE_PREVIEW_BUILD();
     fs::path dir = freshDir("bad-display");
     std::string err;
     int status = runIn(dir, "env -u WAYLAND_DISPLAY DISPLAY=:9999", "preview " + smallCornell(), &err);

@@ -21,7 +21,7 @@ std::string previewHelp() {
 }
 
 int previewCommand(const PreviewOptions& options) {
-#ifdef PENUMBRA_HAVE_GLFW
+    // Bad input is exit 2 whether or not a window can be had: check it first.
     const RenderOptions& base = options.base;
     Scene scene = loadScene(base.scene, base.overrides);
     preview::PreviewSettings settings;
@@ -38,11 +38,11 @@ int previewCommand(const PreviewOptions& options) {
             throw std::runtime_error("cannot write " + settings.screenshot.string() + ": directory " + dir.string() +
                                      " does not exist");
     }
+#ifdef PENUMBRA_HAVE_GLFW
     printNotes(scene.notes, base.quiet);
     preview::runPreview(scene, settings);
     return 0;
 #else
-    (void)options;
     throw std::runtime_error("this penumbra was built without GLFW (libglfw3-dev), so it has no preview window");
 #endif
 }
