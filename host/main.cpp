@@ -70,6 +70,15 @@ int main(int argc, char** argv) {
     batchCmd->add_flag("--list", batch.list, "print the jobs (of this task) and exit, rendering nothing");
     batchCmd->add_flag("--quiet", batch.quiet, "no per-job progress or notes on stderr (failures and summary stay)");
 
+    PreviewOptions preview;
+    CLI::App* previewCmd = app.add_subcommand("preview", "show a scene converging in a window; change camera and strategy live");
+    addRenderOptions(previewCmd, preview.base, sets, spp, seed, width, height);
+    previewCmd->add_option("--frames", preview.frames, "exit after N frames, converged ones included (default: when the window closes)");
+    previewCmd->add_option("--screenshot", preview.screenshot, "at exit, write the tone-mapped image as PNG");
+    previewCmd->add_option("--script", preview.script, "timed input events (format below)");
+    previewCmd->add_option("--rows-per-frame", preview.rowsPerFrame, "rows of work per frame (default: adaptive)");
+    previewCmd->footer(previewHelp());
+
     std::vector<std::string> mergeInputs;
     std::string mergeOutput;
     CLI::App* mergeCmd = app.add_subcommand("merge", "average partial renders weighted by their spp");
@@ -97,6 +106,11 @@ int main(int argc, char** argv) {
             return renderCommand(render);
         }
         if (batchCmd->parsed()) return batchCommand(batch);
+
+        if (previewCmd->parsed()) {
+            preview.base.overrides = collectOverrides(sets, spp, seed, width, height);
+            return previewCommand(preview);
+        }
         if (mergeCmd->parsed()) return mergeCommand(mergeInputs, mergeOutput);
         if (compareCmd->parsed()) return compareCommand(compareA, compareB);
         if (devicesCmd->parsed()) return devicesCommand();

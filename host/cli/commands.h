@@ -30,6 +30,20 @@ struct BatchOptions {
 
 int renderCommand(const RenderOptions& options);
 int batchCommand(const BatchOptions& options);
+
+// `penumbra preview`: the scene in a window (host/preview/). `base` holds the options it
+// shares with render (scene, overrides, device, quiet); output and png are unused.
+struct PreviewOptions {
+    RenderOptions base;
+    unsigned frames = 0;        // exit after N frames (0: when the window closes)
+    std::string screenshot;     // PNG of the tone-mapped film at exit
+    std::string script;         // input script (host/preview/input_script.h)
+    unsigned rowsPerFrame = 0;  // 0: adaptive
+};
+
+int previewCommand(const PreviewOptions& options);
+// The preview's keys and mouse bindings, and the input script format, for --help.
+std::string previewHelp();
 int mergeCommand(const std::vector<std::string>& inputs, const std::string& output);
 int compareCommand(const std::string& a, const std::string& b);
 int devicesCommand();

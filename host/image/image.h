@@ -38,6 +38,9 @@ Image readExr(const std::filesystem::path& path);
 void writePng(const std::filesystem::path& path, const Image& image, float exposure = 0.0f);
 // 8-bit sRGB encoding of one linear value (clamped), shared with the preview's tone map.
 uint8_t linearToSrgb8(float linear);
+// A PNG of already encoded 8-bit sRGB bytes (width * height * 3, row-major, top row first),
+// e.g. the preview's tone-mapped screen; atomic like writeExr.
+void writePngRgb8(const std::filesystem::path& path, uint32_t width, uint32_t height, const std::vector<uint8_t>& rgb);
 
 // Averages partial renders weighted by penumbra:spp; the result's spp is their sum.
 // Throws InputError naming the file when sizes differ, spp is missing, or two partials

@@ -32,23 +32,27 @@ uint8_t linearToSrgb8(float linear) {
 }
 
 void writePng(const std::filesystem::path& path, const Image& image, float exposure) {
-    if (image.width == 0 || image.height == 0 || image.width > INT32_MAX / 3 || image.height > INT32_MAX)
-        throw std::runtime_error("failed to write " + path.string() + ": invalid image size " +
-                                 std::to_string(image.width) + "x" + std::to_string(image.height));
     if (image.rgb.size() != size_t(image.width) * image.height * 3)
         throw std::runtime_error("failed to write " + path.string() + ": pixel buffer does not match the image size");
-
     const float scale = std::exp2(exposure);
     std::vector<uint8_t> bytes(image.rgb.size());
     for (size_t i = 0; i < bytes.size(); ++i) bytes[i] = linearToSrgb8(image.rgb[i] * scale);
+    writePngRgb8(path, image.width, image.height, bytes);
+}
+
+void writePngRgb8(const std::filesystem::path& path, uint32_t width, uint32_t height, const std::vector<uint8_t>& rgb) {
+    if (width == 0 || height == 0 || width > INT32_MAX / 3 || height > INT32_MAX)
+        throw std::runtime_error("failed to write " + path.string() + ": invalid image size " + std::to_string(width) +
+                                 "x" + std::to_string(height));
+    if (rgb.size() != size_t(width) * height * 3)
+        throw std::runtime_error("failed to write " + path.string() + ": pixel buffer does not match the image size");
 
     // Encode to memory first: stb's own file writer does not report write errors.
     std::string encoded;
     auto append = [](void* context, void* data, int size) {
         static_cast<std::string*>(context)->append(static_cast<const char*>(data), size_t(size));
     };
-    if (!stbi_write_png_to_func(append, &encoded, int(image.width), int(image.height), 3, bytes.data(),
-                                int(image.width) * 3))
+    if (!stbi_write_png_to_func(append, &encoded, int(width), int(height), 3, rgb.data(), int(width) * 3))
         throw std::runtime_error("failed to write " + path.string() + ": PNG encoding failed");
 
     writeFileAtomically(path, [&](const std::filesystem::path& tmp) {

@@ -32,7 +32,7 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
       m_params(makeRenderParams(scene, m_arrays)) {
     using gpu::Buffer;
     m_paramsBuffer = Buffer(context, sizeof(gpu::RenderParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
-    m_paramsBuffer.upload(&m_params, sizeof(m_params));
+    uploadParams();
     m_accum = Buffer(context, VkDeviceSize(m_params.width) * m_params.height * sizeof(glm::vec4),
                      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     m_nodes = Buffer::fromVector(context, m_arrays.bvh.nodes);
@@ -72,13 +72,31 @@ void Renderer::retarget(const Scene& scene) {
         throw std::logic_error("Renderer::retarget: " + scene.path + " does not share the uploaded scene of " + old.path);
     const bool sameKernel = scene.integrator.type == old.integrator.type;
     m_scene = scene;
-    m_params = makeRenderParams(m_scene, m_arrays);
-    m_paramsBuffer.upload(&m_params, sizeof(m_params));
+    uploadParams();
     if (!sameKernel) createKernel();
     reset();
 }
 
 void Renderer::reset() { m_accum.clear(); }
+
+void Renderer::setCamera(const Camera& camera) {
+    m_scene.camera = camera;
+    uploadParams();
+}
+
+void Renderer::setIntegrator(const IntegratorSettings& integrator) {
+    if (integrator.type != m_scene.integrator.type)
+        throw std::invalid_argument("the integrator type cannot change without a new kernel");
+    if (integrator.lightSelection != m_scene.integrator.lightSelection)
+        throw std::invalid_argument("light selection cannot change without rebuilding the light tables");
+    m_scene.integrator = integrator;
+    uploadParams();
+}
+
+void Renderer::uploadParams() {
+    m_params = makeRenderParams(m_scene, m_arrays);
+    m_paramsBuffer.upload(&m_params, sizeof(m_params));
+}
 
 void Renderer::recordPasses(VkCommandBuffer cmd, uint32_t first, uint32_t count, uint32_t firstRow,
                             uint32_t rowCount) const {

@@ -39,6 +39,13 @@ public:
 
     // Clears the accumulation buffer (the next sample index restarts at 0).
     void reset();
+    // Re-upload the render parameters for a new camera / new integrator options (the
+    // preview changes them live). Neither clears the accumulation: call reset() too.
+    // Call only while no recorded pass is in flight. setIntegrator keeps the kernel and
+    // the light-selection tables, so it throws std::invalid_argument when `type` or
+    // `lightSelection` differ from the scene's.
+    void setCamera(const Camera& camera);
+    void setIntegrator(const IntegratorSettings& integrator);
     // Records `count` passes, sample indices [first, first + count), over rows
     // [firstRow, firstRow + rowCount) into `cmd`, each followed by a barrier.
     void recordPasses(VkCommandBuffer cmd, uint32_t first, uint32_t count, uint32_t firstRow, uint32_t rowCount) const;
@@ -56,6 +63,7 @@ public:
 
 private:
     void createKernel();
+    void uploadParams();
 
     const gpu::Context& m_context;
     gpu::KernelCache* m_kernels = nullptr;

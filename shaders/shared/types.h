@@ -172,6 +172,18 @@ struct PassConstants {
     uint pad;
 };
 
+// ---- Preview tone map (shaders/preview/tonemap.comp) ------------------------------------
+#define TONEMAP_BINDING_ACCUM 0   // the render kernels' accumulation buffer, read only
+#define TONEMAP_BINDING_PIXELS 1  // uint per pixel: sRGB-encoded R | G << 8 | B << 16 | 255 << 24
+#define TONEMAP_BINDING_COUNT 2
+
+struct ToneMapConstants {
+    uint width;
+    uint height;
+    float scale;  // 2^exposure, applied to the linear mean before encoding
+    uint pad;
+};
+
 #ifdef __cplusplus
 }  // namespace penumbra::gpu
 #endif

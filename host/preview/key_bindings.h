@@ -1,0 +1,35 @@
+// The preview's keys: one table maps GLFW keys and the names an input script uses to
+// actions, and renders the list for `penumbra preview --help` and the README.
+// What an action does to the camera, integrator or image is the preview loop's business.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace penumbra::preview {
+
+enum class Action {
+    StrategyLight,
+    StrategyBsdf,
+    StrategyMis,
+    StrategyMixture,
+    ToggleHeuristic,      // balance <-> power
+    CycleSphereSampling,  // area -> cap -> solid_angle -> area
+    ExposureUp,           // +0.5 stop
+    ExposureDown,         // -0.5 stop
+    Save,                 // EXR + PNG of the current accumulation
+    ResetCamera,
+    Quit,
+};
+
+// The action bound to a GLFW key code (GLFW_KEY_*), if any.
+std::optional<Action> actionForGlfwKey(int key);
+// The action for a key as an input script names it: "1".."4", "h", "s", "+", "-", "p",
+// "r", "q", "esc" (case-insensitive).
+std::optional<Action> actionForKeyName(std::string_view name);
+
+// The key and mouse list, one binding per line, for --help and the README.
+std::string keyHelp();
+
+}  // namespace penumbra::preview

@@ -1,0 +1,32 @@
+// The preview's tone map: the mean of each pixel's accumulated samples (sum / count),
+// times 2^exposure, clamped and encoded with the exact sRGB OETF (IEC 61966-2-1, the same
+// formula and rounding as linearToSrgb8 in host/image/png.cpp), packed as RGBA8 bytes.
+// The host copies the packed pixels into an image and blits that to the window.
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#include "shared/types.h"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(std430, binding = TONEMAP_BINDING_ACCUM) readonly buffer Accumulation { vec4 accum[]; };
+layout(std430, binding = TONEMAP_BINDING_PIXELS) writeonly buffer Pixels { uint pixels[]; };
+layout(push_constant) uniform Constants { ToneMapConstants toneMap; };
+
+// One linear value to an 8-bit sRGB code; !(x > 0) also sends NaN to black.
+uint linearToSrgb8(float linear) {
+    if (!(linear > 0.0)) return 0u;
+    if (linear >= 1.0) return 255u;
+    float encoded = linear < 0.0031308 ? 12.92 * linear : 1.055 * pow(linear, 1.0 / 2.4) - 0.055;
+    return min(uint(floor(encoded * 255.0 + 0.5)), 255u);
+}
+
+void main() {
+    uvec2 pixel = gl_GlobalInvocationID.xy;
+    if (pixel.x >= toneMap.width || pixel.y >= toneMap.height) return;
+    uint index = pixel.y * toneMap.width + pixel.x;
+    vec4 sum = accum[index];
+    vec3 mean = sum.w > 0.0 ? sum.rgb / sum.w : vec3(0.0);
+    vec3 scaled = mean * toneMap.scale;
+    pixels[index] = linearToSrgb8(scaled.r) | (linearToSrgb8(scaled.g) << 8) | (linearToSrgb8(scaled.b) << 16) |
+                    (255u << 24);
+}
