@@ -8,6 +8,7 @@ function(penumbra_embed_shaders target shader_dir)
   set(headers)
   set(includes "")
   set(entries "")
+  set(names "")
   foreach(comp ${comps})
     file(RELATIVE_PATH rel ${shader_dir} ${comp})
     string(REGEX REPLACE "\\.comp$" "" name ${rel})
@@ -23,6 +24,7 @@ function(penumbra_embed_shaders target shader_dir)
       VERBATIM)
     list(APPEND headers ${header})
     string(APPEND includes "#include \"${var}.h\"\n")
+    string(APPEND names "    \"${name}\",\n")
     string(APPEND entries "    {\"${name}\", {${var}, sizeof(${var}) / sizeof(uint32_t)}},\n")
   endforeach()
   set(registry ${out_dir}/shader_registry.cpp)
@@ -34,6 +36,7 @@ function(penumbra_embed_shaders target shader_dir)
 #include <string>
 #include <string_view>
 #include <utility>
+#include <vector>
 ${includes}
 namespace penumbra {
 std::span<const uint32_t> shaderCode(std::string_view name) {
@@ -42,6 +45,10 @@ ${entries}  };
   for (const auto& [key, code] : table)
     if (key == name) return code;
   throw std::logic_error(\"no embedded shader named \" + std::string(name));
+}
+std::vector<std::string_view> shaderNames() {
+  return {
+${names}  };
 }
 }  // namespace penumbra
 ")

@@ -5,7 +5,10 @@
 #include <cstdint>
 #include <span>
 #include <string_view>
+#include <vector>
 
 namespace penumbra {
 std::span<const uint32_t> shaderCode(std::string_view name);
+// Every embedded shader's name.
+std::vector<std::string_view> shaderNames();
 }

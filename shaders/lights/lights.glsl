@@ -18,12 +18,19 @@ layout(std430, binding = BINDING_MESH_TABLE) readonly restrict buffer MeshTable 
 
 // Walker's alias method over lightTable/meshTable entries [offset, offset + count) with one
 // uniform number: its integer part picks the slot, its fraction flips the slot's coin.
+AliasEntry aliasEntry(uint index, bool mesh) {
+    // Two separate reads rather than `mesh ? meshTable[i] : lightTable[i]`: the two buffer
+    // blocks have distinct struct types in SPIR-V, which a select of whole structs violates.
+    if (mesh) return meshTable[index];
+    return lightTable[index];
+}
+
 AliasEntry sampleAlias(uint offset, uint count, float u, bool mesh) {
     float scaled = u * float(count);
     uint slot = min(uint(scaled), count - 1u);
     float coin = scaled - float(slot);
-    AliasEntry e = mesh ? meshTable[offset + slot] : lightTable[offset + slot];
-    if (coin >= e.probability) e = mesh ? meshTable[offset + e.alias] : lightTable[offset + e.alias];
+    AliasEntry e = aliasEntry(offset + slot, mesh);
+    if (coin >= e.probability) e = aliasEntry(offset + e.alias, mesh);
     return e;
 }
 
