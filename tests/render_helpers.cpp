@@ -123,7 +123,12 @@ int blockTTest(const Image& image, const std::vector<double>& expected, int bloc
         worst = std::max(worst, std::abs(t));
         if (std::abs(t) > tc) ++failures;
     }
-    if (report) *report = "worst |t| = " + std::to_string(worst) + ", critical " + std::to_string(tc);
+    if (report) {
+        double residual = 0, total = 0;
+        for (size_t p = 0; p < expected.size(); ++p) residual += image.rgb[3 * p] - expected[p], total += expected[p];
+        *report = "worst |t| = " + std::to_string(worst) + ", critical " + std::to_string(tc) +
+                  ", mean relative residual " + std::to_string(residual / total);
+    }
     return failures;
 }
 

@@ -23,7 +23,13 @@ layout(std430, binding = BINDING_MATERIALS) readonly restrict buffer Materials {
 // The shading point, with normals turned to the viewer's side (two-sided materials).
 struct Shading {
     vec3 x;       // position
-    vec3 origin;  // x offset off the surface for rays leaving on the viewer's side
+    // x offset off the surface for rays leaving on the viewer's side. Light samples and
+    // their densities are taken from here, not from x, so that each shadow ray runs
+    // exactly along the sampled segment: sampling from x and tracing from the offset
+    // origin shifts the ray sideways, and near a small sphere light's silhouette the
+    // shifted ray enters the sphere before the sampled point (measured: 0.05% of the
+    // light lost for a sphere of radius 0.05 at distance 3).
+    vec3 origin;
     vec3 ng;      // geometric normal
     vec3 ns;      // shading normal
     vec3 wo;      // toward the viewer
@@ -50,7 +56,7 @@ vec3 lightSampleEstimate(Shading s, uint index, float pmf, int weighting, float 
                          inout Rng rng) {
     vec3 u = vec3(rand2(rng), rand1(rng));
     LightSample ls;
-    if (!(pmf > 0.0) || !sampleLight(index, s.x, s.ns, u, params.sphereSampling, ls)) return vec3(0.0);
+    if (!(pmf > 0.0) || !sampleLight(index, s.origin, s.ns, u, params.sphereSampling, ls)) return vec3(0.0);
     vec3 fc = reflectance(s, ls.wi);
     if (fc == vec3(0.0) || !visible(s, ls)) return vec3(0.0);
     if (ls.isDelta) return fc * ls.radiance / pmf;
@@ -75,7 +81,7 @@ vec3 incidentEmission(Shading s, vec3 wi, float selectionScale, out float pLight
         if (params.environmentLight == NO_LIGHT) return vec3(0.0);
         Light env = lights[params.environmentLight];
         pLight = env.selectionProb * selectionScale *
-                 lightPdf(params.environmentLight, s.x, s.ns, wi, vec3(0.0), vec3(0.0), 0.0, params.sphereSampling);
+                 lightPdf(params.environmentLight, s.origin, s.ns, wi, vec3(0.0), vec3(0.0), 0.0, params.sphereSampling);
         return env.emission;
     }
     SurfacePoint y = surfaceAt(hit, s.origin, wi);
@@ -84,7 +90,7 @@ vec3 incidentEmission(Shading s, vec3 wi, float selectionScale, out float pLight
     vec3 Le = emittedRadiance(light, y.geometricNormal, wi);
     if (Le == vec3(0.0)) return Le;
     pLight = light.selectionProb * selectionScale *
-             lightPdf(y.light, s.x, s.ns, wi, y.position, y.geometricNormal, hit.t, params.sphereSampling);
+             lightPdf(y.light, s.origin, s.ns, wi, y.position, y.geometricNormal, hit.t, params.sphereSampling);
     return Le;
 }
 
