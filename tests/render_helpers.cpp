@@ -146,11 +146,15 @@ std::string slurp(const std::string& path) {
 }  // namespace
 
 int runPenumbra(const std::string& args, std::string* err, std::string* out) {
+    return runProgram(PENUMBRA_EXECUTABLE, args, err, out);
+}
+
+int runProgram(const std::string& executable, const std::string& args, std::string* err, std::string* out) {
     // Per process: ctest runs tests in parallel processes that share test-output/.
     const std::string tag = std::to_string(getpid());
     auto errPath = outputPath("cli-stderr-" + tag + ".txt").string();
     auto outPath = outputPath("cli-stdout-" + tag + ".txt").string();
-    std::string cmd = std::string("'") + PENUMBRA_EXECUTABLE + "' " + args + " >'" + outPath + "' 2>'" + errPath + "'";
+    std::string cmd = "'" + executable + "' " + args + " >'" + outPath + "' 2>'" + errPath + "'";
     int status = std::system(cmd.c_str());
     if (err) *err = slurp(errPath);
     if (out) *out = slurp(outPath);

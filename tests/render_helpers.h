@@ -56,5 +56,8 @@ double meanSquaredError(const Image& image, const std::vector<double>& expected)
 // Runs the penumbra executable with `args` (a shell-quoted string), capturing stderr into
 // `err`; returns the exit status.
 int runPenumbra(const std::string& args, std::string* err = nullptr, std::string* out = nullptr);
+// The same for another executable of the build (e.g. PENUMBRA_FIGURE_EXECUTABLE).
+int runProgram(const std::string& executable, const std::string& args, std::string* err = nullptr,
+               std::string* out = nullptr);
 
 }  // namespace penumbra::test
