@@ -173,3 +173,28 @@ TEST(Cli, CompareAndDevicesPrintForScripts) {
     ASSERT_EQ(test::runPenumbra("devices", nullptr, &out), 0);
     EXPECT_NE(out.find("* 0: llvmpipe"), std::string::npos) << out;
 }
+
+TEST(Cli, GltfModelRendersDirectlyWithTheEnvironmentNote) {
+    // The model has no lights: it is lit by a white environment, said once on stderr
+    // (and not with --quiet). Its own pixels are lit, not black.
+    std::string modelFile = std::string(PENUMBRA_SOURCE_DIR) + "/scenes/models/torus_knot.glb";
+    fs::path out = test::outputPath("torus.exr");
+    std::string err;
+    ASSERT_EQ(test::runPenumbra("render '" + modelFile + "' --width 48 --height 32 --spp 4 -o '" + out.string() + "'", &err), 0)
+        << err;
+    EXPECT_NE(err.find("environment"), std::string::npos) << err;
+    Image image = readExr(out);
+    EXPECT_EQ(image.width, 48u);
+    EXPECT_EQ(image.meta.spp, 4);
+    // The framing camera shows the model: many pixels are lit reflections (between 0 and
+    // the background's radiance 1), and the background is visible too.
+    int model = 0, background = 0;
+    for (size_t i = 0; i < image.rgb.size(); i += 3) {
+        if (image.rgb[i] > 0.0f && image.rgb[i] < 0.99f) ++model;
+        if (image.rgb[i] == 1.0f) ++background;
+    }
+    EXPECT_GT(model, 48 * 32 / 10);
+    EXPECT_GT(background, 48 * 32 / 10);
+    ASSERT_EQ(test::runPenumbra("render '" + modelFile + "' --width 48 --height 32 --spp 1 --quiet -o '" + out.string() + "'", &err), 0);
+    EXPECT_EQ(err, "");
+}
