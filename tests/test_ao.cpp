@@ -12,7 +12,6 @@
 #include <gtest/gtest.h>
 
 #include "gpu_fixture.h"
-#include "render/scene_arrays.h"
 #include "render_helpers.h"
 
 using namespace penumbra;
@@ -24,9 +23,8 @@ constexpr double kAlbedo = 0.5, kRadius = 1.0, kHeight = 2.0;
 constexpr int kSize = 32, kSpp = 4096;
 
 json aoScene(const std::string& sampling) {
-    double fov = 2.0 * std::atan(1.5 / 50.0) * 180.0 / M_PI;  // a 3 x 3 patch seen from height 50
     return {
-        {"camera", {{"eye", {3, 50, 0}}, {"target", {3, 0, 0}}, {"up", {0, 0, -1}}, {"fov_y", fov}}},
+        {"camera", test::topDownCamera(3.0, 0.0, 1.5)},
         {"film", {{"width", kSize}, {"height", kSize}}},
         {"sampler", {{"spp", kSpp}, {"seed", 7}}},
         {"integrator", {{"type", "ao"}, {"sampling", sampling}}},
@@ -38,30 +36,6 @@ json aoScene(const std::string& sampling) {
     };
 }
 
-// Expected pixel values: the closed form averaged over an 8 x 8 grid inside each pixel,
-// with the camera basis the renderer uses.
-std::vector<double> expectedImage(const Scene& scene) {
-    SceneArrays arrays = buildSceneArrays(scene);
-    gpu::RenderParams p = makeRenderParams(scene, arrays);
-    std::vector<double> out(kSize * kSize);
-    const int sub = 8;
-    for (int py = 0; py < kSize; ++py)
-        for (int px = 0; px < kSize; ++px) {
-            double sum = 0;
-            for (int j = 0; j < sub; ++j)
-                for (int i = 0; i < sub; ++i) {
-                    double fx = (px + (i + 0.5) / sub) / kSize, fy = (py + (j + 0.5) / sub) / kSize;
-                    glm::dvec3 dir = glm::dvec3(p.forward) + ((2 * fx - 1) * p.aspect * p.tanHalfFovY) * glm::dvec3(p.right) +
-                                     ((1 - 2 * fy) * p.tanHalfFovY) * glm::dvec3(p.up);
-                    glm::dvec3 hit = glm::dvec3(p.eye) + dir * (-double(p.eye.y) / dir.y);
-                    double d = std::sqrt(hit.x * hit.x + hit.z * hit.z + kHeight * kHeight);
-                    sum += kAlbedo * (1.0 - kRadius * kRadius * kHeight / (d * d * d));
-                }
-            out[py * kSize + px] = sum / (sub * sub);
-        }
-    return out;
-}
-
 struct AoResult {
     double mse = 0, predictedMse = 0;
     int failures = 0;
@@ -70,7 +44,10 @@ struct AoResult {
 AoResult checkAo(const std::string& sampling, double z) {
     Scene scene = test::sceneFromJson(aoScene(sampling), "ao-" + sampling);
     Image image = test::renderScene(scene);
-    std::vector<double> expected = expectedImage(scene);
+    std::vector<double> expected = test::expectedTopDown(scene, [](glm::dvec3 x) {
+        double d = std::sqrt(x.x * x.x + x.z * x.z + kHeight * kHeight);
+        return kAlbedo * (1.0 - kRadius * kRadius * kHeight / (d * d * d));
+    });
     AoResult r;
     for (int i = 0; i < kSize * kSize; ++i) {
         double m = expected[i];

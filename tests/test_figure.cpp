@@ -14,14 +14,7 @@
 #include "image/image.h"
 #include "render_helpers.h"
 
-// Static, so that this copy cannot clash with another test file's (test_image.cpp has one).
-#define STB_IMAGE_STATIC
-#define STB_IMAGE_IMPLEMENTATION
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
-#include <stb_image.h>
-#pragma GCC diagnostic pop
+#include "png_reader.h"
 
 using namespace penumbra;
 using nlohmann::json;
@@ -59,18 +52,8 @@ int runFigure(const std::string& args, std::string* err, std::string* out = null
     return test::runProgram(PENUMBRA_FIGURE_EXECUTABLE, args, err, out);
 }
 
-struct Png {
-    int width = 0, height = 0;
-    std::vector<uint8_t> rgb;
-};
-Png readPng(const fs::path& path) {
-    Png png;
-    int channels = 0;
-    uint8_t* data = stbi_load(path.c_str(), &png.width, &png.height, &channels, 3);
-    if (data) png.rgb.assign(data, data + size_t(png.width) * png.height * 3);
-    stbi_image_free(data);
-    return png;
-}
+using test::Png;
+using test::readPng;
 
 // Parses `VALUE relmse X rmse Y seconds Z` lines; fails the test on any other line.
 std::vector<std::pair<std::string, double>> parseTable(const std::string& out) {
@@ -159,7 +142,7 @@ TEST(Figure, VaryStrategyPrintsTableAndWritesOneLabelledPng) {
         const int x0 = int(kFigureGap) + i * (32 + int(kFigureGap));
         int white = 0;
         for (int y = int(kFigureGap); y < int(kFigureGap + kFigureLabelHeight); ++y)
-            for (int x = x0; x < x0 + 32; ++x) white += image.rgb[(size_t(y) * w + x) * 3] == 255;
+            for (int x = x0; x < x0 + 32; ++x) white += image.pixels[(size_t(y) * w + x) * 3] == 255;
         EXPECT_GT(white, 10) << "no label over panel " << i;
     }
 

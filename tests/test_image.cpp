@@ -21,13 +21,7 @@
 #include "image/atomic_file.h"
 #include "image/image.h"
 
-#define STB_IMAGE_STATIC
-#define STB_IMAGE_IMPLEMENTATION
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
-#include <stb_image.h>
-#pragma GCC diagnostic pop
+#include "png_reader.h"
 
 using namespace penumbra;
 namespace fs = std::filesystem;
@@ -362,12 +356,11 @@ TEST(ImagePng, WrittenPixelsReadBack) {
 
     for (const char* name : {"plain.png", "exposed.png"}) {
         SCOPED_TRACE(name);
-        int w = 0, h = 0, n = 0;
-        unsigned char* pixels = stbi_load((dir / name).c_str(), &w, &h, &n, 0);
-        ASSERT_NE(pixels, nullptr) << stbi_failure_reason();
-        ASSERT_EQ(w, 6);
-        ASSERT_EQ(h, 2);
-        ASSERT_EQ(n, 3);
+        test::Png png = test::readPng(dir / name, 0);
+        const uint8_t* pixels = png.pixels.data();
+        ASSERT_EQ(png.width, 6);
+        ASSERT_EQ(png.height, 2);
+        ASSERT_EQ(png.channelsInFile, 3);
         const bool exposed = std::string(name) == "exposed.png";
         for (int x = 0; x < 6; ++x) {
             for (int c = 0; c < 3; ++c) {
@@ -378,7 +371,6 @@ TEST(ImagePng, WrittenPixelsReadBack) {
                     << "bottom x=" << x << " c=" << c;
             }
         }
-        stbi_image_free(pixels);
     }
 }
 

@@ -32,13 +32,7 @@
 #include "preview/pass_scheduler.h"
 #include "shared/types.h"
 
-#define STB_IMAGE_STATIC
-#define STB_IMAGE_IMPLEMENTATION
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
-#include <stb_image.h>
-#pragma GCC diagnostic pop
+#include "png_reader.h"
 
 using namespace penumbra;
 using namespace penumbra::preview;
@@ -381,24 +375,12 @@ private:
 
 std::string displayEnv() { return "env -u WAYLAND_DISPLAY DISPLAY=" + Xvfb::instance().display(); }
 
-struct Png {
-    int width = 0, height = 0;
-    std::vector<uint8_t> rgb;
-};
-
-Png readPng(const fs::path& path) {
-    Png png;
-    int channels = 0;
-    unsigned char* data = stbi_load(path.c_str(), &png.width, &png.height, &channels, 3);
-    if (!data) return png;
-    png.rgb.assign(data, data + size_t(png.width) * png.height * 3);
-    stbi_image_free(data);
-    return png;
-}
+using test::Png;
+using test::readPng;
 
 int maxLevelDifference(const Png& a, const Png& b) {
     int worst = 0;
-    for (size_t i = 0; i < a.rgb.size(); ++i) worst = std::max(worst, std::abs(int(a.rgb[i]) - int(b.rgb[i])));
+    for (size_t i = 0; i < a.pixels.size(); ++i) worst = std::max(worst, std::abs(int(a.pixels[i]) - int(b.pixels[i])));
     return worst;
 }
 
@@ -458,7 +440,7 @@ TEST(PreviewProgram, ScreenshotMatchesRenderPng) {
     Png shown = readPng(dir / "shown.png"), rendered = readPng(dir / "rendered.png");
     ASSERT_EQ(shown.width, 64);
     ASSERT_EQ(shown.height, 48);
-    ASSERT_EQ(rendered.rgb.size(), shown.rgb.size());
+    ASSERT_EQ(rendered.pixels.size(), shown.pixels.size());
     // Same sums (same samples, same order); only the GPU's pow and division may differ.
     EXPECT_LE(maxLevelDifference(shown, rendered), 1) << "see " << dir;
 }
@@ -506,8 +488,8 @@ TEST(PreviewProgram, CameraDragRestartsAndResetRestoresTheSceneCamera) {
     status = runIn(dir, "", "render " + smallCornell() + " -o rendered.exr --png rendered.png --quiet", &err);
     ASSERT_EQ(status, 0) << err;
     Png moved = readPng(dir / "moved.png"), reset = readPng(dir / "reset.png"), rendered = readPng(dir / "rendered.png");
-    ASSERT_EQ(reset.rgb.size(), rendered.rgb.size());
-    ASSERT_EQ(moved.rgb.size(), rendered.rgb.size());
+    ASSERT_EQ(reset.pixels.size(), rendered.pixels.size());
+    ASSERT_EQ(moved.pixels.size(), rendered.pixels.size());
     EXPECT_LE(maxLevelDifference(reset, rendered), 1);
     EXPECT_GT(maxLevelDifference(moved, rendered), 40) << "the drag did not move the camera";
 }
@@ -530,9 +512,9 @@ TEST(PreviewProgram, ResizeAndExposureKeepRunning) {
     ASSERT_EQ(bright.width, 64);
     ASSERT_EQ(bright.height, 48);
     double sumBright = 0, sumRendered = 0;
-    for (size_t i = 0; i < bright.rgb.size(); ++i) {
-        sumBright += bright.rgb[i];
-        sumRendered += rendered.rgb[i];
+    for (size_t i = 0; i < bright.pixels.size(); ++i) {
+        sumBright += bright.pixels[i];
+        sumRendered += rendered.pixels[i];
     }
     EXPECT_GT(sumBright, sumRendered * 1.05);
 }
