@@ -1,0 +1,400 @@
+"""Penumbra scene JSON -> Mitsuba 3 scene dict, plus the two Penumbra features Mitsuba
+lacks, written as Mitsuba plugins in Python: the normalized Phong BRDF of
+shared/SCENE_FORMAT.md (`penumbra_phong`) and the ambient-occlusion integrator
+(`penumbra_ao`). Used by tools/mitsuba_compare.py; import after mi.set_variant().
+
+Mapping (see docs/PERFORMANCE.md, "Scene translation"):
+  camera      -> perspective, fov_axis 'y', fov = fov_y, to_world = look_at(eye, target, up)
+  film        -> hdrfilm width x height, rfilter box, pixel_format rgb
+  sampler     -> independent, sample_count = spp, seed = seed
+  diffuse     -> twosided(diffuse) (Penumbra materials are two-sided, Mitsuba's diffuse is not)
+  phong       -> penumbra_phong (two-sided inside the plugin)
+  no material -> twosided(diffuse 0.8) (Mitsuba's default would be 0.5)
+  sphere      -> sphere (normals outward)
+  quad        -> rectangle when edge_u is orthogonal to edge_v (to_world columns edge_u/2,
+                 edge_v/2, normalize(edge_u x edge_v), origin + (edge_u+edge_v)/2), else two triangles
+  mesh        -> mi.Mesh filled from positions/indices (+ vertex normals when given)
+  emission    -> area emitter (one-sided, front face), radiance = emission or converted power
+  point       -> point, intensity = power/(4 pi) or intensity
+  directional -> directional, direction, irradiance
+  environment -> constant, radiance
+  direct      -> direct, emitter_samples = light_samples, bsdf_samples = bsdf_samples
+                 (strategy light: bsdf_samples 0; bsdf: emitter_samples 0); Mitsuba always
+                 uses the power heuristic on n_i * p_i, which is Penumbra's "mis"+"power".
+                 light_selection -> each emitter's sampling_weight (1, or its power).
+  ao          -> penumbra_ao
+"""
+import math
+
+import drjit as dr
+import mitsuba as mi
+
+
+# ---------------------------------------------------------------------------------------
+# Normalized Phong: f = kd/pi + ks (n+2)/(2 pi) max(0, cos a)^n, a = angle(wo, reflect(wi)).
+# Sampling picks the diffuse lobe with probability mean(kd)/(mean(kd)+mean(ks)), else the
+# cos^n lobe around the mirror direction; the pdf is always the full two-lobe mixture.
+# ---------------------------------------------------------------------------------------
+class PenumbraPhong(mi.BSDF):
+    def __init__(self, props):
+        mi.BSDF.__init__(self, props)
+        kd = [props.get("kd_" + c, 0.5) for c in "rgb"]
+        ks = [props.get("ks_" + c, 0.5) for c in "rgb"]
+        self.kd = mi.Color3f(*kd)
+        self.ks = mi.Color3f(*ks)
+        self.n = float(props.get("exponent", 20.0))
+        md, ms = sum(kd) / 3.0, sum(ks) / 3.0
+        self.p_diffuse = md / (md + ms) if md + ms > 0 else 1.0
+        flags = mi.BSDFFlags.FrontSide | mi.BSDFFlags.BackSide
+        self.m_components = [mi.BSDFFlags.DiffuseReflection | flags, mi.BSDFFlags.GlossyReflection | flags]
+        self.m_flags = self.m_components[0] | self.m_components[1]
+
+    # Both directions onto the side of the surface that wi (towards the viewer) is on.
+    @staticmethod
+    def _to_front(si, wo):
+        flip = mi.Frame3f.cos_theta(si.wi) < 0
+        wi = mi.Vector3f(si.wi.x, si.wi.y, dr.select(flip, -si.wi.z, si.wi.z))
+        wo = mi.Vector3f(wo.x, wo.y, dr.select(flip, -wo.z, wo.z))
+        return wi, wo, flip
+
+    def _cos_pow(self, cos_a):
+        if self.n == 0.0:
+            return dr.select(cos_a > 0, mi.Float(1.0), mi.Float(0.0))
+        return dr.select(cos_a > 0, dr.power(dr.maximum(cos_a, 1e-30), self.n), 0.0)
+
+    def _eval_pdf(self, wi, wo):
+        cos_o = mi.Frame3f.cos_theta(wo)
+        valid = (mi.Frame3f.cos_theta(wi) > 0) & (cos_o > 0)
+        refl = mi.Vector3f(-wi.x, -wi.y, wi.z)
+        lobe = self._cos_pow(dr.dot(refl, wo))
+        f = self.kd * dr.inv_pi + self.ks * ((self.n + 2.0) * 0.5 * dr.inv_pi) * lobe
+        pdf = self.p_diffuse * cos_o * dr.inv_pi + (1.0 - self.p_diffuse) * ((self.n + 1.0) * 0.5 * dr.inv_pi) * lobe
+        return dr.select(valid, f * cos_o, 0.0), dr.select(valid, pdf, 0.0)
+
+    def eval(self, ctx, si, wo, active=True):
+        wi, wo, _ = self._to_front(si, wo)
+        return self._eval_pdf(wi, wo)[0]
+
+    def pdf(self, ctx, si, wo, active=True):
+        wi, wo, _ = self._to_front(si, wo)
+        return self._eval_pdf(wi, wo)[1]
+
+    def eval_pdf(self, ctx, si, wo, active=True):
+        wi, wo, _ = self._to_front(si, wo)
+        return self._eval_pdf(wi, wo)
+
+    def eval_diffuse_reflectance(self, si, active=True):
+        return self.kd
+
+    def sample(self, ctx, si, sample1, sample2, active=True):
+        wi, _, flip = self._to_front(si, mi.Vector3f(0, 0, 1))
+        diffuse = sample1 < self.p_diffuse
+        wo_d = mi.warp.square_to_cosine_hemisphere(sample2)
+        refl = mi.Vector3f(-wi.x, -wi.y, wi.z)
+        cos_a = dr.power(sample2.x, 1.0 / (self.n + 1.0))
+        sin_a = dr.safe_sqrt(1.0 - cos_a * cos_a)
+        s, c = dr.sincos(2.0 * dr.pi * sample2.y)
+        wo_g = mi.Frame3f(refl).to_world(mi.Vector3f(sin_a * c, sin_a * s, cos_a))
+        wo = dr.select(diffuse, wo_d, wo_g)
+        value, pdf = self._eval_pdf(wi, wo)
+        bs = mi.BSDFSample3f()
+        bs.wo = mi.Vector3f(wo.x, wo.y, dr.select(flip, -wo.z, wo.z))
+        bs.pdf = pdf
+        bs.eta = 1.0
+        bs.sampled_component = dr.select(diffuse, mi.UInt32(0), mi.UInt32(1))
+        bs.sampled_type = dr.select(diffuse, mi.UInt32(+mi.BSDFFlags.DiffuseReflection),
+                                    mi.UInt32(+mi.BSDFFlags.GlossyReflection))
+        return bs, dr.select(pdf > 0, value / dr.maximum(pdf, 1e-30), 0.0)
+
+    def traverse(self, callback):
+        pass
+
+    def parameters_changed(self, keys):
+        pass
+
+    def to_string(self):
+        return f"PenumbraPhong[n={self.n}]"
+
+
+# ---------------------------------------------------------------------------------------
+# Ambient occlusion as Penumbra defines it: L = albedo/pi * int V cos over the hemisphere on
+# the side facing the viewer, one direction per pixel sample; camera rays that miss see 1.
+# ---------------------------------------------------------------------------------------
+class PenumbraAO(mi.SamplingIntegrator):
+    def __init__(self, props):
+        mi.SamplingIntegrator.__init__(self, props)
+        self.cosine = props.get("sampling", "cosine") == "cosine"
+        self.max_distance = float(props.get("max_distance", 1e30))
+
+    def sample(self, scene, sampler, ray, medium=None, active=True):
+        si = scene.ray_intersect(ray, active)
+        hit = active & si.is_valid()
+        bsdf = si.bsdf(ray)
+        albedo = bsdf.eval_diffuse_reflectance(si, hit)
+        n = mi.Vector3f(si.sh_frame.n)
+        n = dr.select(dr.dot(n, ray.d) > 0, -n, n)
+        u = sampler.next_2d(hit)
+        if self.cosine:
+            local = mi.warp.square_to_cosine_hemisphere(u)
+            weight = mi.Float(1.0)
+        else:
+            local = mi.warp.square_to_uniform_hemisphere(u)
+            weight = 2.0 * local.z
+        d = mi.Frame3f(n).to_world(local)
+        # Offset from the side the ray goes out on (the shading frame may face away).
+        ng = mi.Vector3f(si.n)
+        ng = dr.select(dr.dot(ng, d) < 0, -ng, ng)
+        origin = si.p + ng * (1e-4 * dr.maximum(1.0, dr.max(dr.abs(si.p))))
+        shadow = mi.Ray3f(mi.Point3f(origin), d)
+        shadow.maxt = mi.Float(self.max_distance)
+        occluded = scene.ray_test(shadow, hit)
+        radiance = dr.select(hit, mi.Color3f(albedo) * dr.select(occluded, 0.0, weight), mi.Color3f(1.0))
+        return mi.Spectrum(radiance), mi.Bool(True), []
+
+    def aov_names(self):
+        return []
+
+    def to_string(self):
+        return "PenumbraAO[]"
+
+
+_registered = False
+
+
+def register_plugins():
+    global _registered
+    if not _registered:
+        mi.register_bsdf("penumbra_phong", lambda props: PenumbraPhong(props))
+        mi.register_integrator("penumbra_ao", lambda props: PenumbraAO(props))
+        _registered = True
+
+
+# ---------------------------------------------------------------------------------------
+# Scene translation
+# ---------------------------------------------------------------------------------------
+class Unsupported(Exception):
+    pass
+
+
+def _v(a):
+    return [float(x) for x in a]
+
+
+def _sub(a, b):
+    return [a[i] - b[i] for i in range(3)]
+
+
+def _cross(a, b):
+    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+
+def _dot(a, b):
+    return sum(a[i] * b[i] for i in range(3))
+
+
+def _norm(a):
+    return math.sqrt(_dot(a, a))
+
+
+def _rgb(v):
+    return {"type": "rgb", "value": _v(v)}
+
+
+def _bsdf(mat):
+    if mat is None:
+        return {"type": "twosided", "inner": {"type": "diffuse", "reflectance": _rgb([0.8] * 3)}}
+    t = mat.get("type", "diffuse")
+    if t == "diffuse":
+        return {"type": "twosided", "inner": {"type": "diffuse", "reflectance": _rgb(mat.get("albedo", [0.8] * 3))}}
+    if t == "phong":
+        kd, ks = mat.get("kd", [0.5] * 3), mat.get("ks", [0.5] * 3)
+        d = {"type": "penumbra_phong", "exponent": float(mat.get("exponent", 20))}
+        for i, c in enumerate("rgb"):
+            d["kd_" + c] = float(kd[i])
+            d["ks_" + c] = float(ks[i])
+        return d
+    raise Unsupported(f"material type {t!r}")
+
+
+def _mesh_area(pos, idx):
+    import numpy as np
+    p = np.asarray(pos, dtype=np.float64).reshape(-1, 3)
+    t = np.asarray(idx, dtype=np.int64).reshape(-1, 3)
+    c = np.cross(p[t[:, 1]] - p[t[:, 0]], p[t[:, 2]] - p[t[:, 0]])
+    return 0.5 * float(np.linalg.norm(c, axis=1).sum())
+
+
+def _make_mesh(name, pos, idx, normals, bsdf, emitter):
+    import numpy as np
+    p = np.asarray(pos, dtype=np.float32)
+    f = np.asarray(idx, dtype=np.uint32)
+    props = mi.Properties()
+    props["bsdf"] = mi.load_dict(bsdf)
+    if emitter is not None:
+        props["emitter"] = mi.load_dict(emitter)
+    mesh = mi.Mesh(name, len(p) // 3, len(f) // 3, props=props, has_vertex_normals=normals is not None)
+    params = mi.traverse(mesh)
+    # The buffers' own types: mi.Float in the JIT variants, a dynamic array in scalar ones.
+    params["vertex_positions"] = type(params["vertex_positions"])(p)
+    params["faces"] = type(params["faces"])(f)
+    if normals is not None:
+        params["vertex_normals"] = type(params["vertex_normals"])(np.asarray(normals, dtype=np.float32))
+    params.update()
+    return mesh
+
+
+def _bounds(scene):
+    lo, hi = [math.inf] * 3, [-math.inf] * 3
+
+    def add(p):
+        for i in range(3):
+            lo[i] = min(lo[i], p[i])
+            hi[i] = max(hi[i], p[i])
+
+    for s in scene.get("shapes", []):
+        t = s["type"]
+        if t == "sphere":
+            c, r = s["center"], s["radius"]
+            add([c[i] - r for i in range(3)])
+            add([c[i] + r for i in range(3)])
+        elif t == "quad":
+            o, u, v = s["origin"], s["edge_u"], s["edge_v"]
+            for a in (0, 1):
+                for b in (0, 1):
+                    add([o[i] + a * u[i] + b * v[i] for i in range(3)])
+        elif t == "mesh":
+            import numpy as np
+            p = np.asarray(s["positions"], dtype=np.float64).reshape(-1, 3)
+            add(list(p.min(axis=0)))
+            add(list(p.max(axis=0)))
+    if lo[0] > hi[0]:
+        return [0, 0, 0], 1.0
+    c = [(lo[i] + hi[i]) / 2 for i in range(3)]
+    return c, 0.5 * _norm(_sub(hi, lo))
+
+
+def translate(scene, spp=None, seed=None):
+    """Returns a dict for mi.load_dict. Raises Unsupported for features Mitsuba cannot match."""
+    register_plugins()
+    cam = scene.get("camera", {})
+    film = scene.get("film", {})
+    smp = scene.get("sampler", {})
+    integ = scene.get("integrator", {"type": "direct"})
+    mats = scene.get("materials", {})
+    W, H = int(film.get("width", 512)), int(film.get("height", 512))
+    spp = int(spp if spp is not None else smp.get("spp", 16))
+    seed = int(seed if seed is not None else smp.get("seed", 0))
+    out = {
+        "type": "scene",
+        "sensor": {
+            "type": "perspective",
+            "fov_axis": "y",
+            "fov": float(cam.get("fov_y", 40)),
+            "to_world": mi.ScalarTransform4f().look_at(origin=_v(cam.get("eye", [0, 1, 5])),
+                                                       target=_v(cam.get("target", [0, 1, 0])),
+                                                       up=_v(cam.get("up", [0, 1, 0]))),
+            "film": {"type": "hdrfilm", "width": W, "height": H, "rfilter": {"type": "box"},
+                     "pixel_format": "rgb"},
+            "sampler": {"type": "independent", "sample_count": spp, "seed": seed},
+        },
+    }
+    if integ.get("type", "direct") == "ao":
+        out["integrator"] = {"type": "penumbra_ao", "sampling": integ.get("sampling", "cosine"),
+                             "max_distance": float(integ.get("max_distance", 1e30))}
+        power_weights = False
+    else:
+        strategy = integ.get("strategy", "mis")
+        if integ.get("heuristic", "power") != "power" and strategy == "mis":
+            raise Unsupported("Mitsuba's direct integrator has only the power heuristic")
+        if strategy == "mixture":
+            raise Unsupported("Mitsuba's direct integrator has no one-sample mixture strategy")
+        ls, bs = int(integ.get("light_samples", 1)), int(integ.get("bsdf_samples", 1))
+        if strategy == "light":
+            bs = 0
+        elif strategy == "bsdf":
+            ls = 0  # note: Mitsuba then drops delta lights, Penumbra still samples them
+        out["integrator"] = {"type": "direct", "emitter_samples": ls, "bsdf_samples": bs}
+        power_weights = integ.get("light_selection", "power") == "power"
+
+    center, radius = _bounds(scene)
+
+    def weight(p):
+        return max(sum(p) / 3.0, 1e-12) if power_weights else 1.0
+
+    for k, s in enumerate(scene.get("shapes", [])):
+        t = s["type"]
+        mname = s.get("material")
+        bsdf = _bsdf(mats[mname] if mname is not None else None)
+        if s.get("two_sided") and ("emission" in s or "power" in s):
+            raise Unsupported("two-sided area lights (Mitsuba's area emitter is one-sided)")
+        # Radiance and emitted power (for the emitter's selection weight).
+        if t == "sphere":
+            area = 4 * math.pi * s["radius"] ** 2
+        elif t == "quad":
+            area = _norm(_cross(s["edge_u"], s["edge_v"]))
+        elif t == "mesh":
+            area = _mesh_area(s["positions"], s["indices"])
+        else:
+            raise Unsupported(f"shape type {t!r}")
+        emitter = None
+        if "power" in s:
+            P = _v(s["power"])
+            Le = [p / (4 * math.pi ** 2 * s["radius"] ** 2) for p in P] if t == "sphere" else \
+                 [p / (math.pi * area) for p in P]
+        else:
+            Le = _v(s.get("emission", [0, 0, 0]))
+        if max(Le) > 0:
+            P = [l * math.pi * area for l in Le]
+            emitter = {"type": "area", "radiance": _rgb(Le), "sampling_weight": weight(P)}
+        name = f"shape{k:03d}"
+        if t == "sphere":
+            d = {"type": "sphere", "center": _v(s["center"]), "radius": float(s["radius"]), "bsdf": bsdf}
+        elif t == "quad":
+            o, u, v = _v(s["origin"]), _v(s["edge_u"]), _v(s["edge_v"])
+            n = _cross(u, v)
+            nn = _norm(n)
+            if abs(_dot(u, v)) <= 1e-6 * _norm(u) * _norm(v):
+                n = [x / nn for x in n]
+                c = [o[i] + 0.5 * (u[i] + v[i]) for i in range(3)]
+                m = [[0.5 * u[0], 0.5 * v[0], n[0], c[0]],
+                     [0.5 * u[1], 0.5 * v[1], n[1], c[1]],
+                     [0.5 * u[2], 0.5 * v[2], n[2], c[2]],
+                     [0, 0, 0, 1]]
+                d = {"type": "rectangle", "to_world": mi.ScalarTransform4f(m), "bsdf": bsdf}
+            else:
+                pos = o + [o[i] + u[i] for i in range(3)] + [o[i] + u[i] + v[i] for i in range(3)] + \
+                      [o[i] + v[i] for i in range(3)]
+                out[name] = _make_mesh(name, pos, [0, 1, 2, 0, 2, 3], None, bsdf, emitter)
+                continue
+        else:
+            out[name] = _make_mesh(name, s["positions"], s["indices"], s.get("normals"), bsdf, emitter)
+            continue
+        if emitter is not None:
+            d["emitter"] = emitter
+        out[name] = d
+
+    for k, l in enumerate(scene.get("lights", [])):
+        t = l["type"]
+        name = f"light{k:03d}"
+        if t == "point":
+            I = _v(l["intensity"]) if "intensity" in l else [p / (4 * math.pi) for p in l["power"]]
+            out[name] = {"type": "point", "position": _v(l["position"]), "intensity": _rgb(I),
+                         "sampling_weight": weight([4 * math.pi * i for i in I])}
+        elif t == "directional":
+            E = _v(l["irradiance"])
+            out[name] = {"type": "directional", "direction": _v(l["direction"]), "irradiance": _rgb(E),
+                         "sampling_weight": weight([math.pi * radius ** 2 * e for e in E])}
+        elif t == "environment":
+            L = _v(l.get("radiance", [1, 1, 1]))
+            out[name] = {"type": "constant", "radiance": _rgb(L),
+                         "sampling_weight": weight([4 * math.pi ** 2 * radius ** 2 * x for x in L])}
+        else:
+            raise Unsupported(f"light type {t!r}")
+    return out
+
+
+def uses_python_plugins(scene):
+    """True when the translated scene calls back into Python (phong or ao)."""
+    if scene.get("integrator", {}).get("type") == "ao":
+        return True
+    return any(m.get("type") == "phong" for m in scene.get("materials", {}).values())
