@@ -145,7 +145,7 @@ def mesh_light():
         j = (i + 1) % n
         a0, a1, b0, b1 = 2 * i, 2 * i + 1, 2 * j, 2 * j + 1
         # counter-clockwise seen from below: the ring emits downwards
-        idx += [a0, b0, a1, a1, b0, b1]
+        idx += [a0, a1, b0, a1, b1, b0]
     return {
         "camera": {"eye": [0, 1.6, 4.2], "target": [0, 0.5, 0], "up": [0, 1, 0], "fov_y": 40},
         "film": {"width": 480, "height": 360},
