@@ -198,3 +198,24 @@ TEST(Cli, GltfModelRendersDirectlyWithTheEnvironmentNote) {
     ASSERT_EQ(test::runPenumbra("render '" + modelFile + "' --width 48 --height 32 --spp 1 --quiet -o '" + out.string() + "'", &err), 0);
     EXPECT_EQ(err, "");
 }
+
+TEST(Cli, EveryExampleSceneRendersSomething) {
+    // A small render of each scene in scenes/ must see light: a scene whose emitters face
+    // away from everything renders black, which no closed-form test would notice.
+    for (const auto& entry : fs::directory_iterator(fs::path(PENUMBRA_SOURCE_DIR) / "scenes")) {
+        if (entry.path().extension() != ".json") continue;
+        fs::path out = test::outputPath("example-" + entry.path().stem().string() + ".exr");
+        std::string err;
+        ASSERT_EQ(test::runPenumbra("render '" + entry.path().string() + "' --width 40 --height 30 --spp 4 --quiet -o '" +
+                                        out.string() + "'",
+                                    &err),
+                  0)
+            << entry.path() << ": " << err;
+        Image image = readExr(out);
+        // Pixels that are lit but not looking straight at an emitter or the sky.
+        int reflected = 0;
+        for (size_t i = 0; i < image.rgb.size(); i += 3)
+            if (image.rgb[i] + image.rgb[i + 1] + image.rgb[i + 2] > 0.0f && image.rgb[i] < 0.99f) ++reflected;
+        EXPECT_GT(reflected, 40 * 30 / 10) << entry.path() << " is (almost) black";
+    }
+}
