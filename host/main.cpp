@@ -9,18 +9,13 @@
 
 #include "cli/commands.h"
 #include "core/errors.h"
+#include "core/exit_status.h"
 
 using namespace penumbra;
 
 namespace {
 
-// One line on stderr, whatever the message contains.
-void printError(const std::string& message) {
-    std::string line = message;
-    for (char& c : line)
-        if (c == '\n' || c == '\r') c = ' ';
-    std::fprintf(stderr, "penumbra: %s\n", line.c_str());
-}
+void printError(const std::string& message) { printErrorLine("penumbra", message); }
 
 void addRenderOptions(CLI::App* cmd, RenderOptions& options, std::vector<std::string>& sets, std::string& spp,
                       std::string& seed, std::string& width, std::string& height) {
@@ -100,13 +95,12 @@ int main(int argc, char** argv) {
         return 2;
     }
 
-    try {
+    return runReportingErrors("penumbra", [&]() -> int {
         if (renderCmd->parsed()) {
             render.overrides = collectOverrides(sets, spp, seed, width, height);
             return renderCommand(render);
         }
         if (batchCmd->parsed()) return batchCommand(batch);
-
         if (previewCmd->parsed()) {
             preview.base.overrides = collectOverrides(sets, spp, seed, width, height);
             return previewCommand(preview);
@@ -114,12 +108,6 @@ int main(int argc, char** argv) {
         if (mergeCmd->parsed()) return mergeCommand(mergeInputs, mergeOutput);
         if (compareCmd->parsed()) return compareCommand(compareA, compareB);
         if (devicesCmd->parsed()) return devicesCommand();
-    } catch (const InputError& e) {
-        printError(e.what());
         return 2;
-    } catch (const std::exception& e) {
-        printError(e.what());
-        return 1;
-    }
-    return 2;
+    });
 }

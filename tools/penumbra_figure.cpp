@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "core/errors.h"
+#include "core/exit_status.h"
 #include "gpu/context.h"
 #include "image/figure.h"
 #include "image/image.h"
@@ -217,25 +218,8 @@ int run(const Options& o) {
     return 0;
 }
 
-// One line on stderr, whatever the message contains.
-void printError(const std::string& message) {
-    std::string line = message;
-    for (char& c : line)
-        if (c == '\n' || c == '\r') c = ' ';
-    std::fprintf(stderr, "penumbra_figure: %s\n", line.c_str());
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
-    try {
-        Options options = parseArguments(argc, argv);
-        return run(options);
-    } catch (const InputError& e) {
-        printError(e.what());
-        return 2;
-    } catch (const std::exception& e) {
-        printError(e.what());
-        return 1;
-    }
+    return runReportingErrors("penumbra_figure", [&] { return run(parseArguments(argc, argv)); });
 }
