@@ -130,13 +130,12 @@ private:
     void readSampler(const JsonReader& r) {
         r.expectKeys({"spp", "seed", "sample_offset"}, "sampler");
         SamplerSettings& s = m_scene.sampler;
-        if (auto spp = r.find("spp")) s.spp = uint32_t(spp->integer(1, UINT32_MAX));
-        if (auto seed = r.find("seed")) s.seed = seed->uint32();
-        if (auto offset = r.find("sample_offset")) s.sampleOffset = offset->uint32();
-        // Sample indices sample_offset + i must not wrap around in 32 bits, or partial renders
-        // meant to be disjoint would share samples.
-        if (uint64_t(s.sampleOffset) + s.spp > uint64_t(UINT32_MAX) + 1)
-            r.fail("sample_offset + spp exceeds 2^32 (sample indices would wrap)");
+        // The EXR header records spp, seed and sample_offset as 32-bit signed ints
+        // (SCENE_FORMAT.md "Output"), so each must fit one; then sample_offset + i never
+        // wraps around in 32 bits either (partials stay disjoint).
+        if (auto spp = r.find("spp")) s.spp = uint32_t(spp->integer(1, INT32_MAX));
+        if (auto seed = r.find("seed")) s.seed = uint32_t(seed->integer(0, INT32_MAX));
+        if (auto offset = r.find("sample_offset")) s.sampleOffset = uint32_t(offset->integer(0, INT32_MAX));
     }
 
     void readIntegrator(const std::optional<JsonReader>& r) {
