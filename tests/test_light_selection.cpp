@@ -105,11 +105,12 @@ std::vector<double> expectedWeights(const SceneArrays& a, LightSelection selecti
 
 bool isDelta(const gpu::Light& l) { return l.type == gpu::LIGHT_POINT || l.type == gpu::LIGHT_DIRECTIONAL; }
 
-// Draws from one table on the GPU and tests them against `pmf` (per light index; lights not
-// in the table have 0): counts, and the pmf selectLight returns with each draw.
+// Draws from one table on the GPU (`table`: LIGHT_TEST_TABLE_LIGHTS or _MESH) and tests them
+// against `pmf` (per item: light or primitive index; items not in the table have 0):
+// counts, and the pmf the sampler returns with each draw.
 void checkTable(test::LightKernel& kernel, const std::string& name, uint32_t offset, uint32_t count,
-                const std::vector<double>& pmf, uint32_t seed) {
-    const auto draws = kernel.select(gpu::LIGHT_TEST_TABLE_LIGHTS, offset, count, seed, kDraws);
+                const std::vector<double>& pmf, uint32_t seed, uint32_t table = gpu::LIGHT_TEST_TABLE_LIGHTS) {
+    const auto draws = kernel.select(table, offset, count, seed, kDraws);
     std::vector<double> counts(pmf.size(), 0.0);
     size_t badPmf = 0, outside = 0;
     for (const auto& d : draws) {
@@ -199,25 +200,7 @@ TEST(LightSelection, MeshTrianglesByArea) {
     EXPECT_NEAR(mesh->area, total, 1e-6 * total);
     for (double& p : pmf) p /= total;
     test::LightKernel kernel(a);
-    const auto draws = kernel.select(gpu::LIGHT_TEST_TABLE_MESH, mesh->first, mesh->count, 710, kDraws);
-    std::vector<double> counts(pmf.size(), 0.0);
-    size_t outside = 0, badPmf = 0;
-    for (const auto& d : draws) {
-        if (d.hitPrimitive >= pmf.size() || pmf[d.hitPrimitive] == 0.0) {
-            ++outside;
-            continue;
-        }
-        counts[d.hitPrimitive] += 1.0;
-        if (std::abs(d.tracedPdf - pmf[d.hitPrimitive]) > 1e-6 * pmf[d.hitPrimitive]) ++badPmf;
-    }
-    EXPECT_EQ(outside, 0u);
-    EXPECT_EQ(badPmf, 0u);
-    std::vector<double> c, p;
-    for (size_t i = 0; i < pmf.size(); ++i)
-        if (pmf[i] > 0.0) c.push_back(counts[i]), p.push_back(pmf[i]);
-    const auto r = test::chi2TestDiscrete(c, p, 0, {kAlpha, kChi2Tests, "chi2_selection_mesh_triangles"});
-    EXPECT_TRUE(r.passed) << r.message;
-    std::printf("[ mesh triangles ] %s\n", r.message.c_str());
+    checkTable(kernel, "mesh_triangles", mesh->first, mesh->count, pmf, 710, gpu::LIGHT_TEST_TABLE_MESH);
 }
 
 // ---- Alias tables on the CPU ------------------------------------------------------------------------
