@@ -1,8 +1,12 @@
 // penumbra_bench: render throughput and BVH statistics for benchmark scenes.
 // For each scene: BVH build time and SAH cost, scene upload and first-pass time (llvmpipe
 // compiles shaders lazily on the first dispatch) reported separately, then the render
-// time as the median of --runs full renders and million pixel samples per second.
-// Scenes are files, or "procedural:N" for a displaced sphere of about N triangles on a floor.
+// time as the median of --runs full renders, million pixel samples per second, and million
+// rays per second: rays per sample are counted in separate, untimed passes by a
+// ray-counting variant of the kernel (Renderer::countRays), so the timed renders run the
+// kernel that users get.
+// --count-rays prints only the rays per sample of each scene (no timing), for
+// tools/mitsuba_compare.py. Scenes are files, or "procedural:N" for a displaced sphere of about N triangles on a floor.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -70,20 +74,36 @@ size_t triangleCount(const Scene& scene) {
 
 int main(int argc, char** argv) {
     int runs = 5;
+    bool countOnly = false;
     std::vector<std::string> scenes;
     for (int i = 1; i < argc; ++i) {
         if (!std::strcmp(argv[i], "--runs") && i + 1 < argc) runs = std::atoi(argv[++i]);
+        else if (!std::strcmp(argv[i], "--count-rays")) countOnly = true;
         else scenes.push_back(argv[i]);
     }
+    if (runs < 1) {
+        std::fprintf(stderr, "penumbra_bench: --runs needs a positive count\n");
+        return 2;
+    }
     if (scenes.empty()) {
-        std::fprintf(stderr, "usage: penumbra_bench [--runs N] SCENE|procedural:N ...\n");
+        std::fprintf(stderr, "usage: penumbra_bench [--runs N | --count-rays] SCENE|procedural:N ...\n");
         return 2;
     }
     try {
         gpu::Context context;
+        if (countOnly) {
+            for (const std::string& name : scenes) {
+                Scene scene = name.rfind("procedural:", 0) == 0 ? proceduralScene(std::stoi(name.substr(11))) : loadScene(name);
+                Renderer renderer(context, scene);
+                const uint32_t passes = std::min<uint32_t>(scene.sampler.spp, 4);
+                double pixels = double(scene.film.width) * scene.film.height;
+                std::printf("%s %.4f\n", name.c_str(), double(renderer.countRays(passes)) / (pixels * passes));
+            }
+            return 0;
+        }
         std::printf("device: %s\n", context.info().name.c_str());
-        std::printf("%-28s %10s %9s %9s %9s %9s %10s %10s\n", "scene", "prims", "bvh_s", "sah", "upload_s", "first_s",
-                    "render_s", "Msamples/s");
+        std::printf("%-28s %10s %9s %9s %9s %9s %10s %10s %9s %9s\n", "scene", "prims", "bvh_s", "sah", "upload_s",
+                    "first_s", "render_s", "Msamples/s", "rays/spl", "Mrays/s");
         for (const std::string& name : scenes) {
             Scene scene = name.rfind("procedural:", 0) == 0 ? proceduralScene(std::stoi(name.substr(11))) : loadScene(name);
             auto t0 = Clock::now();
@@ -104,9 +124,15 @@ int main(int argc, char** argv) {
             }
             std::sort(times.begin(), times.end());
             double median = times[times.size() / 2];
-            double samples = double(scene.film.width) * scene.film.height * scene.sampler.spp;
-            std::printf("%-28s %10zu %9.3f %9.2f %9.3f %9.3f %10.3f %10.2f\n", name.c_str(), triangleCount(scene),
-                        bvhSeconds, arrays.bvh.sahCost, upload, first, median, samples / median * 1e-6);
+            double pixels = double(scene.film.width) * scene.film.height;
+            double samples = pixels * scene.sampler.spp;
+            // Rays per sample vary little between passes; a few passes pin them to well under 1%.
+            const uint32_t countPasses = std::min<uint32_t>(scene.sampler.spp, 4);
+            renderer.reset();
+            double raysPerSample = double(renderer.countRays(countPasses)) / (pixels * countPasses);
+            std::printf("%-28s %10zu %9.3f %9.2f %9.3f %9.3f %10.3f %10.2f %9.3f %9.2f\n", name.c_str(),
+                        triangleCount(scene), bvhSeconds, arrays.bvh.sahCost, upload, first, median,
+                        samples / median * 1e-6, raysPerSample, samples * raysPerSample / median * 1e-6);
             std::fflush(stdout);
         }
     } catch (const std::exception& e) {

@@ -29,7 +29,8 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
       m_kernels(kernels),
       m_scene(scene),
       m_arrays(buildSceneArrays(scene)),
-      m_params(makeRenderParams(scene, m_arrays)) {
+      m_params(makeRenderParams(scene, m_arrays)),
+      m_options(makeKernelOptions(scene.integrator, m_arrays)) {
     using gpu::Buffer;
     m_paramsBuffer = Buffer(context, sizeof(gpu::RenderParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
     uploadParams();
@@ -42,25 +43,36 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
     m_lights = Buffer::fromVector(context, m_arrays.lights);
     m_lightTable = Buffer::fromVector(context, m_arrays.lightTable);
     m_meshTable = Buffer::fromVector(context, m_arrays.meshTable);
+    m_rayCount = Buffer(context, sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
 
-    createKernel();
+    m_kernel = createKernel(m_options);
     reset();
 }
 
-void Renderer::createKernel() {
+std::unique_ptr<gpu::Kernel> Renderer::createKernel(const KernelOptions& options) const {
     const char* name = kernelName(m_scene.integrator.type);
     const uint32_t pushBytes = uint32_t(sizeof(gpu::PassConstants));
-    m_kernel = m_kernels ? m_kernels->kernel(name, renderBindings(), pushBytes)
-                         : std::make_unique<gpu::Kernel>(m_context, name, renderBindings(), pushBytes);
-    m_kernel->bind(BINDING_PARAMS, m_paramsBuffer);
-    m_kernel->bind(BINDING_ACCUM, m_accum);
-    m_kernel->bind(BINDING_NODES, m_nodes);
-    m_kernel->bind(BINDING_PRIMITIVES, m_primitives);
-    m_kernel->bind(BINDING_NORMALS, m_normals);
-    m_kernel->bind(BINDING_MATERIALS, m_materials);
-    m_kernel->bind(BINDING_LIGHTS, m_lights);
-    m_kernel->bind(BINDING_LIGHT_TABLE, m_lightTable);
-    m_kernel->bind(BINDING_MESH_TABLE, m_meshTable);
+    auto spec = options.specialization();
+    auto kernel = m_kernels ? m_kernels->kernel(name, renderBindings(), pushBytes, spec)
+                            : std::make_unique<gpu::Kernel>(m_context, name, renderBindings(), pushBytes, spec);
+    kernel->bind(BINDING_PARAMS, m_paramsBuffer);
+    kernel->bind(BINDING_ACCUM, m_accum);
+    kernel->bind(BINDING_NODES, m_nodes);
+    kernel->bind(BINDING_PRIMITIVES, m_primitives);
+    kernel->bind(BINDING_NORMALS, m_normals);
+    kernel->bind(BINDING_MATERIALS, m_materials);
+    kernel->bind(BINDING_LIGHTS, m_lights);
+    kernel->bind(BINDING_LIGHT_TABLE, m_lightTable);
+    kernel->bind(BINDING_MESH_TABLE, m_meshTable);
+    kernel->bind(BINDING_RAY_COUNT, m_rayCount);
+    return kernel;
+}
+
+void Renderer::updateKernel() {
+    KernelOptions options = makeKernelOptions(m_scene.integrator, m_arrays);
+    if (m_kernel && options == m_options) return;
+    m_options = options;
+    m_kernel = createKernel(m_options);
 }
 
 void Renderer::retarget(const Scene& scene) {
@@ -70,10 +82,11 @@ void Renderer::retarget(const Scene& scene) {
         scene.shapes.size() != old.shapes.size() || scene.materials.size() != old.materials.size() ||
         scene.lights.size() != old.lights.size())
         throw std::logic_error("Renderer::retarget: " + scene.path + " does not share the uploaded scene of " + old.path);
-    const bool sameKernel = scene.integrator.type == old.integrator.type;
+    const bool sameType = scene.integrator.type == old.integrator.type;
     m_scene = scene;
     uploadParams();
-    if (!sameKernel) createKernel();
+    if (!sameType) m_kernel.reset();  // a new shader, even with equal options
+    updateKernel();
     reset();
 }
 
@@ -91,6 +104,7 @@ void Renderer::setIntegrator(const IntegratorSettings& integrator) {
         throw std::invalid_argument("light selection cannot change without rebuilding the light tables");
     m_scene.integrator = integrator;
     uploadParams();
+    updateKernel();
 }
 
 void Renderer::uploadParams() {
@@ -129,6 +143,23 @@ void Renderer::renderAll(const std::function<void(const RenderProgress&)>& progr
         else if (took > 0.5 && batch > 1) batch /= 2;
         if (progress) progress({done, total, std::chrono::duration<double>(Clock::now() - start).count()});
     }
+}
+
+uint64_t Renderer::countRays(uint32_t passes) {
+    KernelOptions counting = m_options;
+    counting.countRays = 1;
+    auto kernel = createKernel(counting);
+    uint32_t groupsX = (m_params.width + kTile - 1) / kTile;
+    uint32_t groupsY = (m_params.height + kTile - 1) / kTile;
+    uint64_t total = 0;
+    // One pass per submission: a pass traces at most a few rays per pixel, far below 2^32.
+    for (uint32_t i = 0; i < passes; ++i) {
+        m_rayCount.clear();
+        gpu::PassConstants pass{i, 0, m_params.height, 0};
+        kernel->run(groupsX, groupsY, 1, &pass);
+        total += m_rayCount.read<uint32_t>()[0];
+    }
+    return total;
 }
 
 Image Renderer::readback(double renderSeconds) const {

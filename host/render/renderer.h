@@ -12,6 +12,7 @@
 #include "gpu/kernel.h"
 #include "gpu/kernel_cache.h"
 #include "image/image.h"
+#include "render/kernel_options.h"
 #include "render/scene_arrays.h"
 #include "scene/scene.h"
 
@@ -41,9 +42,10 @@ public:
     void reset();
     // Re-upload the render parameters for a new camera / new integrator options (the
     // preview changes them live). Neither clears the accumulation: call reset() too.
-    // Call only while no recorded pass is in flight. setIntegrator keeps the kernel and
-    // the light-selection tables, so it throws std::invalid_argument when `type` or
-    // `lightSelection` differ from the scene's.
+    // Call only while no recorded pass is in flight. New options switch to a kernel
+    // specialized for them (compiled on its first dispatch). setIntegrator keeps the
+    // shader and the light-selection tables, so it throws std::invalid_argument when
+    // `type` or `lightSelection` differ from the scene's.
     void setCamera(const Camera& camera);
     void setIntegrator(const IntegratorSettings& integrator);
     // Records `count` passes, sample indices [first, first + count), over rows
@@ -53,6 +55,10 @@ public:
     // submission. Stops early (throwing std::runtime_error) if `cancel` becomes true.
     void renderAll(const std::function<void(const RenderProgress&)>& progress = {},
                    const std::atomic<bool>* cancel = nullptr);
+    // Rays traced (camera, shadow and BRDF rays) by `passes` passes over the whole film,
+    // sample indices [0, passes), run with a ray-counting variant of the kernel; for
+    // benchmarks (rays per second). The samples land in the accumulation: reset() after.
+    uint64_t countRays(uint32_t passes);
     // Mean of the accumulated samples, with metadata (spp, seed, offset, integrator).
     Image readback(double renderSeconds) const;
 
@@ -62,7 +68,9 @@ public:
     const gpu::RenderParams& params() const { return m_params; }
 
 private:
-    void createKernel();
+    std::unique_ptr<gpu::Kernel> createKernel(const KernelOptions& options) const;
+    // Switches to the kernel for the current integrator settings, unless it is already in use.
+    void updateKernel();
     void uploadParams();
 
     const gpu::Context& m_context;
@@ -70,9 +78,10 @@ private:
     Scene m_scene;
     SceneArrays m_arrays;
     gpu::RenderParams m_params;
+    KernelOptions m_options;
     // Declaration order is teardown order in reverse: the kernel goes before the buffers.
     gpu::Buffer m_paramsBuffer, m_accum, m_nodes, m_primitives, m_normals, m_materials, m_lights, m_lightTable,
-        m_meshTable;
+        m_meshTable, m_rayCount;
     std::unique_ptr<gpu::Kernel> m_kernel;
 };
 

@@ -232,18 +232,7 @@ gpu::RenderParams makeRenderParams(const Scene& scene, const SceneArrays& arrays
     const IntegratorSettings& in = scene.integrator;
     p.integrator = in.type == IntegratorType::AmbientOcclusion ? gpu::INTEGRATOR_AO : gpu::INTEGRATOR_DIRECT;
     p.lightCount = uint32_t(arrays.lights.size());
-    p.aoSampling = in.aoSampling == AoSampling::Cosine ? gpu::AO_COSINE : gpu::AO_UNIFORM;
     p.aoMaxDistance = in.aoMaxDistance;
-    p.strategy = in.strategy == Strategy::Light  ? gpu::STRATEGY_LIGHT
-                 : in.strategy == Strategy::Bsdf ? gpu::STRATEGY_BSDF
-                 : in.strategy == Strategy::Mis  ? gpu::STRATEGY_MIS
-                                                 : gpu::STRATEGY_MIXTURE;
-    p.heuristic = in.heuristic == Heuristic::Power ? gpu::HEURISTIC_POWER : gpu::HEURISTIC_BALANCE;
-    p.lightSamples = in.lightSamples;
-    p.bsdfSamples = in.bsdfSamples;
-    p.sphereSampling = in.sphereSampling == SphereSampling::Area  ? gpu::SPHERE_AREA
-                       : in.sphereSampling == SphereSampling::Cap ? gpu::SPHERE_CAP
-                                                                  : gpu::SPHERE_SOLID_ANGLE;
     p.nodeCount = uint32_t(arrays.bvh.nodes.size());
     p.deltaTableOffset = arrays.deltaTableOffset;
     p.deltaCount = arrays.deltaCount;

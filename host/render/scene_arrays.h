@@ -33,7 +33,8 @@ SceneArrays buildSceneArrays(const Scene& scene, const BvhOptions& bvhOptions = 
 // environment 4 pi^2 R^2 L for the scene's bounding radius R (as pbrt-v4 does).
 double lightPower(const gpu::Light& light, float sceneRadius);
 
-// The RenderParams for a scene (camera basis, film, sampler, integrator options).
+// The RenderParams for a scene (camera basis, film, sampler, light tables); integrator
+// options that select code are specialization constants (render/kernel_options.h).
 gpu::RenderParams makeRenderParams(const Scene& scene, const SceneArrays& arrays);
 
 }  // namespace penumbra

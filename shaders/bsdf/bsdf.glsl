@@ -10,6 +10,7 @@
 #define PENUMBRA_BSDF_GLSL
 
 #include "shared/types.h"
+#include "common/specialization.glsl"
 #include "common/math.glsl"
 #include "sampling/warp.glsl"
 
@@ -17,7 +18,7 @@ vec3 mirrorDirection(vec3 wo, vec3 n) { return 2.0 * dot(wo, n) * n - wo; }
 
 // Probability of choosing the glossy lobe.
 float glossyLobeProbability(Material m) {
-    if (m.type != MATERIAL_PHONG) return 0.0;
+    if (!hasMaterial(MATERIAL_PHONG) || m.type != MATERIAL_PHONG) return 0.0;
     float d = meanComponent(m.kd), s = meanComponent(m.ks);
     return d + s > 0.0 ? s / (d + s) : 0.0;
 }
@@ -26,7 +27,7 @@ float glossyLobeProbability(Material m) {
 vec3 bsdfEval(Material m, vec3 n, vec3 wo, vec3 wi) {
     if (dot(wi, n) <= 0.0 || dot(wo, n) <= 0.0) return vec3(0.0);
     vec3 f = m.kd * INV_PI;
-    if (m.type == MATERIAL_PHONG) {
+    if (hasMaterial(MATERIAL_PHONG) && m.type == MATERIAL_PHONG) {
         // cos^n through phongLobePdf ((n+1)/(2 pi) cos^n), not pow(): GLSL's pow is
         // exp2(n log2 cos) with log2 good only to ~2^-21 absolute near 1, i.e. up to ~1e-3
         // relative at n = 5000 (a 7e-5 bias in the albedo on lavapipe), and undefined for
@@ -43,7 +44,7 @@ float bsdfPdf(Material m, vec3 n, vec3 wo, vec3 wi) {
     if (cosTheta <= 0.0 || dot(wo, n) <= 0.0) return 0.0;
     float glossy = glossyLobeProbability(m);
     float pdf = (1.0 - glossy) * cosTheta * INV_PI;
-    if (glossy > 0.0) {
+    if (hasMaterial(MATERIAL_PHONG) && glossy > 0.0) {
         // The lobe is sampled about the mirror direction and may dip below the surface;
         // those samples are discarded, so above the surface its density is the lobe's own.
         float cosAlpha = dot(wi, mirrorDirection(wo, n));
@@ -58,7 +59,7 @@ bool bsdfSample(Material m, vec3 n, vec3 wo, vec2 u, float lobe, out vec3 wi, ou
     pdf = 0.0;
     wi = n;
     if (dot(wo, n) <= 0.0) return false;
-    if (lobe < glossyLobeProbability(m)) {
+    if (hasMaterial(MATERIAL_PHONG) && lobe < glossyLobeProbability(m)) {
         wi = frameToWorld(squareToPhongLobe(u, m.exponent), mirrorDirection(wo, n));
     } else {
         wi = frameToWorld(squareToCosineHemisphere(u), n);

@@ -7,6 +7,7 @@
 
 #include "shared/types.h"
 #include "geometry/intersect.glsl"
+#include "geometry/ray_count.glsl"
 
 // Depth-first flat nodes: an interior node's left child is the next node, `offset` its
 // right child; a leaf covers primitives[offset, offset + primCount).
@@ -25,6 +26,7 @@ struct Hit {
 // hit has been found meanwhile. The builder bounds leaf depth by BVH_MAX_DEPTH, and at most
 // one node per level waits on the stack, so the fixed stack cannot overflow.
 bool traceClosest(vec3 origin, vec3 dir, float tMax, out Hit hit) {
+    countRay();
     hit.t = tMax;
     hit.primitive = NO_HIT;
     hit.uv = vec2(0.0);
@@ -85,6 +87,7 @@ bool traceClosest(vec3 origin, vec3 dir, float tMax, out Hit hit) {
 // Whether anything is hit with t in (0, tMax): for shadow rays, stops at the first hit
 // found, in no particular order.
 bool traceAny(vec3 origin, vec3 dir, float tMax) {
+    countRay();
     vec3 invDir = rayInverseDirection(dir);
     uint stackNode[BVH_MAX_DEPTH];
     int sp = 0;

@@ -8,6 +8,7 @@
 #define PENUMBRA_INTERSECT_GLSL
 
 #include "shared/types.h"
+#include "common/specialization.glsl"
 
 // Möller & Trumbore 1997, "Fast, Minimum Storage Ray/Triangle Intersection", JGT 2(1).
 // Chosen over the watertight test (Woop et al. 2013) because it needs no per-ray shear
@@ -87,9 +88,9 @@ bool intersectPrimitive(Primitive primitive, vec3 origin, vec3 dir, float tMax, 
     uint type = primitive.typeAndNormals & PRIM_TYPE_MASK;
     uv = vec2(0.0);
     t = 0.0;
-    if (type == PRIM_TRIANGLE) return intersectTriangle(primitive.p0, primitive.p1, primitive.p2, origin, dir, tMax, t, uv);
-    if (type == PRIM_SPHERE) return intersectSphere(primitive.p0, primitive.p1.x, origin, dir, tMax, t);
-    if (type == PRIM_QUAD) return intersectQuad(primitive.p0, primitive.p1, primitive.p2, origin, dir, tMax, t, uv);
+    if (hasPrimitive(PRIM_TRIANGLE) && type == PRIM_TRIANGLE) return intersectTriangle(primitive.p0, primitive.p1, primitive.p2, origin, dir, tMax, t, uv);
+    if (hasPrimitive(PRIM_SPHERE) && type == PRIM_SPHERE) return intersectSphere(primitive.p0, primitive.p1.x, origin, dir, tMax, t);
+    if (hasPrimitive(PRIM_QUAD) && type == PRIM_QUAD) return intersectQuad(primitive.p0, primitive.p1, primitive.p2, origin, dir, tMax, t, uv);
     return false;
 }
 

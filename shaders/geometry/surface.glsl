@@ -36,12 +36,12 @@ SurfacePoint surfaceAt(Hit hit, vec3 origin, vec3 dir) {
     sp.material = primitive.material;
     sp.light = primitive.light;
     sp.primitiveType = primitive.typeAndNormals & PRIM_TYPE_MASK;
-    if (sp.primitiveType == PRIM_SPHERE) {
+    if (hasPrimitive(PRIM_SPHERE) && sp.primitiveType == PRIM_SPHERE) {
         vec3 outward = normalize(origin + hit.t * dir - primitive.p0);
         sp.position = primitive.p0 + primitive.p1.x * outward;
         sp.geometricNormal = outward;
         sp.shadingNormal = outward;
-    } else if (sp.primitiveType == PRIM_QUAD) {
+    } else if (hasPrimitive(PRIM_QUAD) && sp.primitiveType == PRIM_QUAD) {
         sp.position = primitive.p0 + hit.uv.x * primitive.p1 + hit.uv.y * primitive.p2;
         sp.geometricNormal = normalize(cross(primitive.p1, primitive.p2));
         sp.shadingNormal = sp.geometricNormal;

@@ -7,6 +7,7 @@
 #extension GL_GOOGLE_include_directive : require
 
 #include "integrators/kernel_common.glsl"
+#include "common/specialization.glsl"
 #include "geometry/bvh.glsl"
 #include "geometry/surface.glsl"
 #include "sampling/warp.glsl"
@@ -34,7 +35,7 @@ void main() {
     vec2 u = rand2(rng);
     vec3 local;
     float pdf;
-    if (params.aoSampling == AO_COSINE) {
+    if (kAoSampling == AO_COSINE) {
         local = squareToCosineHemisphere(u);
         pdf = cosineHemispherePdf(local.z);
     } else {

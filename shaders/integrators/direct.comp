@@ -7,10 +7,13 @@
 //   mixture  N1 + N2 samples from 0.5 p_light + 0.5 p_f (lecture, "Sample from Average PDF")
 // Delta lights cannot be hit: every strategy samples them explicitly (light and mis through
 // the full selection table; bsdf and mixture with one delta-only draw per sample).
+// The strategy, heuristic, N1, N2 and sphere sampling are specialization constants
+// (common/specialization.glsl): each combination is its own compiled kernel.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 
 #include "integrators/kernel_common.glsl"
+#include "common/specialization.glsl"
 #include "geometry/bvh.glsl"
 #include "geometry/surface.glsl"
 #include "sampling/warp.glsl"
@@ -56,7 +59,7 @@ vec3 lightSampleEstimate(Shading s, uint index, float pmf, int weighting, float 
                          inout Rng rng) {
     vec3 u = vec3(rand2(rng), rand1(rng));
     LightSample ls;
-    if (!(pmf > 0.0) || !sampleLight(index, s.origin, s.ns, u, params.sphereSampling, ls)) return vec3(0.0);
+    if (!(pmf > 0.0) || !sampleLight(index, s.origin, s.ns, u, kSphereSampling, ls)) return vec3(0.0);
     vec3 fc = reflectance(s, ls.wi);
     if (fc == vec3(0.0) || !visible(s, ls)) return vec3(0.0);
     if (ls.isDelta) return fc * ls.radiance / pmf;
@@ -64,7 +67,7 @@ vec3 lightSampleEstimate(Shading s, uint index, float pmf, int weighting, float 
     float density = pLight;
     float weight = 1.0;
     if (weighting == 1) {
-        weight = misWeight(nLight * pLight, nBsdf * bsdfPdf(s.m, s.ns, s.wo, ls.wi), params.heuristic);
+        weight = misWeight(nLight * pLight, nBsdf * bsdfPdf(s.m, s.ns, s.wo, ls.wi), kHeuristic);
     } else if (weighting == 2) {
         density = 0.5 * pLight + 0.5 * bsdfPdf(s.m, s.ns, s.wo, ls.wi);
     }
@@ -81,7 +84,7 @@ vec3 incidentEmission(Shading s, vec3 wi, float selectionScale, out float pLight
         if (params.environmentLight == NO_LIGHT) return vec3(0.0);
         Light env = lights[params.environmentLight];
         pLight = env.selectionProb * selectionScale *
-                 lightPdf(params.environmentLight, s.origin, s.ns, wi, vec3(0.0), vec3(0.0), 0.0, params.sphereSampling);
+                 lightPdf(params.environmentLight, s.origin, s.ns, wi, vec3(0.0), vec3(0.0), 0.0, kSphereSampling);
         return env.emission;
     }
     SurfacePoint y = surfaceAt(hit, s.origin, wi);
@@ -90,7 +93,7 @@ vec3 incidentEmission(Shading s, vec3 wi, float selectionScale, out float pLight
     vec3 Le = emittedRadiance(light, y.geometricNormal, wi);
     if (Le == vec3(0.0)) return Le;
     pLight = light.selectionProb * selectionScale *
-             lightPdf(y.light, s.origin, s.ns, wi, y.position, y.geometricNormal, hit.t, params.sphereSampling);
+             lightPdf(y.light, s.origin, s.ns, wi, y.position, y.geometricNormal, hit.t, kSphereSampling);
     return Le;
 }
 
@@ -110,7 +113,7 @@ vec3 bsdfSampleEstimate(Shading s, int weighting, float nLight, float nBsdf, ino
     if (Le == vec3(0.0)) return vec3(0.0);
     float density = pBsdf;
     float weight = 1.0;
-    if (weighting == 1) weight = misWeight(nBsdf * pBsdf, nLight * pLight, params.heuristic);
+    if (weighting == 1) weight = misWeight(nBsdf * pBsdf, nLight * pLight, kHeuristic);
     else if (weighting == 2) density = 0.5 * pLight + 0.5 * pBsdf;
     return fc * Le * weight / density;
 }
@@ -125,26 +128,26 @@ vec3 deltaLightEstimate(Shading s, inout Rng rng) {
 }
 
 vec3 reflectedRadiance(Shading s, inout Rng rng) {
-    uint n1 = params.lightSamples, n2 = params.bsdfSamples;
+    uint n1 = kLightSamples, n2 = kBsdfSamples;
     vec3 L = vec3(0.0);
-    if (params.strategy == STRATEGY_LIGHT || params.strategy == STRATEGY_MIS) {
-        int weighting = params.strategy == STRATEGY_MIS ? 1 : 0;
+    if (kStrategy == STRATEGY_LIGHT || kStrategy == STRATEGY_MIS) {
+        int weighting = kStrategy == STRATEGY_MIS ? 1 : 0;
         for (uint i = 0u; i < n1; ++i) {
             float pmf;
             uint index = selectLight(0u, params.lightCount, rand1(rng), pmf);
             L += lightSampleEstimate(s, index, pmf, weighting, float(n1), float(n2), rng) / float(n1);
         }
     }
-    if (params.strategy == STRATEGY_BSDF || params.strategy == STRATEGY_MIS) {
-        int weighting = params.strategy == STRATEGY_MIS ? 1 : 0;
-        float nLight = params.strategy == STRATEGY_MIS ? float(n1) : 0.0;
+    if (kStrategy == STRATEGY_BSDF || kStrategy == STRATEGY_MIS) {
+        int weighting = kStrategy == STRATEGY_MIS ? 1 : 0;
+        float nLight = kStrategy == STRATEGY_MIS ? float(n1) : 0.0;
         for (uint i = 0u; i < n2; ++i) {
             L += bsdfSampleEstimate(s, weighting, nLight, float(n2), rng) / float(n2);
             // Without light samples, delta lights get their own explicit draw.
             if (nLight == 0.0) L += deltaLightEstimate(s, rng) / float(n2);
         }
     }
-    if (params.strategy == STRATEGY_MIXTURE) {
+    if (kStrategy == STRATEGY_MIXTURE) {
         uint n = n1 + n2;
         for (uint i = 0u; i < n; ++i) {
             if (rand1(rng) < 0.5) {

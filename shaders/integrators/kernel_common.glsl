@@ -7,12 +7,14 @@
 #include "shared/types.h"
 #include "common/math.glsl"
 #include "common/rng.glsl"
+#include "geometry/ray_count.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(std140, binding = BINDING_PARAMS) uniform Params { RenderParams params; };
 layout(std430, binding = BINDING_ACCUM) restrict buffer Accumulation { vec4 accum[]; };
 layout(push_constant) uniform Pass { PassConstants pass; };
+layout(std430, binding = BINDING_RAY_COUNT) restrict buffer RayCount { uint rayCount; };
 
 // This invocation's pixel, or false when it lies outside the film / the pass's rows.
 bool invocationPixel(out uvec2 pixel) {
@@ -37,7 +39,10 @@ void cameraRay(uvec2 pixel, vec2 jitter, out vec3 origin, out vec3 dir) {
 
 // Adds one sample. A non-finite estimate (a pdf division gone wrong) counts as zero:
 // the sample is still counted, so the sum stays an average over all samples.
+// Every invocation with a pixel calls it exactly once, last, so it also hands this
+// invocation's ray tally to the ray-count buffer when counting.
 void accumulate(uvec2 pixel, vec3 radiance) {
+    if (kCountRays != 0u) atomicAdd(rayCount, raysTraced);
     if (!isFiniteVec(radiance)) radiance = vec3(0.0);
     uint index = pixel.y * params.width + pixel.x;
     accum[index] += vec4(radiance, 1.0);

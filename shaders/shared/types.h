@@ -28,7 +28,8 @@ using uint = std::uint32_t;
 #define BINDING_LIGHTS 6       // Light[]
 #define BINDING_LIGHT_TABLE 7  // AliasEntry[]: light selection (item = light index)
 #define BINDING_MESH_TABLE 8   // AliasEntry[]: mesh-light triangles (item = primitive index)
-#define BINDING_COUNT 9
+#define BINDING_RAY_COUNT 9    // uint: rays traced, when SPEC_COUNT_RAYS is set
+#define BINDING_COUNT 10
 
 // ---- BVH ------------------------------------------------------------------------------
 // Flattened depth-first: an interior node's left child is the next node, `offset` is the
@@ -127,7 +128,34 @@ PENUMBRA_CONST uint SPHERE_AREA = 0u;
 PENUMBRA_CONST uint SPHERE_CAP = 1u;
 PENUMBRA_CONST uint SPHERE_SOLID_ANGLE = 2u;
 
-// Everything a render kernel needs besides the scene arrays; set once per render.
+// ---- Specialization constants of the render kernels (constant_id) ----------------------
+// Options that select code rather than data are compiled into the kernel, not read from
+// RenderParams: llvmpipe runs eight invocations in SIMD lanes and executes both sides of
+// every branch under a mask, so a runtime switch pays for all the code it skips. Fixing
+// them per pipeline let the compiler drop the unused strategies, light types, primitive
+// types and materials: 1.3x to 1.45x (options) and a further 1.25x (scene features) on the
+// Cornell box and the MIS scene (docs/PERFORMANCE.md). host/render/kernel_options.cpp fills
+// them; shaders/common/specialization.glsl declares them.
+#define SPEC_COUNT_RAYS 0        // 1: count traced rays into BINDING_RAY_COUNT (benchmarks)
+#define SPEC_STRATEGY 1          // STRATEGY_*
+#define SPEC_HEURISTIC 2         // HEURISTIC_*
+#define SPEC_LIGHT_SAMPLES 3     // N1
+#define SPEC_BSDF_SAMPLES 4      // N2
+#define SPEC_SPHERE_SAMPLING 5   // SPHERE_*
+#define SPEC_AO_SAMPLING 6       // AO_*
+#define SPEC_SCENE_FEATURES 7    // FEATURE_* bits: what the scene contains
+#define SPEC_COUNT 8
+
+// Scene feature bits: bit FEATURE_PRIMITIVE + PRIM_*, FEATURE_LIGHT + LIGHT_*,
+// FEATURE_MATERIAL + MATERIAL_* is set when the scene has such a primitive, light or
+// material. Code for a kind the scene lacks is compiled out.
+#define FEATURE_PRIMITIVE 0u
+#define FEATURE_LIGHT 3u
+#define FEATURE_MATERIAL 9u
+PENUMBRA_CONST uint FEATURES_ALL = 0xffffffffu;
+
+// Everything a render kernel needs besides the scene arrays and the specialization
+// constants; set once per render.
 struct RenderParams {
     vec3 eye;
     float tanHalfFovY;
@@ -141,13 +169,7 @@ struct RenderParams {
     uint sampleOffset;
     uint integrator;     // INTEGRATOR_*
     uint lightCount;
-    uint aoSampling;     // AO_*
     float aoMaxDistance;
-    uint strategy;       // STRATEGY_*
-    uint heuristic;      // HEURISTIC_*
-    uint lightSamples;
-    uint bsdfSamples;
-    uint sphereSampling; // SPHERE_*
     uint nodeCount;
     // Light selection tables, all in lightTable[]: [0, lightCount) picks any light with
     // probability Light::selectionProb; the delta-only table (points, directionals) and the
@@ -160,7 +182,7 @@ struct RenderParams {
     float deltaScale;       // 1 / (sum of selectionProb over delta lights), 0 if none
     float continuousScale;  // 1 / (sum of selectionProb over continuous lights), 0 if none
     uint environmentLight;  // index of the (single, merged) environment light, or NO_LIGHT
-    uint pad0;
+    uint pad0, pad1, pad2;
 };
 
 // Per-dispatch constants: which sample index this pass adds, to which rows of pixels

@@ -1,0 +1,25 @@
+// The render kernels' specialization constants (ids and meaning in shared/types.h, values
+// from host/render/kernel_options.cpp). Declared in one place so every file tests the same
+// constant; the defaults keep every code path, for kernels that never set them (the
+// shader tests).
+#ifndef PENUMBRA_SPECIALIZATION_GLSL
+#define PENUMBRA_SPECIALIZATION_GLSL
+
+#include "shared/types.h"
+
+layout(constant_id = SPEC_COUNT_RAYS) const uint kCountRays = 0u;
+layout(constant_id = SPEC_STRATEGY) const uint kStrategy = STRATEGY_MIS;
+layout(constant_id = SPEC_HEURISTIC) const uint kHeuristic = HEURISTIC_POWER;
+layout(constant_id = SPEC_LIGHT_SAMPLES) const uint kLightSamples = 1u;
+layout(constant_id = SPEC_BSDF_SAMPLES) const uint kBsdfSamples = 1u;
+layout(constant_id = SPEC_SPHERE_SAMPLING) const uint kSphereSampling = SPHERE_SOLID_ANGLE;
+layout(constant_id = SPEC_AO_SAMPLING) const uint kAoSampling = AO_COSINE;
+layout(constant_id = SPEC_SCENE_FEATURES) const uint kSceneFeatures = FEATURES_ALL;
+
+// Whether the scene has a primitive / light / material of this type; false compiles the
+// code that handles it out of the kernel.
+bool hasPrimitive(uint type) { return (kSceneFeatures & (1u << (FEATURE_PRIMITIVE + type))) != 0u; }
+bool hasLight(uint type) { return (kSceneFeatures & (1u << (FEATURE_LIGHT + type))) != 0u; }
+bool hasMaterial(uint type) { return (kSceneFeatures & (1u << (FEATURE_MATERIAL + type))) != 0u; }
+
+#endif

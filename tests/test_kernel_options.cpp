@@ -1,0 +1,86 @@
+// Specialization of the render kernels (render/kernel_options.h): the scene-feature bits,
+// the pipeline switch when integrator options change, and the ray counter used by the
+// benchmarks, on scenes whose ray counts are known exactly.
+#include <gtest/gtest.h>
+
+#include "gpu_fixture.h"
+#include "render/renderer.h"
+#include "render_helpers.h"
+
+using namespace penumbra;
+using nlohmann::json;
+
+namespace {
+
+// A camera looking straight down on a plane that fills the view (or, with `sky`, straight
+// up at nothing); AO with cosine samples.
+json planeScene(bool sky) {
+    json camera = test::topDownCamera(0.0, 0.0, 1.0);
+    if (sky) camera = {{"eye", {0, 1, 0}}, {"target", {0, 2, 0}}, {"up", {0, 0, 1}}, {"fov_y", 40}};
+    return {
+        {"camera", camera},
+        {"film", {{"width", 24}, {"height", 16}}},
+        {"sampler", {{"spp", 4}, {"seed", 3}}},
+        {"integrator", {{"type", "ao"}, {"sampling", "cosine"}}},
+        {"shapes", {{{"type", "quad"}, {"origin", {-50, 0, -50}}, {"edge_u", {0, 0, 100}}, {"edge_v", {100, 0, 0}}}}},
+    };
+}
+
+}  // namespace
+
+TEST(KernelOptions, SceneFeaturesListWhatTheSceneHolds) {
+    json doc = planeScene(false);
+    doc["materials"] = {{"shiny", {{"type", "phong"}, {"kd", 0.2}, {"ks", 0.5}, {"exponent", 20}}}};
+    doc["shapes"].push_back({{"type", "sphere"}, {"center", {0, 1, 0}}, {"radius", 0.5}, {"emission", 1.0}});
+    doc["shapes"][0]["material"] = "shiny";
+    doc["lights"] = {{{"type", "point"}, {"position", {0, 3, 0}}, {"power", 10}}};
+    Scene scene = test::sceneFromJson(doc, "features");
+    uint32_t bits = sceneFeatures(buildSceneArrays(scene));
+    uint32_t expected = (1u << (FEATURE_PRIMITIVE + gpu::PRIM_QUAD)) | (1u << (FEATURE_PRIMITIVE + gpu::PRIM_SPHERE)) |
+                        (1u << (FEATURE_LIGHT + gpu::LIGHT_SPHERE)) | (1u << (FEATURE_LIGHT + gpu::LIGHT_POINT)) |
+                        (1u << (FEATURE_MATERIAL + gpu::MATERIAL_PHONG));
+    // Materials may include a default diffuse one for shapes without a material.
+    EXPECT_EQ(bits & ~(1u << (FEATURE_MATERIAL + gpu::MATERIAL_DIFFUSE)), expected);
+    EXPECT_EQ(makeKernelOptions(scene.integrator, buildSceneArrays(scene)).specialization().size(), size_t(SPEC_COUNT));
+}
+
+TEST(KernelOptions, ChangingTheIntegratorOptionsChangesTheImage) {
+    // Uniform and cosine AO differ sample by sample: if setIntegrator kept the old
+    // specialized kernel, the two renders would be identical.
+    Scene scene = test::sceneFromJson(planeScene(false), "switch");
+    scene.shapes.push_back(scene.shapes[0]);
+    scene.shapes.back().type = ShapeType::Sphere;
+    scene.shapes.back().center = {0, 0.3f, 0};
+    scene.shapes.back().radius = 0.25f;
+    Renderer renderer(test::gpuContext(), scene);
+    renderer.renderAll();
+    Image cosine = renderer.readback(0.0);
+    IntegratorSettings uniform = scene.integrator;
+    uniform.aoSampling = AoSampling::Uniform;
+    renderer.setIntegrator(uniform);
+    renderer.reset();
+    renderer.renderAll();
+    Image uniformImage = renderer.readback(0.0);
+    EXPECT_NE(cosine.rgb, uniformImage.rgb);
+    renderer.setIntegrator(scene.integrator);
+    renderer.reset();
+    renderer.renderAll();
+    EXPECT_EQ(renderer.readback(0.0).rgb, cosine.rgb);
+}
+
+TEST(KernelOptions, RayCounterCountsCameraAndOcclusionRays) {
+    // Every camera ray hits the plane and every cosine sample leaves it: two rays per
+    // sample. Looking at the empty sky: only the camera ray.
+    const uint64_t pixels = 24 * 16, passes = 3;
+    Renderer plane(test::gpuContext(), test::sceneFromJson(planeScene(false), "plane"));
+    EXPECT_EQ(plane.countRays(passes), 2 * pixels * passes);
+    Renderer sky(test::gpuContext(), test::sceneFromJson(planeScene(true), "sky"));
+    EXPECT_EQ(sky.countRays(passes), pixels * passes);
+    // Counting runs its own kernel: the render kernel afterwards is the plain one and
+    // produces the same image as a renderer that never counted.
+    plane.reset();
+    plane.renderAll();
+    Renderer fresh(test::gpuContext(), test::sceneFromJson(planeScene(false), "plane"));
+    fresh.renderAll();
+    EXPECT_EQ(plane.readback(0.0).rgb, fresh.readback(0.0).rgb);
+}
