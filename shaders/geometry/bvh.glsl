@@ -21,6 +21,15 @@ struct Hit {
     vec2 uv;           // triangle: barycentrics of p1, p2; quad: (s, t); sphere: unused
 };
 
+// Both loops are "while-while" (Aila & Laine 2009, "Understanding the Efficiency of Ray
+// Traversal on GPUs"): an inner loop descends through interior nodes until this ray reaches
+// a leaf, and only then are the leaf's primitives tested. llvmpipe runs eight rays in SIMD
+// lanes and executes every branch under a mask, so a single loop with an "interior or
+// leaf" branch pays for box tests and a primitive test in every iteration of every lane;
+// here the lanes do their box tests together and their primitive tests together
+// (measured 1.09x on the Cornell box, 1.18x on the default AO scene, 1.03x with 300k
+// triangles: docs/PERFORMANCE.md).
+
 // Nearest hit with t in (0, tMax). Stack-based, nearest child first: both child boxes are
 // tested, the far one is deferred with its entry distance and skipped on pop if a closer
 // hit has been found meanwhile. The builder bounds leaf depth by BVH_MAX_DEPTH, and at most
@@ -38,9 +47,32 @@ bool traceClosest(vec3 origin, vec3 dir, float tMax, out Hit hit) {
     if (!intersectBox(nodes[0].boundsMin, nodes[0].boundsMax, origin, invDir, tMax, tEntry)) return false;
     uint index = 0u;
     while (true) {
-        uint offset = nodes[index].offset;
-        uint primCount = nodes[index].primCount;
-        if (primCount > 0u) {
+        // Descend to a leaf, or until both children are missed.
+        bool atLeaf = false;
+        while (true) {
+            if (nodes[index].primCount > 0u) {
+                atLeaf = true;
+                break;
+            }
+            uint left = index + 1u;
+            uint right = nodes[index].offset;
+            float tLeft, tRight;
+            bool hitLeft = intersectBox(nodes[left].boundsMin, nodes[left].boundsMax, origin, invDir, hit.t, tLeft);
+            bool hitRight = intersectBox(nodes[right].boundsMin, nodes[right].boundsMax, origin, invDir, hit.t, tRight);
+            if (!hitLeft && !hitRight) break;
+            if (hitLeft && hitRight) {
+                bool leftFirst = tLeft <= tRight;
+                stackNode[sp] = leftFirst ? right : left;
+                stackEntry[sp] = leftFirst ? tRight : tLeft;
+                ++sp;
+                index = leftFirst ? left : right;
+            } else {
+                index = hitLeft ? left : right;
+            }
+        }
+        if (atLeaf) {
+            uint offset = nodes[index].offset;
+            uint primCount = nodes[index].primCount;
             for (uint i = offset; i < offset + primCount; ++i) {
                 float t;
                 vec2 uv;
@@ -49,24 +81,6 @@ bool traceClosest(vec3 origin, vec3 dir, float tMax, out Hit hit) {
                     hit.primitive = i;
                     hit.uv = uv;
                 }
-            }
-        } else {
-            uint left = index + 1u;
-            uint right = offset;
-            float tLeft, tRight;
-            bool hitLeft = intersectBox(nodes[left].boundsMin, nodes[left].boundsMax, origin, invDir, hit.t, tLeft);
-            bool hitRight = intersectBox(nodes[right].boundsMin, nodes[right].boundsMax, origin, invDir, hit.t, tRight);
-            if (hitLeft && hitRight) {
-                bool leftFirst = tLeft <= tRight;
-                stackNode[sp] = leftFirst ? right : left;
-                stackEntry[sp] = leftFirst ? tRight : tLeft;
-                ++sp;
-                index = leftFirst ? left : right;
-                continue;
-            }
-            if (hitLeft || hitRight) {
-                index = hitLeft ? left : right;
-                continue;
             }
         }
         // Pop the next deferred node that can still hold something nearer than the hit.
@@ -95,24 +109,28 @@ bool traceAny(vec3 origin, vec3 dir, float tMax) {
     if (!intersectBox(nodes[0].boundsMin, nodes[0].boundsMax, origin, invDir, tMax, tEntry)) return false;
     uint index = 0u;
     while (true) {
-        uint offset = nodes[index].offset;
-        uint primCount = nodes[index].primCount;
-        if (primCount > 0u) {
+        bool atLeaf = false;
+        while (true) {
+            if (nodes[index].primCount > 0u) {
+                atLeaf = true;
+                break;
+            }
+            uint left = index + 1u;
+            uint right = nodes[index].offset;
+            float tLeft, tRight;
+            bool hitLeft = intersectBox(nodes[left].boundsMin, nodes[left].boundsMax, origin, invDir, tMax, tLeft);
+            bool hitRight = intersectBox(nodes[right].boundsMin, nodes[right].boundsMax, origin, invDir, tMax, tRight);
+            if (!hitLeft && !hitRight) break;
+            if (hitLeft && hitRight) stackNode[sp++] = right;
+            index = hitLeft ? left : right;
+        }
+        if (atLeaf) {
+            uint offset = nodes[index].offset;
+            uint primCount = nodes[index].primCount;
             for (uint i = offset; i < offset + primCount; ++i) {
                 float t;
                 vec2 uv;
                 if (intersectPrimitive(primitives[i], origin, dir, tMax, t, uv)) return true;
-            }
-        } else {
-            uint left = index + 1u;
-            uint right = offset;
-            float tLeft, tRight;
-            bool hitLeft = intersectBox(nodes[left].boundsMin, nodes[left].boundsMax, origin, invDir, tMax, tLeft);
-            bool hitRight = intersectBox(nodes[right].boundsMin, nodes[right].boundsMax, origin, invDir, tMax, tRight);
-            if (hitLeft && hitRight) stackNode[sp++] = right;
-            if (hitLeft || hitRight) {
-                index = hitLeft ? left : right;
-                continue;
             }
         }
         if (sp == 0) break;
