@@ -15,30 +15,35 @@
 
 namespace penumbra {
 
-// Möller & Trumbore 1997, "Fast, Minimum Storage Ray/Triangle Intersection", JGT 2(1).
-// Chosen over the watertight test (Woop et al. 2013) because it needs no per-ray shear
-// set-up and is cheaper on lavapipe; edges are inclusive (u >= 0, v >= 0, u + v <= 1), so a
-// ray through a shared mesh edge can only miss both triangles through rounding, which is
-// rare. uv = barycentrics of p1 and p2 (p = (1-u-v) p0 + u p1 + v p2). Either side hits.
-inline bool intersectTriangle(glm::vec3 p0, glm::vec3 p1, glm::vec3 p2, glm::vec3 origin, glm::vec3 dir,
-                              float tMax, float& t, glm::vec2& uv) {
-    glm::vec3 e1 = p1 - p0;
-    glm::vec3 e2 = p2 - p0;
+// Triangles and parallelograms (quads) in one test, as intersectFlat in intersect.glsl:
+// both are p0 + u e1 + v e2, the triangle for u, v >= 0 and u + v <= 1, the parallelogram
+// for u, v in [0, 1]. Möller & Trumbore 1997, "Fast, Minimum Storage Ray/Triangle
+// Intersection", JGT 2(1). Chosen over the watertight test (Woop et al. 2013) because it
+// needs no per-ray shear set-up and is cheaper on lavapipe; edges are inclusive, so a ray
+// through a shared mesh edge can only miss both triangles through rounding, which is rare.
+// Either side hits. uv = (u, v).
+inline bool intersectFlat(glm::vec3 p0, glm::vec3 e1, glm::vec3 e2, bool parallelogram, glm::vec3 origin,
+                          glm::vec3 dir, float tMax, float& t, glm::vec2& uv) {
     glm::vec3 pvec = glm::cross(dir, e2);
     float det = glm::dot(e1, pvec);
-    if (det == 0.0f) return false;  // ray parallel to the plane (or degenerate triangle)
+    if (det == 0.0f) return false;  // ray parallel to the plane (or degenerate shape)
     float invDet = 1.0f / det;
     glm::vec3 tvec = origin - p0;
     float u = glm::dot(tvec, pvec) * invDet;
-    if (!(u >= 0.0f && u <= 1.0f)) return false;
     glm::vec3 qvec = glm::cross(tvec, e1);
     float v = glm::dot(dir, qvec) * invDet;
-    if (!(v >= 0.0f && u + v <= 1.0f)) return false;
     float tHit = glm::dot(e2, qvec) * invDet;
-    if (!(tHit > 0.0f && tHit < tMax)) return false;
+    float extent = parallelogram ? glm::max(u, v) : u + v;
+    if (!(u >= 0.0f && v >= 0.0f && extent <= 1.0f && tHit > 0.0f && tHit < tMax)) return false;
     t = tHit;
     uv = glm::vec2(u, v);
     return true;
+}
+
+// Triangle p0, p1, p2; uv = barycentrics of p1 and p2 (p = (1-u-v) p0 + u p1 + v p2).
+inline bool intersectTriangle(glm::vec3 p0, glm::vec3 p1, glm::vec3 p2, glm::vec3 origin, glm::vec3 dir,
+                              float tMax, float& t, glm::vec2& uv) {
+    return intersectFlat(p0, p1 - p0, p2 - p0, false, origin, dir, tMax, t, uv);
 }
 
 // Haines, Günther & Akenine-Möller 2019, "Precision Improvements for Ray/Sphere
@@ -72,24 +77,10 @@ inline bool intersectSphere(glm::vec3 centre, float radius, glm::vec3 origin, gl
     return false;
 }
 
-// Parallelogram origin + s edgeU + t edgeV, s, t in [0, 1]: hit the plane, then express the
-// hit in (s, t) with the dual basis (Shirley, "Ray Tracing: The Next Week", quads). Either
-// side hits. uv = (s, t).
+// Parallelogram corner + s edgeU + t edgeV, s, t in [0, 1]; uv = (s, t).
 inline bool intersectQuad(glm::vec3 corner, glm::vec3 edgeU, glm::vec3 edgeV, glm::vec3 origin, glm::vec3 dir,
                           float tMax, float& t, glm::vec2& uv) {
-    glm::vec3 n = glm::cross(edgeU, edgeV);
-    float denom = glm::dot(n, dir);
-    if (denom == 0.0f) return false;  // parallel to the plane (or degenerate quad)
-    float tHit = glm::dot(n, corner - origin) / denom;
-    if (!(tHit > 0.0f && tHit < tMax)) return false;
-    glm::vec3 w = n / glm::dot(n, n);
-    glm::vec3 local = (origin - corner) + tHit * dir;
-    float s = glm::dot(w, glm::cross(local, edgeV));
-    float r = glm::dot(w, glm::cross(edgeU, local));
-    if (!(s >= 0.0f && s <= 1.0f && r >= 0.0f && r <= 1.0f)) return false;
-    t = tHit;
-    uv = glm::vec2(s, r);
-    return true;
+    return intersectFlat(corner, edgeU, edgeV, true, origin, dir, tMax, t, uv);
 }
 
 inline bool intersectPrimitive(const gpu::Primitive& primitive, glm::vec3 origin, glm::vec3 dir, float tMax,

@@ -10,18 +10,21 @@
 #include "shared/types.h"
 #include "common/specialization.glsl"
 
-// Möller & Trumbore 1997, "Fast, Minimum Storage Ray/Triangle Intersection", JGT 2(1).
-// Chosen over the watertight test (Woop et al. 2013) because it needs no per-ray shear
-// set-up and is cheaper on lavapipe; edges are inclusive, so a ray through a shared mesh
-// edge can miss both triangles only through rounding, which is rare.
-// uv = barycentrics of p1 and p2: position = (1 - u - v) p0 + u p1 + v p2.
-bool intersectTriangle(vec3 p0, vec3 p1, vec3 p2, vec3 origin, vec3 dir, float tMax, out float t, out vec2 uv) {
-    // Computed without early returns: llvmpipe runs 8 rays in SIMD lanes, and one final
-    // test costs far less than a masked exit after each step (measured 2x on a brute-force
-    // loop). A parallel ray or degenerate triangle gives det = 0, so u, v, tHit are
-    // infinite or NaN and every comparison below fails.
-    vec3 e1 = p1 - p0;
-    vec3 e2 = p2 - p0;
+// Triangles and parallelograms (quads) in one test: both are p0 + u e1 + v e2, the triangle
+// for u, v >= 0 and u + v <= 1, the parallelogram for u, v in [0, 1]. Möller & Trumbore
+// 1997, "Fast, Minimum Storage Ray/Triangle Intersection", JGT 2(1), with the bound on
+// (u, v) chosen by the shape. Chosen over the watertight test (Woop et al. 2013) because it
+// needs no per-ray shear set-up and is cheaper on lavapipe; edges are inclusive, so a ray
+// through a shared mesh edge can miss both triangles only through rounding, which is rare.
+// One test for both shapes matters on llvmpipe: a leaf's primitive test runs in SIMD
+// lanes that execute every branch, so a scene with triangles and quads paid for both
+// tests on every primitive.
+// Computed without early returns: llvmpipe runs 8 rays in SIMD lanes, and one final test
+// costs far less than a masked exit after each step (measured 2x on a brute-force loop).
+// A parallel ray or degenerate shape gives det = 0, so u, v, tHit are infinite or NaN and
+// every comparison below fails. uv = (u, v).
+bool intersectFlat(vec3 p0, vec3 e1, vec3 e2, bool parallelogram, vec3 origin, vec3 dir, float tMax, out float t,
+                   out vec2 uv) {
     vec3 pvec = cross(dir, e2);
     float invDet = 1.0 / dot(e1, pvec);
     vec3 tvec = origin - p0;
@@ -29,10 +32,16 @@ bool intersectTriangle(vec3 p0, vec3 p1, vec3 p2, vec3 origin, vec3 dir, float t
     vec3 qvec = cross(tvec, e1);
     float v = dot(dir, qvec) * invDet;
     float tHit = dot(e2, qvec) * invDet;
-    bool hit = u >= 0.0 && u <= 1.0 && v >= 0.0 && u + v <= 1.0 && tHit > 0.0 && tHit < tMax;
+    float extent = parallelogram ? max(u, v) : u + v;
+    bool hit = u >= 0.0 && v >= 0.0 && extent <= 1.0 && tHit > 0.0 && tHit < tMax;
     t = hit ? tHit : 0.0;
     uv = hit ? vec2(u, v) : vec2(0.0);
     return hit;
+}
+
+// Triangle p0, p1, p2; uv = barycentrics of p1 and p2: position = (1 - u - v) p0 + u p1 + v p2.
+bool intersectTriangle(vec3 p0, vec3 p1, vec3 p2, vec3 origin, vec3 dir, float tMax, out float t, out vec2 uv) {
+    return intersectFlat(p0, p1 - p0, p2 - p0, false, origin, dir, tMax, t, uv);
 }
 
 // Haines, Günther & Akenine-Möller 2019, "Precision Improvements for Ray/Sphere
@@ -66,32 +75,23 @@ bool intersectSphere(vec3 centre, float radius, vec3 origin, vec3 dir, float tMa
     return false;
 }
 
-// Parallelogram corner + s edgeU + t edgeV, s, t in [0, 1]: hit the plane, then (s, t) by
-// the dual basis w = n / |n|^2 (Shirley, "Ray Tracing: The Next Week", quads). uv = (s, t).
+// Parallelogram corner + s edgeU + t edgeV, s, t in [0, 1]; uv = (s, t).
 bool intersectQuad(vec3 corner, vec3 edgeU, vec3 edgeV, vec3 origin, vec3 dir, float tMax, out float t, out vec2 uv) {
-    // Without early returns, as intersectTriangle; denom = 0 (parallel ray, degenerate
-    // quad) makes tHit infinite or NaN and the tests fail.
-    vec3 n = cross(edgeU, edgeV);
-    float tHit = dot(n, corner - origin) / dot(n, dir);
-    vec3 w = n / dot(n, n);
-    vec3 local = (origin - corner) + tHit * dir;
-    float s = dot(w, cross(local, edgeV));
-    float r = dot(w, cross(edgeU, local));
-    bool hit = tHit > 0.0 && tHit < tMax && s >= 0.0 && s <= 1.0 && r >= 0.0 && r <= 1.0;
-    t = hit ? tHit : 0.0;
-    uv = hit ? vec2(s, r) : vec2(0.0);
-    return hit;
+    return intersectFlat(corner, edgeU, edgeV, true, origin, dir, tMax, t, uv);
 }
 
-// Dispatch on the PRIM_* type (shared/types.h). Sphere hits leave uv = (0, 0).
+// Dispatch on the PRIM_* type (shared/types.h). Sphere hits leave uv = (0, 0). Triangles
+// and quads share intersectFlat, their edges picked by the type.
 bool intersectPrimitive(Primitive primitive, vec3 origin, vec3 dir, float tMax, out float t, out vec2 uv) {
     uint type = primitive.typeAndNormals & PRIM_TYPE_MASK;
     uv = vec2(0.0);
     t = 0.0;
-    if (hasPrimitive(PRIM_TRIANGLE) && type == PRIM_TRIANGLE) return intersectTriangle(primitive.p0, primitive.p1, primitive.p2, origin, dir, tMax, t, uv);
     if (hasPrimitive(PRIM_SPHERE) && type == PRIM_SPHERE) return intersectSphere(primitive.p0, primitive.p1.x, origin, dir, tMax, t);
-    if (hasPrimitive(PRIM_QUAD) && type == PRIM_QUAD) return intersectQuad(primitive.p0, primitive.p1, primitive.p2, origin, dir, tMax, t, uv);
-    return false;
+    if (!hasPrimitive(PRIM_TRIANGLE) && !hasPrimitive(PRIM_QUAD)) return false;
+    bool quad = hasPrimitive(PRIM_QUAD) && (!hasPrimitive(PRIM_TRIANGLE) || type == PRIM_QUAD);
+    vec3 e1 = quad ? primitive.p1 : primitive.p1 - primitive.p0;
+    vec3 e2 = quad ? primitive.p2 : primitive.p2 - primitive.p0;
+    return intersectFlat(primitive.p0, e1, e2, quad, origin, dir, tMax, t, uv);
 }
 
 // 1 / dir with components below 1e-20 in magnitude replaced by +-1e-20, so every inverse is
