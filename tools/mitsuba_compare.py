@@ -35,6 +35,7 @@ import time
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 TOOLS = os.path.join(ROOT, "tools")
 PENUMBRA = os.path.join(ROOT, "build", "penumbra")
+PENUMBRA_BENCH = os.path.join(ROOT, "build", "penumbra_bench")
 WORK = os.path.join(ROOT, "build", "mitsuba-compare")
 DOC = os.path.join(ROOT, "docs", "PERFORMANCE.md")
 INSTALL_HINT = "run tools/bench-mitsuba (it makes build/venv-mitsuba with mitsuba 3.9.1 and numpy, and installs libllvm19)"
@@ -213,6 +214,14 @@ def penumbra_render(scene_path, out, spp=None, seed=None, width=None, height=Non
     return img, float(meta["penumbra:render_seconds"]), wall
 
 
+def penumbra_rays_per_sample(scene_path):
+    """Rays (camera, shadow, BRDF) per pixel sample, counted by penumbra_bench --count-rays."""
+    p = subprocess.run([PENUMBRA_BENCH, "--count-rays", scene_path], capture_output=True, text=True)
+    if p.returncode != 0:
+        raise RuntimeError(f"penumbra_bench --count-rays {scene_path} failed ({p.returncode}): {p.stderr.strip()}")
+    return float(p.stdout.split()[-1])
+
+
 def penumbra_reference(scene_path, name, spp, width, height, seed=4242):
     """High-spp Penumbra image, cached in build/mitsuba-compare by its parameters."""
     out = os.path.join(WORK, f"{name}_ref_{width}x{height}_{spp}spp_s{seed}.exr")
@@ -337,18 +346,22 @@ def report(info, results, args):
              f"and scalar_rgb")
     L.append("")
     L.append("Throughput (median of the timed renders, Msamples/s = width x height x spp / render time; "
-             "ratio = Penumbra / Mitsuba):")
+             "ratio = Penumbra / Mitsuba; Penumbra's rays per sample (camera, shadow and BRDF rays) are counted "
+             "by `penumbra_bench --count-rays`, Mitsuba's `direct` integrator traces the same rays per sample, so "
+             "its Mrays/s is its Msamples/s times Penumbra's rays per sample):")
     L.append("")
     L.append("| scene | res, spp | Penumbra Ms/s | Mitsuba llvm Ms/s | Mitsuba scalar Ms/s | Penumbra/llvm | "
-             "Penumbra/scalar | start-up s: Penumbra / llvm / scalar |")
-    L.append("|---|---|---|---|---|---|---|---|")
+             "Penumbra/scalar | rays/sample | Mrays/s: Penumbra / llvm | start-up s: Penumbra / llvm / scalar |")
+    L.append("|---|---|---|---|---|---|---|---|---|---|")
     for r in results:
         p, ml, ms = r["penumbra"], r.get("llvm"), r.get("scalar")
         sp = lambda m: m["msps"] if m else None  # noqa: E731
         ratio = lambda a, b: f"{a / b:.2f}" if a and b else "n/a"  # noqa: E731
         scal = fmt(sp(ms)) + (f" ({ms['spp']} spp)" if ms and ms["spp"] != r["spp"] else "")
+        rps = p.get("rays_per_sample")
+        rays = (f"{rps:.2f} | {fmt(p['mrps'])} / {fmt(sp(ml) * rps if ml else None)}" if rps else "n/a | n/a")
         L.append(f"| {r['name']} | {r['width']}x{r['height']}, {r['spp']} | {fmt(sp(p))} | {fmt(sp(ml))} | {scal} | "
-                 f"{ratio(sp(p), sp(ml))} | {ratio(sp(p), sp(ms))} | "
+                 f"{ratio(sp(p), sp(ml))} | {ratio(sp(p), sp(ms))} | {rays} | "
                  f"{fmt(p['startup_s'], 1)} / {fmt(ml and ml['startup_s'], 1)} / {fmt(ms and ms['startup_s'], 1)} |")
     L.append("")
     L.append("Render seconds (median, all runs in brackets) and start-up detail:")
@@ -519,8 +532,10 @@ def measure_timings(args, path, name, scene, r, uses_python):
             times.append(t)
             startups.append(wall - t)
         med = statistics.median(times)
+        rays = penumbra_rays_per_sample(path)
         r["penumbra"] = {"times": times, "median_s": med, "spp": spp, "msps": samples * spp / med * 1e-6,
-                         "startup_s": statistics.median(startups)}
+                         "startup_s": statistics.median(startups), "rays_per_sample": rays,
+                         "mrps": samples * spp * rays / med * 1e-6}
         # --- Mitsuba timing
         for variant, key, runs in (("llvm_ad_rgb", "llvm", args.runs), ("scalar_rgb", "scalar", args.scalar_runs)):
             if key == "scalar" and args.skip_scalar:
