@@ -127,7 +127,7 @@ TEST(SceneLoad, EmptySceneTakesDefaults) {
     EXPECT_EQ(s.film.width, 512u);
     EXPECT_EQ(s.film.height, 512u);
     EXPECT_EQ(s.sampler.spp, 16u);
-    EXPECT_EQ(s.sampler.type, SamplerType::Independent);
+    EXPECT_EQ(s.sampler.type, SamplerType::Sobol);
     EXPECT_EQ(s.integrator.type, IntegratorType::Direct);
     EXPECT_EQ(s.integrator.strategy, Strategy::Mis);
     EXPECT_EQ(s.integrator.sphereSampling, SphereSampling::SolidAngle);
