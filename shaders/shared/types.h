@@ -186,7 +186,9 @@ struct RenderParams {
     float deltaScale;       // 1 / (sum of selectionProb over delta lights), 0 if none
     float continuousScale;  // 1 / (sum of selectionProb over continuous lights), 0 if none
     uint environmentLight;  // index of the (single, merged) environment light, or NO_LIGHT
-    uint samplerType;       // SAMPLER_*
+    // SAMPLER_*. Read at run time although it selects code: the branch in rand2 is uniform
+    // and small next to tracing, and test kernels pick the sampler per dispatch.
+    uint samplerType;
     uint pad0, pad1;
 };
 
