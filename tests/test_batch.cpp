@@ -306,6 +306,14 @@ TEST(Batch, ResumeRendersOnlyMissingOrForeignOutputs) {
     ASSERT_EQ(test::runPenumbra("batch --quiet " + q(file), &err), 0) << err;
     EXPECT_EQ(summaryCount(err, "rendered"), 4) << err;
     EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << "--quiet leaves only the summary: " << err;
+
+    // So does another sampler (outputs record it in penumbra:sampler).
+    doc["jobs"][0]["set"]["sampler.type"] = "independent";
+    writeJson(file, doc);
+    ASSERT_EQ(test::runPenumbra("batch " + q(file), &err), 0) << err;
+    EXPECT_EQ(summaryCount(err, "rendered"), 4) << err;
+    EXPECT_EQ(countLines(err, "other sampler"), 4) << err;
+    EXPECT_EQ(readExr(dir / "out/f0.exr").meta.sampler, "independent");
 }
 
 TEST(Batch, InterruptedBatchLeavesNoPartialOutputAndResumes) {

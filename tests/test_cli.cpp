@@ -160,6 +160,35 @@ TEST(Cli, DisjointPartialsMergeToTheFullRender) {
     EXPECT_EQ(test::runPenumbra("merge '" + p0.string() + "' '" + p0.string() + "' -o '" + merged.string() + "'", &err), 2);
 }
 
+TEST(Cli, SamplerTypeIsRecordedAndOverridable) {
+    fs::path scene = writeText("sampler.json", smallScene().dump());
+    fs::path sobol = test::outputPath("sampler-sobol.exr"), independent = test::outputPath("sampler-independent.exr");
+    fs::path merged = test::outputPath("sampler-merged.exr");
+    std::string s = "render '" + scene.string() + "' --quiet --spp 4 ";
+    ASSERT_EQ(test::runPenumbra(s + "-o '" + sobol.string() + "'"), 0);
+    ASSERT_EQ(test::runPenumbra(s + "--set sampler.type=independent --set sampler.sample_offset=4 -o '" +
+                                independent.string() + "'"),
+              0);
+    Image a = readExr(sobol), b = readExr(independent);
+    EXPECT_EQ(a.meta.sampler, "sobol");  // the default
+    EXPECT_EQ(b.meta.sampler, "independent");
+    // Partials of different samplers are refused, with one line.
+    std::string err;
+    EXPECT_EQ(test::runPenumbra("merge '" + sobol.string() + "' '" + independent.string() + "' -o '" +
+                                merged.string() + "'", &err),
+              2);
+    EXPECT_NE(err.find("sampler independent differs"), std::string::npos) << err;
+    EXPECT_EQ(err.find('\n'), err.size() - 1) << err;
+    EXPECT_FALSE(fs::exists(merged));
+    // A bad value is bad input: exit 2, one line with the JSON path, nothing written.
+    fs::path bad = test::outputPath("sampler-bad.exr");
+    fs::remove(bad);
+    EXPECT_EQ(test::runPenumbra(s + "--set sampler.type=halton -o '" + bad.string() + "'", &err), 2);
+    EXPECT_NE(err.find("sampler.json: sampler.type: \"halton\" is not one of"), std::string::npos) << err;
+    EXPECT_EQ(err.find('\n'), err.size() - 1) << err;
+    EXPECT_FALSE(fs::exists(bad));
+}
+
 TEST(Cli, CompareAndDevicesPrintForScripts) {
     fs::path scene = writeText("compare.json", smallScene().dump());
     fs::path a = test::outputPath("cmp-a.exr");

@@ -93,7 +93,7 @@ TEST(ImageExr, RoundTripIsBitExactWithAllAttributes) {
     image.rgb[5] = -3.5f;  // negative and special values pass through a float EXR unchanged
     image.rgb[7] = std::numeric_limits<float>::infinity();
     image.rgb[8] = 1e-30f;
-    image.meta = {64, 7, 128, R"({"type":"direct","strategy":"mis"})", 12.625};
+    image.meta = {64, 7, 128, R"({"type":"direct","strategy":"mis"})", 12.625, "sobol"};
     writeExr(dir / "all.exr", image);
 
     const Image back = readExr(dir / "all.exr");
@@ -106,6 +106,7 @@ TEST(ImageExr, RoundTripIsBitExactWithAllAttributes) {
     EXPECT_EQ(back.meta.sampleOffset, 128);
     EXPECT_EQ(back.meta.integrator, image.meta.integrator);
     EXPECT_EQ(back.meta.renderSeconds, 12.625);
+    EXPECT_EQ(back.meta.sampler, "sobol");
     EXPECT_EQ(fileCount(dir), 1u) << "a temporary file was left behind";
 }
 
@@ -119,7 +120,7 @@ TEST(ImageExr, RoundTripWithoutAttributes) {
     ASSERT_EQ(back.height, 9u);
     EXPECT_EQ(back.rgb, image.rgb);
     EXPECT_FALSE(back.meta.spp || back.meta.seed || back.meta.sampleOffset || back.meta.integrator ||
-                 back.meta.renderSeconds);
+                 back.meta.renderSeconds || back.meta.sampler);
     EXPECT_EQ(fileCount(dir), 1u) << "a temporary file was left behind";
 }
 
@@ -445,6 +446,25 @@ TEST(ImageMerge, RefusesInputsWhoseMeanIsNotAnEstimate) {
     expectInputError([&] { mergeImages({c, d}, {"c.exr", "d.exr"}); }, "d.exr: ");
 
     EXPECT_THROW(mergeImages({}, {}), InputError);
+}
+
+TEST(ImageMerge, PartialsMustShareTheSampler) {
+    // Different seeds, so only the sampler stands in the way.
+    Image a = constantImage(2, 2, 1.0f, 4), b = constantImage(2, 2, 3.0f, 4);
+    a.meta.seed = 1;
+    b.meta.seed = 2;
+    a.meta.sampler = "sobol";
+    b.meta.sampler = "independent";
+    expectInputError([&] { mergeImages({a, b}, {"a.exr", "b.exr"}); },
+                     "b.exr: sampler independent differs from a.exr's (sobol)");
+    // A render without the attribute predates the option and used independent samples.
+    b.meta.sampler.reset();
+    expectInputError([&] { mergeImages({a, b}, {"a.exr", "b.exr"}); }, "sampler independent differs");
+    a.meta.sampler = "independent";
+    EXPECT_EQ(mergeImages({a, b}, {"a.exr", "b.exr"}).rgb[0], 2.0f);
+    b.meta.sampler = a.meta.sampler = "sobol";
+    const Image m = mergeImages({a, b}, {"a.exr", "b.exr"});
+    EXPECT_EQ(m.meta.sampler, "sobol");
 }
 
 // ---------------------------------------------------------------------------- compare

@@ -100,6 +100,9 @@ TEST(Overrides, AppliedBeforeValidation) {
     EXPECT_EQ(message, file.string() + ": film.width: must be an integer in [1, 16384], got 0");
     message = test::loadError(file, {parseOverride("sampler.spp=many")});
     EXPECT_EQ(message, file.string() + ": sampler.spp: expected an integer, got a string");
+    message = test::loadError(file, {parseOverride("sampler.type=halton")});
+    EXPECT_EQ(message, file.string() + ": sampler.type: \"halton\" is not one of \"sobol\", \"independent\"");
+    EXPECT_EQ(loadScene(file, {parseOverride("sampler.type=independent")}).sampler.type, SamplerType::Independent);
     message = test::loadError(file, {parseOverride("camera.fov_y=1e999")});
     EXPECT_NE(message.find("camera.fov_y: number is not finite"), std::string::npos) << message;
 }

@@ -33,7 +33,7 @@ void expectVec(glm::vec3 actual, glm::vec3 expected, float tolerance = 1e-5f) {
 const char* kFullScene = R"({
   "camera": { "eye": [1, 2, 6], "target": [0, 1, 0], "up": [0, 1, 0], "fov_y": 35 },
   "film": { "width": 640, "height": 480 },
-  "sampler": { "spp": 4, "seed": 7, "sample_offset": 100 },
+  "sampler": { "spp": 4, "seed": 7, "sample_offset": 100, "type": "independent" },
   "integrator": { "type": "direct", "strategy": "bsdf", "light_samples": 2 },
   "materials": {
     "shiny": { "type": "phong", "kd": [0.3, 0.3, 0.3], "ks": [0.6, 0.6, 0.6], "exponent": 50 },
@@ -70,6 +70,7 @@ TEST(SceneLoad, FullSceneConvertsEveryField) {
     EXPECT_EQ(s.sampler.spp, 4u);
     EXPECT_EQ(s.sampler.seed, 7u);
     EXPECT_EQ(s.sampler.sampleOffset, 100u);
+    EXPECT_EQ(s.sampler.type, SamplerType::Independent);
 
     EXPECT_EQ(s.integrator.type, IntegratorType::Direct);
     EXPECT_EQ(s.integrator.strategy, Strategy::Bsdf);
@@ -126,6 +127,7 @@ TEST(SceneLoad, EmptySceneTakesDefaults) {
     EXPECT_EQ(s.film.width, 512u);
     EXPECT_EQ(s.film.height, 512u);
     EXPECT_EQ(s.sampler.spp, 16u);
+    EXPECT_EQ(s.sampler.type, SamplerType::Sobol);
     EXPECT_EQ(s.integrator.type, IntegratorType::Direct);
     EXPECT_EQ(s.integrator.strategy, Strategy::Mis);
     EXPECT_EQ(s.integrator.sphereSampling, SphereSampling::SolidAngle);
@@ -204,6 +206,9 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"ZeroSpp", R"({"sampler": {"spp": 0}})", "sampler.spp: must be an integer in [1, "},
         BadCase{"NegativeSeed", R"({"sampler": {"seed": -1}})", "sampler.seed: must be an integer in [0, 2147483647]"},
         BadCase{"SeedBeyondHeaderInt", R"({"sampler": {"seed": 3000000000}})", "sampler.seed: must be an integer in [0, 2147483647]"},
+        BadCase{"UnknownSamplerType", R"({"sampler": {"type": "halton"}})",
+                "sampler.type: \"halton\" is not one of \"sobol\", \"independent\""},
+        BadCase{"SamplerTypeNotString", R"({"sampler": {"type": 1}})", "sampler.type: expected a string, got a number"},
         BadCase{"MissingRequired", "{\"shapes\": [{" SPHERE "}]}", "shapes[0]: missing required field \"radius\""},
         BadCase{"MissingType", R"({"shapes": [{"radius": 1}]})", "shapes[0]: missing required field \"type\""},
         BadCase{"UnknownShapeType", R"({"shapes": [{"type": "cube"}]})", "shapes[0].type: \"cube\" is not one of"},

@@ -39,7 +39,8 @@ std::string oneLine(std::string text) {
 
 // Empty when `output` holds this job's finished render: an EXR that reads back whole
 // (writes are atomic, so a partial one cannot exist; a foreign or damaged file fails
-// here) and whose header matches the job: size, spp, seed, sample_offset and integrator.
+// here) and whose header matches the job: size, spp, seed, sample_offset, integrator and
+// sampler.
 // Otherwise why not, for the progress line.
 std::string incompleteReason(const fs::path& output, const Scene& scene) {
     std::error_code ec;
@@ -58,6 +59,8 @@ std::string incompleteReason(const fs::path& output, const Scene& scene) {
     if (m.seed && *m.seed != int64_t(scene.sampler.seed)) return "other seed";
     if (m.sampleOffset && *m.sampleOffset != int64_t(scene.sampler.sampleOffset)) return "other sample_offset";
     if (m.integrator && *m.integrator != scene.integrator.json.dump()) return "other integrator";
+    // Absent: rendered before the sampler option, with independent samples.
+    if (m.sampler.value_or("independent") != samplerTypeName(scene.sampler.type)) return "other sampler";
     return {};
 }
 

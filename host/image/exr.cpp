@@ -31,6 +31,7 @@ constexpr const char* kSeed = "penumbra:seed";
 constexpr const char* kSampleOffset = "penumbra:sample_offset";
 constexpr const char* kIntegrator = "penumbra:integrator";
 constexpr const char* kRenderSeconds = "penumbra:render_seconds";
+constexpr const char* kSampler = "penumbra:sampler";
 constexpr const char* kChannels[3] = {"R", "G", "B"};
 
 // Far beyond any film we render, small enough that a corrupt header claiming a huge
@@ -107,6 +108,7 @@ void writeExr(const std::filesystem::path& path, const Image& image) {
         if (m.sampleOffset) header.insert(kSampleOffset, Imf::IntAttribute(*m.sampleOffset));
         if (m.integrator) header.insert(kIntegrator, Imf::StringAttribute(*m.integrator));
         if (m.renderSeconds) header.insert(kRenderSeconds, Imf::DoubleAttribute(*m.renderSeconds));
+        if (m.sampler) header.insert(kSampler, Imf::StringAttribute(*m.sampler));
 
         Imf::FrameBuffer frame;
         const size_t xStride = 3 * sizeof(float), yStride = xStride * image.width;
@@ -166,6 +168,7 @@ Image readExr(const std::filesystem::path& path) {
         readAttribute<Imf::IntAttribute>(header, kSampleOffset, image.meta.sampleOffset);
         readAttribute<Imf::StringAttribute>(header, kIntegrator, image.meta.integrator);
         readAttribute<Imf::DoubleAttribute>(header, kRenderSeconds, image.meta.renderSeconds);
+        readAttribute<Imf::StringAttribute>(header, kSampler, image.meta.sampler);
         return image;
     } catch (const InputError&) {
         throw;

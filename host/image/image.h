@@ -17,6 +17,9 @@ struct ImageMetadata {
     std::optional<int> sampleOffset;      // penumbra:sample_offset
     std::optional<std::string> integrator;  // penumbra:integrator (JSON text)
     std::optional<double> renderSeconds;  // penumbra:render_seconds
+    // penumbra:sampler, "sobol" or "independent": beyond SCENE_FORMAT.md's list (README).
+    // Renders made before the sampler option lack it; they used independent samples.
+    std::optional<std::string> sampler;
 };
 
 struct Image {

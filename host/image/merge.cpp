@@ -14,6 +14,9 @@ namespace {
 
 std::string sizeText(const Image& image) { return std::to_string(image.width) + "x" + std::to_string(image.height); }
 
+// A render without penumbra:sampler predates the sampler option: it used independent samples.
+std::string samplerOf(const Image& image) { return image.meta.sampler.value_or("independent"); }
+
 }  // namespace
 
 Image mergeImages(const std::vector<Image>& images, const std::vector<std::string>& names) {
@@ -34,6 +37,12 @@ Image mergeImages(const std::vector<Image>& images, const std::vector<std::strin
             throwInputError(nameOf(i), "",
                             "integrator differs from " + nameOf(0) +
                                 "'s; merging renders of different integrators is not meaningful");
+        // Partials of one render share its sampler: only then is the merge the same image as
+        // one render of all the samples (and a Sobol' render's aligned blocks stay nets).
+        if (samplerOf(image) != samplerOf(first))
+            throwInputError(nameOf(i), "",
+                            "sampler " + samplerOf(image) + " differs from " + nameOf(0) + "'s (" + samplerOf(first) +
+                                "); render all partials with the same sampler.type");
         totalSpp += *image.meta.spp;
     }
     if (totalSpp > INT_MAX) throw InputError("merge: total spp " + std::to_string(totalSpp) + " exceeds " + std::to_string(INT_MAX));
@@ -71,6 +80,7 @@ Image mergeImages(const std::vector<Image>& images, const std::vector<std::strin
     m.spp = int(totalSpp);
     m.seed = first.meta.seed;
     m.integrator = first.meta.integrator;
+    m.sampler = first.meta.sampler;
     for (const Image& image : images) {
         if (image.meta.sampleOffset) m.sampleOffset = std::min(m.sampleOffset.value_or(INT_MAX), *image.meta.sampleOffset);
         if (image.meta.renderSeconds) m.renderSeconds = m.renderSeconds.value_or(0.0) + *image.meta.renderSeconds;

@@ -180,6 +180,7 @@ Image Renderer::readback(double renderSeconds) const {
     image.meta.sampleOffset = int(m_scene.sampler.sampleOffset);
     image.meta.integrator = m_scene.integrator.json.dump();
     image.meta.renderSeconds = renderSeconds;
+    image.meta.sampler = samplerTypeName(m_scene.sampler.type);
     return image;
 }
 

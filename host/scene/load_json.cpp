@@ -128,7 +128,7 @@ private:
     }
 
     void readSampler(const JsonReader& r) {
-        r.expectKeys({"spp", "seed", "sample_offset"}, "sampler");
+        r.expectKeys({"spp", "seed", "sample_offset", "type"}, "sampler");
         SamplerSettings& s = m_scene.sampler;
         // The EXR header records spp, seed and sample_offset as 32-bit signed ints
         // (SCENE_FORMAT.md "Output"), so each must fit one; then sample_offset + i never
@@ -136,6 +136,8 @@ private:
         if (auto spp = r.find("spp")) s.spp = uint32_t(spp->integer(1, INT32_MAX));
         if (auto seed = r.find("seed")) s.seed = uint32_t(seed->integer(0, INT32_MAX));
         if (auto offset = r.find("sample_offset")) s.sampleOffset = uint32_t(offset->integer(0, INT32_MAX));
+        if (auto type = r.find("type"))
+            s.type = type->choice({"sobol", "independent"}) == "sobol" ? SamplerType::Sobol : SamplerType::Independent;
     }
 
     void readIntegrator(const std::optional<JsonReader>& r) {

@@ -22,9 +22,10 @@ bool invocationPixel(out uvec2 pixel) {
     return pixel.x < params.width && gl_GlobalInvocationID.y < pass.rowCount && pixel.y < params.height;
 }
 
-// The random stream of (pixel, sample): absolute index sampleOffset + sampleIndex.
+// The random stream of (pixel, sample): absolute index sampleOffset + sampleIndex, drawn
+// by the scene's sampler.
 Rng pixelRng(uvec2 pixel, uint sampleIndex) {
-    return makeRng(pixel.y * params.width + pixel.x, params.sampleOffset + sampleIndex, params.seed);
+    return makeRng(pixel.y * params.width + pixel.x, params.sampleOffset + sampleIndex, params.seed, params.samplerType);
 }
 
 // Pinhole camera; `jitter` in [0,1)^2 spreads samples uniformly over the pixel (box

@@ -128,6 +128,10 @@ PENUMBRA_CONST uint SPHERE_AREA = 0u;
 PENUMBRA_CONST uint SPHERE_CAP = 1u;
 PENUMBRA_CONST uint SPHERE_SOLID_ANGLE = 2u;
 
+// ---- Sampler (shaders/common/rng.glsl) --------------------------------------------------
+PENUMBRA_CONST uint SAMPLER_INDEPENDENT = 0u;  // independent hashes per sample and dimension
+PENUMBRA_CONST uint SAMPLER_SOBOL = 1u;        // padded Owen-scrambled Sobol' (common/sobol.glsl)
+
 // ---- Specialization constants of the render kernels (constant_id) ----------------------
 // Options that select code rather than data are compiled into the kernel, not read from
 // RenderParams: llvmpipe runs eight invocations in SIMD lanes and executes both sides of
@@ -182,7 +186,10 @@ struct RenderParams {
     float deltaScale;       // 1 / (sum of selectionProb over delta lights), 0 if none
     float continuousScale;  // 1 / (sum of selectionProb over continuous lights), 0 if none
     uint environmentLight;  // index of the (single, merged) environment light, or NO_LIGHT
-    uint pad0, pad1, pad2;
+    // SAMPLER_*. Read at run time although it selects code: the branch in rand2 is uniform
+    // and small next to tracing, and test kernels pick the sampler per dispatch.
+    uint samplerType;
+    uint pad0, pad1;
 };
 
 // Per-dispatch constants: which sample index this pass adds, to which rows of pixels
