@@ -41,7 +41,7 @@ TEST(KernelOptions, SceneFeaturesListWhatTheSceneHolds) {
                         (1u << (FEATURE_MATERIAL + gpu::MATERIAL_PHONG));
     // Materials may include a default diffuse one for shapes without a material.
     EXPECT_EQ(bits & ~(1u << (FEATURE_MATERIAL + gpu::MATERIAL_DIFFUSE)), expected);
-    EXPECT_EQ(makeKernelOptions(scene.integrator, buildSceneArrays(scene)).specialization().size(), size_t(SPEC_COUNT));
+    EXPECT_EQ(makeKernelOptions(scene, buildSceneArrays(scene)).specialization().size(), size_t(SPEC_COUNT));
 }
 
 TEST(KernelOptions, ChangingTheIntegratorOptionsChangesTheImage) {

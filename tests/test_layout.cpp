@@ -22,7 +22,7 @@ static_assert(sizeof(AliasEntry) == 16);
 static_assert(sizeof(RenderParams) % 16 == 0 && offsetof(RenderParams, right) == 16 &&
               offsetof(RenderParams, up) == 32 && offsetof(RenderParams, width) == 44 &&
               offsetof(RenderParams, forward) == 48 && offsetof(RenderParams, height) == 60 &&
-              offsetof(RenderParams, seed) == 64 && offsetof(RenderParams, samplerType) == 116 &&
+              offsetof(RenderParams, seed) == 64 &&
               sizeof(RenderParams) == 128);
 static_assert(sizeof(PassConstants) == 16);
 

@@ -13,6 +13,7 @@ std::vector<uint32_t> KernelOptions::specialization() const {
     values[SPEC_SPHERE_SAMPLING] = sphereSampling;
     values[SPEC_AO_SAMPLING] = aoSampling;
     values[SPEC_SCENE_FEATURES] = sceneFeatures;
+    values[SPEC_SAMPLER] = sampler;
     return values;
 }
 
@@ -24,7 +25,8 @@ uint32_t sceneFeatures(const SceneArrays& arrays) {
     return bits;
 }
 
-KernelOptions makeKernelOptions(const IntegratorSettings& in, const SceneArrays& arrays) {
+KernelOptions makeKernelOptions(const Scene& scene, const SceneArrays& arrays) {
+    const IntegratorSettings& in = scene.integrator;
     KernelOptions o;
     if (in.type == IntegratorType::AmbientOcclusion) {
         o.aoSampling = in.aoSampling == AoSampling::Cosine ? gpu::AO_COSINE : gpu::AO_UNIFORM;
@@ -41,6 +43,7 @@ KernelOptions makeKernelOptions(const IntegratorSettings& in, const SceneArrays&
                                                                       : gpu::SPHERE_SOLID_ANGLE;
     }
     o.sceneFeatures = sceneFeatures(arrays);
+    o.sampler = scene.sampler.type == SamplerType::Sobol ? gpu::SAMPLER_SOBOL : gpu::SAMPLER_INDEPENDENT;
     return o;
 }
 

@@ -20,6 +20,7 @@ struct KernelOptions {
     uint32_t sphereSampling = gpu::SPHERE_SOLID_ANGLE;
     uint32_t aoSampling = gpu::AO_COSINE;
     uint32_t sceneFeatures = gpu::FEATURES_ALL;
+    uint32_t sampler = gpu::SAMPLER_SOBOL;
 
     // Values in constant_id order, for gpu::Pipeline.
     std::vector<uint32_t> specialization() const;
@@ -27,8 +28,9 @@ struct KernelOptions {
 };
 
 // The options of `scene`'s integrator (those of the other integrator type stay at their
-// defaults, so that they do not split the pipeline cache) and the features of `arrays`.
-KernelOptions makeKernelOptions(const IntegratorSettings& integrator, const SceneArrays& arrays);
+// defaults, so that they do not split the pipeline cache) and sampler, and the features of
+// `arrays`.
+KernelOptions makeKernelOptions(const Scene& scene, const SceneArrays& arrays);
 
 // FEATURE_* bits of what `arrays` contains.
 uint32_t sceneFeatures(const SceneArrays& arrays);

@@ -30,7 +30,7 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
       m_scene(scene),
       m_arrays(buildSceneArrays(scene)),
       m_params(makeRenderParams(scene, m_arrays)),
-      m_options(makeKernelOptions(scene.integrator, m_arrays)) {
+      m_options(makeKernelOptions(scene, m_arrays)) {
     using gpu::Buffer;
     m_paramsBuffer = Buffer(context, sizeof(gpu::RenderParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
     uploadParams();
@@ -69,7 +69,7 @@ std::unique_ptr<gpu::Kernel> Renderer::createKernel(const KernelOptions& options
 }
 
 void Renderer::updateKernel() {
-    KernelOptions options = makeKernelOptions(m_scene.integrator, m_arrays);
+    KernelOptions options = makeKernelOptions(m_scene, m_arrays);
     if (m_kernel && options == m_options) return;
     m_options = options;
     m_kernel = createKernel(m_options);

@@ -229,7 +229,6 @@ gpu::RenderParams makeRenderParams(const Scene& scene, const SceneArrays& arrays
     p.aspect = float(p.width) / float(p.height);
     p.seed = scene.sampler.seed;
     p.sampleOffset = scene.sampler.sampleOffset;
-    p.samplerType = scene.sampler.type == SamplerType::Sobol ? gpu::SAMPLER_SOBOL : gpu::SAMPLER_INDEPENDENT;
     const IntegratorSettings& in = scene.integrator;
     p.integrator = in.type == IntegratorType::AmbientOcclusion ? gpu::INTEGRATOR_AO : gpu::INTEGRATOR_DIRECT;
     p.lightCount = uint32_t(arrays.lights.size());

@@ -47,7 +47,8 @@ const uint SOBOL_SEED_TAG = 0x50b01u;
 // (Burley 2020's padding, as pbrt-v4's PaddedSobolSampler and Cycles' Sobol-Burley). Each
 // point is still uniform (unbiased estimates), a pixel's first 2^m samples are a (0,m,2)-net
 // in every pair, and pixels and pairs are decorrelated by their independent seeds.
-// params.samplerType is the same for every invocation, so the branch is uniform.
+// The render kernels pass the specialization constant kSampler, which compiles the other
+// sampler out; the sampler tests pass it per dispatch.
 vec2 rand2(inout Rng rng) {
     uvec2 bits;
     if (rng.samplerType == SAMPLER_SOBOL) {

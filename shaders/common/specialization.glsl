@@ -15,6 +15,7 @@ layout(constant_id = SPEC_BSDF_SAMPLES) const uint kBsdfSamples = 1u;
 layout(constant_id = SPEC_SPHERE_SAMPLING) const uint kSphereSampling = SPHERE_SOLID_ANGLE;
 layout(constant_id = SPEC_AO_SAMPLING) const uint kAoSampling = AO_COSINE;
 layout(constant_id = SPEC_SCENE_FEATURES) const uint kSceneFeatures = FEATURES_ALL;
+layout(constant_id = SPEC_SAMPLER) const uint kSampler = SAMPLER_SOBOL;
 
 // Whether the scene has a primitive / light / material of this type; false compiles the
 // code that handles it out of the kernel.

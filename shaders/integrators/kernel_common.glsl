@@ -25,7 +25,7 @@ bool invocationPixel(out uvec2 pixel) {
 // The random stream of (pixel, sample): absolute index sampleOffset + sampleIndex, drawn
 // by the scene's sampler.
 Rng pixelRng(uvec2 pixel, uint sampleIndex) {
-    return makeRng(pixel.y * params.width + pixel.x, params.sampleOffset + sampleIndex, params.seed, params.samplerType);
+    return makeRng(pixel.y * params.width + pixel.x, params.sampleOffset + sampleIndex, params.seed, kSampler);
 }
 
 // Pinhole camera; `jitter` in [0,1)^2 spreads samples uniformly over the pixel (box

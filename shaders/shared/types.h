@@ -148,7 +148,8 @@ PENUMBRA_CONST uint SAMPLER_SOBOL = 1u;        // padded Owen-scrambled Sobol' (
 #define SPEC_SPHERE_SAMPLING 5   // SPHERE_*
 #define SPEC_AO_SAMPLING 6       // AO_*
 #define SPEC_SCENE_FEATURES 7    // FEATURE_* bits: what the scene contains
-#define SPEC_COUNT 8
+#define SPEC_SAMPLER 8           // SAMPLER_*
+#define SPEC_COUNT 9
 
 // Scene feature bits: bit FEATURE_PRIMITIVE + PRIM_*, FEATURE_LIGHT + LIGHT_*,
 // FEATURE_MATERIAL + MATERIAL_* is set when the scene has such a primitive, light or
@@ -186,10 +187,7 @@ struct RenderParams {
     float deltaScale;       // 1 / (sum of selectionProb over delta lights), 0 if none
     float continuousScale;  // 1 / (sum of selectionProb over continuous lights), 0 if none
     uint environmentLight;  // index of the (single, merged) environment light, or NO_LIGHT
-    // SAMPLER_*. Read at run time although it selects code: the branch in rand2 is uniform
-    // and small next to tracing, and test kernels pick the sampler per dispatch.
-    uint samplerType;
-    uint pad0, pad1;
+    uint pad0, pad1, pad2;
 };
 
 // Per-dispatch constants: which sample index this pass adds, to which rows of pixels
