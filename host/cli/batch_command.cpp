@@ -192,6 +192,7 @@ int batchCommand(const BatchOptions& options) {
                                            p.samplesDone, p.samplesTotal, rate * 1e-6);
                 std::fflush(stderr);
             };
+            renderer->compileKernel();  // start-up, not rendering (as in penumbra render)
             const auto renderStart = Clock::now();
             try {
                 renderer->renderAll(progress, &g_stop);

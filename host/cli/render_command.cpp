@@ -49,8 +49,11 @@ int renderCommand(const RenderOptions& options) {
     gpu::Context context(contextOptions);
 
     const bool showProgress = !options.quiet && isatty(STDERR_FILENO);
-    auto start = std::chrono::steady_clock::now();
     Renderer renderer(context, scene);
+    // penumbra:render_seconds is the time spent rendering samples: scene upload, BVH and
+    // the driver's shader compilation come before it (README, "render_seconds").
+    renderer.compileKernel();
+    auto start = std::chrono::steady_clock::now();
     const uint64_t pixels = uint64_t(scene.film.width) * scene.film.height;
     auto progress = [&](const RenderProgress& p) {
         if (!showProgress) return;

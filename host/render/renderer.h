@@ -48,6 +48,10 @@ public:
     // `type` or `lightSelection` differ from the scene's.
     void setCamera(const Camera& camera);
     void setIntegrator(const IntegratorSettings& integrator);
+    // Makes the driver compile the current kernel now, with a dispatch that covers no
+    // pixels: llvmpipe compiles on the first dispatch, and callers that time the render
+    // (penumbra:render_seconds) count that compilation as start-up, not as rendering.
+    void compileKernel() const;
     // Records `count` passes, sample indices [first, first + count), over rows
     // [firstRow, firstRow + rowCount) into `cmd`, each followed by a barrier.
     void recordPasses(VkCommandBuffer cmd, uint32_t first, uint32_t count, uint32_t firstRow, uint32_t rowCount) const;
