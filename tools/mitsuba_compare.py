@@ -17,7 +17,8 @@ Per scene:
     Mitsuba renders of that spp compared with each other.
   * Time-to-error (Cornell box and MIS scene): renders at 1, 2, 4, ... spp until the relMSE
     against the Penumbra reference drops below --target; the time at the target is
-    interpolated log-log between the two bracketing renders.
+    interpolated log-log between the two bracketing renders. Penumbra with its Sobol'
+    default and with the independent sampler; Mitsuba llvm with independent and ldsampler.
 Writes a markdown report to stdout and into docs/PERFORMANCE.md (section "Results").
 """
 import argparse
@@ -117,7 +118,7 @@ def worker(job):
     t_import = time.time() - t_start
 
     def make(spp, seed=0):
-        return mi.load_dict(mp.translate(scene_json, spp=spp, seed=seed))
+        return mi.load_dict(mp.translate(scene_json, spp=spp, seed=seed, sampler=job.get("sampler", "independent")))
 
     def render(scene, spp, seed, pass_samples=None):
         """Renders spp samples per pixel, in passes of at most pass_samples samples in all
@@ -156,16 +157,18 @@ def worker(job):
     elif op == "tte":
         ref, _ = read_exr(job["ref"])
         points = []
-        spp = 1
-        scene = make(1)
+        # ldsampler takes only square powers of two (it rounds others up): 4, 16, 64, ...
+        ld = job.get("sampler") == "ldsampler"
+        spp = 4 if ld else 1
         while spp <= job["max_spp"]:
+            scene = make(spp)  # the sampler's sample_count matters to low-discrepancy samplers
             render(scene, spp, 999, job.get("pass_samples"))  # a new spp may compile a new kernel: untimed
             img, t = render(scene, spp, 7 + spp, job.get("pass_samples"))
             e = relmse(img, ref)
             points.append([spp, t, e])
             if e < job["target"]:
                 break
-            spp *= 2
+            spp *= 4 if ld else 2
         out["points"] = points
     print("RESULT " + json.dumps(out), flush=True)
 
@@ -188,8 +191,8 @@ def run_worker(job, timeout=3600, cold_jit=False):
         if tmp_home:
             shutil.rmtree(tmp_home, ignore_errors=True)
     for line in p.stdout.splitlines():
-        if line.startswith("RESULT "):
-            return json.loads(line[7:])
+        if "RESULT " in line:  # Mitsuba's log may leave a colour escape code before it
+            return json.loads(line[line.index("RESULT ") + 7:])
     raise RuntimeError(f"Mitsuba worker {job['op']} {job['variant']} failed (exit {p.returncode}):\n"
                        + (p.stderr or p.stdout)[-3000:])
 
@@ -197,8 +200,10 @@ def run_worker(job, timeout=3600, cold_jit=False):
 # ---------------------------------------------------------------------------------------
 # Penumbra
 # ---------------------------------------------------------------------------------------
-def penumbra_render(scene_path, out, spp=None, seed=None, width=None, height=None):
+def penumbra_render(scene_path, out, spp=None, seed=None, width=None, height=None, sampler=None):
     cmd = [PENUMBRA, "render", scene_path, "-o", out, "--quiet"]
+    if sampler is not None:
+        cmd += ["--set", f"sampler.type={sampler}"]
     if spp is not None:
         cmd += ["--spp", str(spp)]
     if seed is not None:
@@ -232,12 +237,13 @@ def penumbra_reference(scene_path, name, spp, width, height, seed=4242):
     return img, out, t
 
 
-def penumbra_tte(scene_path, name, ref, target, max_spp, width, height):
+def penumbra_tte(scene_path, name, ref, target, max_spp, width, height, sampler=None):
     points = []
     spp = 1
     while spp <= max_spp:
         out = os.path.join(WORK, f"{name}_tte_penumbra.exr")
-        img, t, _ = penumbra_render(scene_path, out, spp=spp, seed=17 + spp, width=width, height=height)
+        img, t, _ = penumbra_render(scene_path, out, spp=spp, seed=17 + spp, width=width, height=height,
+                                    sampler=sampler)
         e = relmse(img, ref)
         points.append([spp, t, e])
         if e < target:
@@ -403,16 +409,25 @@ def report(info, results, args):
                  "that bracket the first render below it (spp, seconds, relMSE of each render in brackets; "
                  "single renders, so a firefly can make one level worse than the one before):")
         L.append("")
-        L.append("| scene | target relMSE | Penumbra s | Mitsuba llvm s | Penumbra / llvm |")
-        L.append("|---|---|---|---|---|")
+        L.append("Penumbra renders with its default sampler (Owen-scrambled Sobol') and with `sampler.type` "
+                 "independent; Mitsuba llvm with its default `independent` sampler and with its low-discrepancy "
+                 "`ldsampler`. Ratios are Penumbra Sobol' over each Mitsuba variant.")
+        L.append("")
+        L.append("| scene | target relMSE | Penumbra Sobol' s | Penumbra independent s | Mitsuba llvm independent s | "
+                 "Mitsuba llvm ldsampler s | Penumbra / llvm independent | Penumbra / llvm ldsampler |")
+        L.append("|---|---|---|---|---|---|---|---|")
         for r in tte:
-            tp, tm = r["tte"]["penumbra_s"], r["tte"]["llvm_s"]
-            q = f"{tp / tm:.2f}" if tp and tm else "n/a"
-            L.append(f"| {r['name']} | {r['tte']['target']:.4g} | {fmt(tp, 3)} | {fmt(tm, 3)} | {q} |")
+            tp, ti = r["tte"]["penumbra_s"], r["tte"].get("penumbra_independent_s")
+            tm, tl = r["tte"]["llvm_s"], r["tte"].get("llvm_ld_s")
+            q = lambda a, b: f"{a / b:.2f}" if a and b else "n/a"  # noqa: E731
+            L.append(f"| {r['name']} | {r['tte']['target']:.4g} | {fmt(tp, 3)} | {fmt(ti, 3)} | {fmt(tm, 3)} | "
+                     f"{fmt(tl, 3)} | {q(tp, tm)} | {q(tp, tl)} |")
         L.append("")
         for r in tte:
-            for key in ("penumbra", "llvm"):
-                pts = r["tte"][key + "_points"]
+            for key in ("penumbra", "penumbra_independent", "llvm", "llvm_ld"):
+                pts = r["tte"].get(key + "_points")
+                if pts is None:
+                    continue
                 L.append(f"- {r['name']} {key}: " + ", ".join(f"({s}, {t:.3f}, {e:.4f})" for s, t, e in pts))
         L.append("")
     notes = [n for r in results for n in r.get("notes", [])]
@@ -592,11 +607,18 @@ def quality(args, path, name, r):
                 target = max(args.target, 10 * 0.5 * r["agreement"]["noise_relmse"])
                 log(f"[{name}] time-to-error, target relMSE {target:.4g}")
                 pp = penumbra_tte(path, name, ref, target, args.max_spp, qW, qH)
+                pi = penumbra_tte(path, name, ref, target, args.max_spp, qW, qH, sampler="independent")
                 mm = run_worker({"op": "tte", "variant": "llvm_ad_rgb", "scene": path, "ref": ref_path,
                                  "target": target, "max_spp": args.max_spp, "width": qW, "height": qH,
                                  "pass_samples": 4_000_000})["points"]
+                ml = run_worker({"op": "tte", "variant": "llvm_ad_rgb", "scene": path, "ref": ref_path,
+                                 "target": target, "max_spp": args.max_spp, "width": qW, "height": qH,
+                                 "pass_samples": 4_000_000, "sampler": "ldsampler"})["points"]
                 r["tte"] = {"target": target, "penumbra_points": pp, "llvm_points": mm,
-                            "penumbra_s": time_to_error(pp, target), "llvm_s": time_to_error(mm, target)}
+                            "llvm_ld_points": ml, "llvm_ld_s": time_to_error(ml, target),
+                            "penumbra_independent_points": pi,
+                            "penumbra_s": time_to_error(pp, target), "llvm_s": time_to_error(mm, target),
+                            "penumbra_independent_s": time_to_error(pi, target)}
 
 
 if __name__ == "__main__":

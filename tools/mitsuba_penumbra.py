@@ -273,8 +273,10 @@ def _bounds(scene):
     return c, 0.5 * _norm(_sub(hi, lo))
 
 
-def translate(scene, spp=None, seed=None):
-    """Returns a dict for mi.load_dict. Raises Unsupported for features Mitsuba cannot match."""
+def translate(scene, spp=None, seed=None, sampler="independent"):
+    """Returns a dict for mi.load_dict. Raises Unsupported for features Mitsuba cannot match.
+    `sampler` is the Mitsuba sampler plugin (independent by default; ldsampler for the
+    low-discrepancy time-to-error comparison)."""
     register_plugins()
     cam = scene.get("camera", {})
     film = scene.get("film", {})
@@ -295,7 +297,7 @@ def translate(scene, spp=None, seed=None):
                                                        up=_v(cam.get("up", [0, 1, 0]))),
             "film": {"type": "hdrfilm", "width": W, "height": H, "rfilter": {"type": "box"},
                      "pixel_format": "rgb"},
-            "sampler": {"type": "independent", "sample_count": spp, "seed": seed},
+            "sampler": {"type": sampler, "sample_count": spp, "seed": seed},
         },
     }
     if integ.get("type", "direct") == "ao":
