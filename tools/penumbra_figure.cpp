@@ -2,7 +2,8 @@
 // once per value of one `direct` integrator option at equal spp, and a reference with `mis`
 // and `solid_angle` at many more spp and another seed; prints each value's error against the
 // reference and writes one PNG of the panels side by side, each labelled. One process, one
-// Vulkan context, one Renderer (the values only change RenderParams: Renderer::retarget).
+// Vulkan context, one Renderer (each value changes RenderParams or the specialized kernel:
+// Renderer::retarget).
 //
 //   penumbra_figure SCENE --vary strategy|sphere_sampling|heuristic [--values a,b,c]
 //       [--spp N] [--reference-spp M] [--width W --height H] [--set PATH=VALUE]...
@@ -190,6 +191,7 @@ int run(const Options& o) {
         if (!o.quiet)
             std::fprintf(stderr, "penumbra_figure: %s, %u spp\n", what.c_str(), scene.sampler.spp);
         renderer.retarget(scene);
+        renderer.compileKernel();  // a new option may mean a new kernel: compiling is not rendering
         auto t0 = Clock::now();
         renderer.renderAll();
         double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
