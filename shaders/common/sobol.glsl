@@ -30,14 +30,21 @@ uint nestedUniformScramble(uint x, uint seed) {
 
 // Sobol' dimensions 0 and 1 of `index` as 32-bit fractions. Dimension 0 is the van der
 // Corput sequence (bit reversal); dimension 1's direction numbers are v_k = v_{k-1} ^
-// (v_{k-1} >> 1), v_0 = 1/2 (Burley 2020). Together they form a (0,2)-sequence in
-// base 2: every aligned block of 2^m indices is a (0,m,2)-net.
+// (v_{k-1} >> 1), v_0 = 1/2 (Burley 2020): the rows of Pascal's triangle mod 2, so by Lucas'
+// theorem fraction bit i (from the top) is the XOR of the index bits k whose position k
+// contains i bitwise (C(k, i) odd iff i & k == i). That sum over supersets of the 5-bit
+// positions takes one shift-xor per position bit, instead of a loop over the index's 32
+// bits (which llvmpipe runs to the longest lane's end); the result is the same bit for bit.
+// Together they form a (0,2)-sequence in base 2: every aligned block of 2^m indices is a
+// (0,m,2)-net.
 uvec2 sobol2d(uint index) {
-    uint x = bitfieldReverse(index);
-    uint y = 0u;
-    for (uint v = 1u << 31; index != 0u; index >>= 1, v ^= v >> 1)
-        if ((index & 1u) != 0u) y ^= v;
-    return uvec2(x, y);
+    uint z = index;
+    z ^= (z & 0xaaaaaaaau) >> 1;
+    z ^= (z & 0xccccccccu) >> 2;
+    z ^= (z & 0xf0f0f0f0u) >> 4;
+    z ^= (z & 0xff00ff00u) >> 8;
+    z ^= (z & 0xffff0000u) >> 16;
+    return uvec2(bitfieldReverse(index), bitfieldReverse(z));
 }
 
 // Point `index` of a 2D Sobol' sequence whose order is shuffled and whose coordinates are
