@@ -18,7 +18,7 @@ vec3 mirrorDirection(vec3 wo, vec3 n) { return 2.0 * dot(wo, n) * n - wo; }
 
 // Probability of choosing the glossy lobe.
 float glossyLobeProbability(Material m) {
-    if (!hasMaterial(MATERIAL_PHONG) || m.type != MATERIAL_PHONG) return 0.0;
+    if (!materialIs(m, MATERIAL_PHONG)) return 0.0;
     float d = meanComponent(m.kd), s = meanComponent(m.ks);
     return d + s > 0.0 ? s / (d + s) : 0.0;
 }
@@ -27,7 +27,7 @@ float glossyLobeProbability(Material m) {
 vec3 bsdfEval(Material m, vec3 n, vec3 wo, vec3 wi) {
     if (dot(wi, n) <= 0.0 || dot(wo, n) <= 0.0) return vec3(0.0);
     vec3 f = m.kd * INV_PI;
-    if (hasMaterial(MATERIAL_PHONG) && m.type == MATERIAL_PHONG) {
+    if (materialIs(m, MATERIAL_PHONG)) {
         // cos^n through phongLobePdf ((n+1)/(2 pi) cos^n), not pow(): GLSL's pow is
         // exp2(n log2 cos) with log2 good only to ~2^-21 absolute near 1, i.e. up to ~1e-3
         // relative at n = 5000 (a 7e-5 bias in the albedo on lavapipe), and undefined for

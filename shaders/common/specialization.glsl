@@ -23,4 +23,8 @@ bool hasPrimitive(uint type) { return (kSceneFeatures & (1u << (FEATURE_PRIMITIV
 bool hasLight(uint type) { return (kSceneFeatures & (1u << (FEATURE_LIGHT + type))) != 0u; }
 bool hasMaterial(uint type) { return (kSceneFeatures & (1u << (FEATURE_MATERIAL + type))) != 0u; }
 
+// Type tests that are false at compile time for kinds the scene lacks.
+bool lightIs(Light light, uint type) { return hasLight(type) && light.type == type; }
+bool materialIs(Material m, uint type) { return hasMaterial(type) && m.type == type; }
+
 #endif

@@ -61,7 +61,7 @@ vec3 primitiveFrontNormal(Primitive p) {
 // (wi points from the viewer to the emitter). Spheres emit outward, which any hit from
 // outside sees; quads and meshes from their front unless two-sided.
 vec3 emittedRadiance(Light light, vec3 nFront, vec3 wi) {
-    if ((hasLight(LIGHT_SPHERE) && light.type == LIGHT_SPHERE) || (light.flags & LIGHT_TWO_SIDED) != 0u) return light.emission;
+    if (lightIs(light, LIGHT_SPHERE) || (light.flags & LIGHT_TWO_SIDED) != 0u) return light.emission;
     return dot(wi, nFront) < 0.0 ? light.emission : vec3(0.0);
 }
 
@@ -101,7 +101,7 @@ bool sampleLight(uint index, vec3 x, vec3 n, vec3 u, uint sphereSampling, out Li
     ls.radiance = vec3(0.0);
     ls.dist = FLOAT_MAX;
     ls.wi = n;
-    if (hasLight(LIGHT_POINT) && light.type == LIGHT_POINT) {
+    if (lightIs(light, LIGHT_POINT)) {
         vec3 toLight = light.position - x;
         float d2 = dot(toLight, toLight);
         if (!(d2 > 0.0)) return false;
@@ -112,14 +112,14 @@ bool sampleLight(uint index, vec3 x, vec3 n, vec3 u, uint sphereSampling, out Li
         ls.isDelta = true;
         return true;
     }
-    if (hasLight(LIGHT_DIRECTIONAL) && light.type == LIGHT_DIRECTIONAL) {
+    if (lightIs(light, LIGHT_DIRECTIONAL)) {
         ls.wi = -light.position;  // position holds the unit direction of travel
         ls.radiance = light.emission;
         ls.pdf = 1.0;
         ls.isDelta = true;
         return true;
     }
-    if (hasLight(LIGHT_ENVIRONMENT) && light.type == LIGHT_ENVIRONMENT) {
+    if (lightIs(light, LIGHT_ENVIRONMENT)) {
         // Cosine-weighted about n: proportional to the integrand's cosine for a constant sky.
         vec3 local = squareToCosineHemisphere(u.xy);
         ls.wi = frameToWorld(local, n);
@@ -129,7 +129,7 @@ bool sampleLight(uint index, vec3 x, vec3 n, vec3 u, uint sphereSampling, out Li
     }
 
     vec3 y, ny;
-    if (hasLight(LIGHT_SPHERE) && light.type == LIGHT_SPHERE) {
+    if (lightIs(light, LIGHT_SPHERE)) {
         Primitive p = primitives[light.first];
         vec3 center = p.p0;
         float r = p.p1.x;
@@ -166,11 +166,11 @@ bool sampleLight(uint index, vec3 x, vec3 n, vec3 u, uint sphereSampling, out Li
             ny = frameToWorld(squareToUniformCone(u.xy, r / D), axis);
         }
         y = center + r * ny;
-    } else if (hasLight(LIGHT_QUAD) && light.type == LIGHT_QUAD) {
+    } else if (lightIs(light, LIGHT_QUAD)) {
         Primitive p = primitives[light.first];
         y = p.p0 + u.x * p.p1 + u.y * p.p2;
         ny = primitiveFrontNormal(p);
-    } else if (hasLight(LIGHT_MESH)) {  // LIGHT_MESH: a triangle with probability area / total, then uniform on it
+    } else if (lightIs(light, LIGHT_MESH)) {  // a triangle with probability area / total, then uniform on it
         AliasEntry e = sampleAlias(light.first, light.count, u.z, true);
         Primitive p = primitives[e.item];
         vec3 b = squareToUniformTriangle(u.xy);
@@ -186,7 +186,7 @@ bool sampleLight(uint index, vec3 x, vec3 n, vec3 u, uint sphereSampling, out Li
     ls.dist = sqrt(d2);
     ls.wi = toLight / ls.dist;
     float cosY = dot(-ls.wi, ny);
-    if (hasLight(LIGHT_SPHERE) && light.type == LIGHT_SPHERE) {
+    if (lightIs(light, LIGHT_SPHERE)) {
         if (cosY <= 0.0) return false;  // back of the sphere: hidden by the sphere itself
         ls.pdf = spherePdf(x, primitives[light.first].p0, primitives[light.first].p1.x, y, ny, ls.dist, sphereSampling);
     } else {
@@ -202,9 +202,9 @@ bool sampleLight(uint index, vec3 x, vec3 n, vec3 u, uint sphereSampling, out Li
 // for the environment, y, ny and d are ignored.
 float lightPdf(uint index, vec3 x, vec3 n, vec3 wi, vec3 y, vec3 ny, float d, uint sphereSampling) {
     Light light = lights[index];
-    if (hasLight(LIGHT_ENVIRONMENT) && light.type == LIGHT_ENVIRONMENT) return max(dot(wi, n), 0.0) * INV_PI;
-    if ((hasLight(LIGHT_POINT) || hasLight(LIGHT_DIRECTIONAL)) && (light.type == LIGHT_POINT || light.type == LIGHT_DIRECTIONAL)) return 0.0;
-    if (hasLight(LIGHT_SPHERE) && light.type == LIGHT_SPHERE) {
+    if (lightIs(light, LIGHT_ENVIRONMENT)) return max(dot(wi, n), 0.0) * INV_PI;
+    if (lightIs(light, LIGHT_POINT) || lightIs(light, LIGHT_DIRECTIONAL)) return 0.0;
+    if (lightIs(light, LIGHT_SPHERE)) {
         Primitive p = primitives[light.first];
         return spherePdf(x, p.p0, p.p1.x, y, ny, d, sphereSampling);
     }
