@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <stdexcept>
 
 #include "gpu/vk_check.h"
@@ -156,8 +157,12 @@ uint64_t Renderer::countRays(uint32_t passes) {
     auto kernel = createKernel(counting);
     uint32_t groupsX = (m_params.width + kTile - 1) / kTile;
     uint32_t groupsY = (m_params.height + kTile - 1) / kTile;
+    // One pass per submission, counted in 32 bits: at most a camera ray plus, per light or
+    // BRDF sample, a traced ray and a shadow ray for a delta light.
+    const uint64_t raysPerPixel = 1 + 2 * uint64_t(m_options.lightSamples + m_options.bsdfSamples);
+    if (uint64_t(m_params.width) * m_params.height * raysPerPixel > UINT32_MAX)
+        throw std::runtime_error("countRays: a pass may trace more than 2^32 rays; use a smaller film");
     uint64_t total = 0;
-    // One pass per submission: a pass traces at most a few rays per pixel, far below 2^32.
     for (uint32_t i = 0; i < passes; ++i) {
         m_rayCount.clear();
         gpu::PassConstants pass{i, 0, m_params.height, 0};
