@@ -3,13 +3,10 @@
 #ifndef PENUMBRA_TESTS_RNG_TEST_H
 #define PENUMBRA_TESTS_RNG_TEST_H
 
+#include "shared/types.h"
+
 #ifdef __cplusplus
-#include <cstdint>
 namespace penumbra::gpu {
-using uint = std::uint32_t;
-#define PENUMBRA_CONST inline constexpr
-#elif !defined(PENUMBRA_CONST)
-#define PENUMBRA_CONST const
 #endif
 
 PENUMBRA_CONST uint RNG_WORKGROUP_SIZE = 64u;

@@ -5,13 +5,10 @@
 #ifndef PENUMBRA_TESTS_WARP_TEST_H
 #define PENUMBRA_TESTS_WARP_TEST_H
 
+#include "shared/types.h"
+
 #ifdef __cplusplus
-#include <cstdint>
 namespace penumbra::gpu {
-using uint = std::uint32_t;
-#define PENUMBRA_CONST inline constexpr
-#elif !defined(PENUMBRA_CONST)
-#define PENUMBRA_CONST const
 #endif
 
 PENUMBRA_CONST uint WARP_MODE_SAMPLE = 0u;  // out[i] = (sample of u_i, pdf at that sample)
