@@ -64,6 +64,18 @@ Scene proceduralScene(int triangles) {
     return scene;
 }
 
+Scene benchScene(const std::string& name) {
+    return name.rfind("procedural:", 0) == 0 ? proceduralScene(std::stoi(name.substr(11))) : loadScene(name);
+}
+
+// Rays per pixel sample, counted over a few untimed passes (they vary little between
+// passes; four pin them to well under 1%). The samples land in the accumulation.
+double raysPerSample(Renderer& renderer, const Scene& scene) {
+    const uint32_t passes = std::min<uint32_t>(scene.sampler.spp, 4);
+    const double pixels = double(scene.film.width) * scene.film.height;
+    return double(renderer.countRays(passes)) / (pixels * passes);
+}
+
 size_t triangleCount(const Scene& scene) {
     size_t n = 0;
     for (const Shape& s : scene.shapes) n += s.type == ShapeType::Mesh ? s.indices.size() / 3 : 1;
@@ -93,11 +105,9 @@ int main(int argc, char** argv) {
         gpu::Context context;
         if (countOnly) {
             for (const std::string& name : scenes) {
-                Scene scene = name.rfind("procedural:", 0) == 0 ? proceduralScene(std::stoi(name.substr(11))) : loadScene(name);
+                Scene scene = benchScene(name);
                 Renderer renderer(context, scene);
-                const uint32_t passes = std::min<uint32_t>(scene.sampler.spp, 4);
-                double pixels = double(scene.film.width) * scene.film.height;
-                std::printf("%s %.4f\n", name.c_str(), double(renderer.countRays(passes)) / (pixels * passes));
+                std::printf("%s %.4f\n", name.c_str(), raysPerSample(renderer, scene));
             }
             return 0;
         }
@@ -105,7 +115,7 @@ int main(int argc, char** argv) {
         std::printf("%-28s %10s %9s %9s %9s %9s %10s %10s %9s %9s\n", "scene", "prims", "bvh_s", "sah", "upload_s",
                     "first_s", "render_s", "Msamples/s", "rays/spl", "Mrays/s");
         for (const std::string& name : scenes) {
-            Scene scene = name.rfind("procedural:", 0) == 0 ? proceduralScene(std::stoi(name.substr(11))) : loadScene(name);
+            Scene scene = benchScene(name);
             auto t0 = Clock::now();
             SceneArrays arrays = buildSceneArrays(scene);
             double bvhSeconds = secondsSince(t0);
@@ -124,15 +134,12 @@ int main(int argc, char** argv) {
             }
             std::sort(times.begin(), times.end());
             double median = times[times.size() / 2];
-            double pixels = double(scene.film.width) * scene.film.height;
-            double samples = pixels * scene.sampler.spp;
-            // Rays per sample vary little between passes; a few passes pin them to well under 1%.
-            const uint32_t countPasses = std::min<uint32_t>(scene.sampler.spp, 4);
+            double samples = double(scene.film.width) * scene.film.height * scene.sampler.spp;
             renderer.reset();
-            double raysPerSample = double(renderer.countRays(countPasses)) / (pixels * countPasses);
+            double rays = raysPerSample(renderer, scene);
             std::printf("%-28s %10zu %9.3f %9.2f %9.3f %9.3f %10.3f %10.2f %9.3f %9.2f\n", name.c_str(),
                         triangleCount(scene), bvhSeconds, arrays.bvh.sahCost, upload, first, median,
-                        samples / median * 1e-6, raysPerSample, samples * raysPerSample / median * 1e-6);
+                        samples / median * 1e-6, rays, samples * rays / median * 1e-6);
             std::fflush(stdout);
         }
     } catch (const std::exception& e) {
