@@ -13,6 +13,8 @@ import struct
 import sys
 from pathlib import Path
 
+from penumbra_tools.vec import add, cross, dot, normalize, scale, sub
+
 SEGMENTS, SIDES, TUBE = 256, 16, 0.45
 
 
@@ -20,14 +22,6 @@ def knot(t):
     """Torus knot (p, q) = (2, 3): r(t) = 2 + cos(3t), in the xy plane with height -sin(3t)."""
     r = 2.0 + math.cos(3 * t)
     return (r * math.cos(2 * t), r * math.sin(2 * t), -math.sin(3 * t))
-
-
-def sub(a, b): return tuple(x - y for x, y in zip(a, b))
-def add(a, b): return tuple(x + y for x, y in zip(a, b))
-def scale(a, s): return tuple(x * s for x in a)
-def dot(a, b): return sum(x * y for x, y in zip(a, b))
-def cross(a, b): return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
-def normalize(a): return scale(a, 1.0 / math.sqrt(dot(a, a)))
 
 
 def tube_mesh():

@@ -10,26 +10,7 @@ import math
 import os
 import re
 
-
-def norm(v):
-    l = math.sqrt(sum(c * c for c in v))
-    return [c / l for c in v]
-
-
-def sub(a, b):
-    return [x - y for x, y in zip(a, b)]
-
-
-def add(a, b):
-    return [x + y for x, y in zip(a, b)]
-
-
-def scale(v, s):
-    return [c * s for c in v]
-
-
-def cross(a, b):
-    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+from penumbra_tools.vec import add, cross, normalize, scale, sub
 
 
 def r(v, digits=5):
@@ -111,8 +92,8 @@ def veach_mis():
         z = 0.6 + 1.05 * i
         y = -0.25 - 0.35 * i
         center = [0, y, z]
-        n = norm(add(norm(sub(eye, center)), norm(sub(light_center, center))))
-        ev = scale(norm(cross([1, 0, 0], n)), 0.95)
+        n = normalize(add(normalize(sub(eye, center)), normalize(sub(light_center, center))))
+        ev = scale(normalize(cross([1, 0, 0], n)), 0.95)
         eu = [8, 0, 0]
         if cross(eu, ev)[1] * n[1] + cross(eu, ev)[2] * n[2] < 0:
             ev = scale(ev, -1)

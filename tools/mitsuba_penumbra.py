@@ -29,6 +29,8 @@ import math
 import drjit as dr
 import mitsuba as mi
 
+from penumbra_tools.vec import cross, dot, length, sub
+
 
 # ---------------------------------------------------------------------------------------
 # Normalized Phong: f = kd/pi + ks (n+2)/(2 pi) max(0, cos a)^n, a = angle(wo, reflect(wi)).
@@ -180,22 +182,6 @@ def _v(a):
     return [float(x) for x in a]
 
 
-def _sub(a, b):
-    return [a[i] - b[i] for i in range(3)]
-
-
-def _cross(a, b):
-    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-
-
-def _dot(a, b):
-    return sum(a[i] * b[i] for i in range(3))
-
-
-def _norm(a):
-    return math.sqrt(_dot(a, a))
-
-
 def _rgb(v):
     return {"type": "rgb", "value": _v(v)}
 
@@ -270,7 +256,7 @@ def _bounds(scene):
     if lo[0] > hi[0]:
         return [0, 0, 0], 1.0
     c = [(lo[i] + hi[i]) / 2 for i in range(3)]
-    return c, 0.5 * _norm(_sub(hi, lo))
+    return c, 0.5 * length(sub(hi, lo))
 
 
 def translate(scene, spp=None, seed=None, sampler="independent"):
@@ -333,7 +319,7 @@ def translate(scene, spp=None, seed=None, sampler="independent"):
         if t == "sphere":
             area = 4 * math.pi * s["radius"] ** 2
         elif t == "quad":
-            area = _norm(_cross(s["edge_u"], s["edge_v"]))
+            area = length(cross(s["edge_u"], s["edge_v"]))
         elif t == "mesh":
             area = _mesh_area(s["positions"], s["indices"])
         else:
@@ -353,9 +339,9 @@ def translate(scene, spp=None, seed=None, sampler="independent"):
             d = {"type": "sphere", "center": _v(s["center"]), "radius": float(s["radius"]), "bsdf": bsdf}
         elif t == "quad":
             o, u, v = _v(s["origin"]), _v(s["edge_u"]), _v(s["edge_v"])
-            n = _cross(u, v)
-            nn = _norm(n)
-            if abs(_dot(u, v)) <= 1e-6 * _norm(u) * _norm(v):
+            n = cross(u, v)
+            nn = length(n)
+            if abs(dot(u, v)) <= 1e-6 * length(u) * length(v):
                 n = [x / nn for x in n]
                 c = [o[i] + 0.5 * (u[i] + v[i]) for i in range(3)]
                 m = [[0.5 * u[0], 0.5 * v[0], n[0], c[0]],
