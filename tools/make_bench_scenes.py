@@ -5,43 +5,32 @@
                      floor, lit by one downward-facing quad light; direct integrator (MIS).
 
 Usage: tools/make_bench_scenes.py [--triangles N] [--out DIR]   (run from the repository root)
-Standard library only; the file is rewritten only when its parameters changed.
+Standard library only. The mesh comes from build/penumbra_bench --write-mesh, its one
+definition; the file is rewritten when its parameters changed or penumbra_bench is newer.
 """
 import argparse
 import json
-import math
 import os
+import subprocess
+import sys
+
+PENUMBRA_BENCH = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "build", "penumbra_bench")
 
 
-def displaced_sphere(triangles):
-    """A UV sphere of `rings` x 2*rings quads with a bumpy radius (the same surface as
-    penumbra_bench's procedural:N), counter-clockwise seen from outside."""
-    rings = 4  # 4 r^2 - 4 r triangles: 2 per quad, 1 per quad in the two polar rows
-    while 4 * rings * rings - 4 * rings < triangles:
-        rings += 1
-    pos = []
-    for i in range(rings + 1):
-        theta = math.pi * i / rings
-        st, ct = math.sin(theta), math.cos(theta)
-        for j in range(2 * rings + 1):
-            phi = 2 * math.pi * j / (2 * rings)
-            r = 0.8 * (1.0 + 0.08 * math.sin(13 * theta) * math.sin(11 * phi) + 0.03 * math.sin(57 * theta + 3 * phi))
-            pos += [round(r * st * math.cos(phi), 5), round(0.85 + r * ct, 5), round(r * st * math.sin(phi), 5)]
-    idx = []
-    w = 2 * rings + 1
-    for i in range(rings):
-        for j in range(2 * rings):
-            a, b, c, d = i * w + j, i * w + j + 1, (i + 1) * w + j, (i + 1) * w + j + 1
-            # Outward facing: (b - a) x (c - a) points away from the centre for this ordering.
-            if i > 0:
-                idx += [a, b, c]
-            if i < rings - 1:
-                idx += [b, d, c]
-    return pos, idx
+def displaced_sphere(triangles, tmp_path):
+    """The displaced sphere of penumbra_bench's procedural:N (defined there only), about
+    `triangles` triangles: (positions, indices)."""
+    if not os.path.exists(PENUMBRA_BENCH):
+        sys.exit(f"make_bench_scenes: {PENUMBRA_BENCH} not found; build Penumbra first (tools/setup)")
+    subprocess.run([PENUMBRA_BENCH, "--write-mesh", str(triangles), tmp_path], check=True)
+    with open(tmp_path) as f:
+        mesh = json.load(f)
+    os.remove(tmp_path)
+    return mesh["positions"], mesh["indices"]
 
 
-def displaced_1m(triangles):
-    pos, idx = displaced_sphere(triangles)
+def displaced_1m(triangles, tmp_path):
+    pos, idx = displaced_sphere(triangles, tmp_path)
     return {
         "camera": {"eye": [0, 1.5, 3.6], "target": [0, 0.8, 0], "up": [0, 1, 0], "fov_y": 40},
         "film": {"width": 512, "height": 384},
@@ -69,12 +58,13 @@ def main():
     os.makedirs(args.out, exist_ok=True)
     path = os.path.join(args.out, "displaced_1m.json")
     stamp = path + ".params"
-    key = f"displaced_1m v2 triangles={args.triangles}"
-    if os.path.exists(path) and os.path.exists(stamp) and open(stamp).read() == key:
+    key = f"displaced_1m v3 triangles={args.triangles}"
+    if os.path.exists(path) and os.path.exists(stamp) and open(stamp).read() == key \
+            and (not os.path.exists(PENUMBRA_BENCH) or os.path.getmtime(path) > os.path.getmtime(PENUMBRA_BENCH)):
         print(path)
         return
-    scene = displaced_1m(args.triangles)
     tmp = path + ".tmp"
+    scene = displaced_1m(args.triangles, tmp)
     with open(tmp, "w") as f:
         json.dump(scene, f, separators=(",", ":"))
     os.replace(tmp, path)

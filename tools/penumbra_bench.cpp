@@ -7,6 +7,7 @@
 // kernel that users get.
 // --count-rays prints only the rays per sample of each scene (no timing), for
 // tools/mitsuba_compare.py. Scenes are files, or "procedural:N" for a displaced sphere of about N triangles on a floor.
+// --write-mesh N FILE writes that sphere's mesh as JSON, for tools/make_bench_scenes.py.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -27,17 +28,10 @@ namespace {
 
 double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-// A sphere of `rings` x 2*rings quads (two triangles each) with a bumpy radius.
-Scene proceduralScene(int triangles) {
-    Scene scene;
-    scene.name = "procedural";
-    scene.camera.eye = {0, 1.2f, 3.5f};
-    scene.camera.target = {0, 0.8f, 0};
-    scene.film = {512, 384};
-    scene.sampler.spp = 16;
-    scene.integrator.type = IntegratorType::AmbientOcclusion;
-    scene.integrator.json = {{"type", "ao"}, {"sampling", "cosine"}, {"max_distance", 1e30}};
-    scene.materials.push_back({"default", MaterialType::Diffuse, glm::vec3(0.8f), glm::vec3(0.0f), 0.0f});
+// The displaced-sphere bench mesh, defined only here (tools/make_bench_scenes.py asks for
+// it with --write-mesh): a sphere of `rings` x 2*rings quads (two triangles each, one in
+// the two polar rows) with a bumpy radius, counter-clockwise seen from outside.
+Shape displacedSphere(int triangles) {
     int rings = std::max(4, int(std::sqrt(triangles / 4.0)));
     Shape mesh;
     mesh.type = ShapeType::Mesh;
@@ -54,6 +48,39 @@ Scene proceduralScene(int triangles) {
             if (i > 0) mesh.indices.insert(mesh.indices.end(), {at(i, j), at(i, j + 1), at(i + 1, j)});
             if (i < rings - 1) mesh.indices.insert(mesh.indices.end(), {at(i, j + 1), at(i + 1, j + 1), at(i + 1, j)});
         }
+    return mesh;
+}
+
+// --write-mesh N FILE: the mesh as {"positions": [...], "indices": [...]} (5 decimals).
+int writeMesh(int triangles, const char* path) {
+    Shape mesh = displacedSphere(triangles);
+    FILE* f = std::fopen(path, "w");
+    if (!f) {
+        std::fprintf(stderr, "penumbra_bench: cannot write %s\n", path);
+        return 1;
+    }
+    std::fputs("{\"positions\":[", f);
+    for (size_t i = 0; i < mesh.positions.size(); ++i)
+        std::fprintf(f, "%s%.5f,%.5f,%.5f", i ? "," : "", mesh.positions[i].x, mesh.positions[i].y,
+                     mesh.positions[i].z);
+    std::fputs("],\"indices\":[", f);
+    for (size_t i = 0; i < mesh.indices.size(); ++i) std::fprintf(f, "%s%u", i ? "," : "", mesh.indices[i]);
+    std::fputs("]}\n", f);
+    return std::fclose(f) == 0 ? 0 : 1;
+}
+
+// An ambient-occlusion scene of the displaced sphere on a floor ("procedural:N").
+Scene proceduralScene(int triangles) {
+    Scene scene;
+    scene.name = "procedural";
+    scene.camera.eye = {0, 1.2f, 3.5f};
+    scene.camera.target = {0, 0.8f, 0};
+    scene.film = {512, 384};
+    scene.sampler.spp = 16;
+    scene.integrator.type = IntegratorType::AmbientOcclusion;
+    scene.integrator.json = {{"type", "ao"}, {"sampling", "cosine"}, {"max_distance", 1e30}};
+    scene.materials.push_back({"default", MaterialType::Diffuse, glm::vec3(0.8f), glm::vec3(0.0f), 0.0f});
+    Shape mesh = displacedSphere(triangles);
     scene.shapes.push_back(std::move(mesh));
     Shape floor;
     floor.type = ShapeType::Quad;
@@ -91,6 +118,8 @@ int main(int argc, char** argv) {
     for (int i = 1; i < argc; ++i) {
         if (!std::strcmp(argv[i], "--runs") && i + 1 < argc) runs = std::atoi(argv[++i]);
         else if (!std::strcmp(argv[i], "--count-rays")) countOnly = true;
+        else if (!std::strcmp(argv[i], "--write-mesh") && i + 2 < argc)
+            return writeMesh(std::atoi(argv[i + 1]), argv[i + 2]);
         else scenes.push_back(argv[i]);
     }
     if (runs < 1) {
@@ -98,7 +127,9 @@ int main(int argc, char** argv) {
         return 2;
     }
     if (scenes.empty()) {
-        std::fprintf(stderr, "usage: penumbra_bench [--runs N | --count-rays] SCENE|procedural:N ...\n");
+        std::fprintf(stderr,
+                     "usage: penumbra_bench [--runs N | --count-rays] SCENE|procedural:N ...\n"
+                     "       penumbra_bench --write-mesh N FILE\n");
         return 2;
     }
     try {
