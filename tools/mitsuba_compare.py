@@ -20,6 +20,7 @@ Per scene:
     interpolated log-log between the two bracketing renders. Penumbra with its Sobol'
     default and with the independent sampler; Mitsuba llvm with independent and ldsampler.
 Writes a markdown report to stdout and into docs/PERFORMANCE.md (section "Results").
+The code is in tools/penumbra_tools/mitsuba_compare/, one module per concern.
 """
 from penumbra_tools.mitsuba_compare.cli import main
 
