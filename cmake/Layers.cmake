@@ -50,3 +50,16 @@ function(penumbra_layer_graph out)
   endforeach()
   set(${out} "${graph}" PARENT_SCOPE)
 endfunction()
+
+# Every folder of host/ must be a layer: a new folder would otherwise not be built at all.
+function(penumbra_check_every_folder_is_a_layer)
+  get_property(layers GLOBAL PROPERTY PENUMBRA_LAYERS)
+  file(GLOB entries LIST_DIRECTORIES true ${PROJECT_SOURCE_DIR}/host/*)
+  foreach(entry IN LISTS entries)
+    get_filename_component(name ${entry} NAME)
+    if(IS_DIRECTORY ${entry} AND NOT name IN_LIST layers)
+      message(FATAL_ERROR "host/${name}/ is not a layer: add penumbra_add_layer(${name} ...) "
+                          "to CMakeLists.txt")
+    endif()
+  endforeach()
+endfunction()
