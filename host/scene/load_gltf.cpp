@@ -2,12 +2,14 @@
 // transforms, base colour and emission of materials, KHR_lights_punctual lights and the
 // first camera. Every index, offset and count from the file is bounds-checked here, since
 // tinygltf leaves most of that to its caller. Joining the result to a Scene is load_json.cpp's.
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstring>
-#include <fstream>
 #include <iterator>
+#include <string_view>
 #include <limits>
 #include <numbers>
 
@@ -17,6 +19,9 @@
 
 #include "core/errors.h"
 #include "scene/gltf_import.h"
+#include "scene/input_file.h"
+#include "scene/json_parse.h"
+#include "scene/limits.h"
 
 namespace penumbra {
 namespace {
@@ -42,6 +47,134 @@ std::string at(const char* array, size_t index) { return std::string(array) + "[
 bool skipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int, void*) {
     return true;
 }
+
+// The JSON chunk of a .glb (glTF 2.0 §4.4: a 12-byte header, then chunks of length,
+// type, data; the first is JSON). Container version 1 (the glTF 1.0 binary extension)
+// is refused: its layout and meaning differ.
+std::string_view glbJsonChunk(const std::string& bytes, const std::string& label) {
+    auto word = [&](size_t offset) {
+        uint32_t value = 0;
+        std::memcpy(&value, bytes.data() + offset, 4);
+        return value;
+    };
+    if (bytes.size() < 20) throwInputError(label, "", "GLB file too short for its header");
+    if (word(4) != 2) throwInputError(label, "", "GLB container version " + std::to_string(word(4)) + " is not supported (glTF 2.0 only)");
+    uint32_t length = word(12);
+    if (word(16) != 0x4E4F534Au) throwInputError(label, "", "GLB file does not start with a JSON chunk");
+    if (length > bytes.size() - 20) throwInputError(label, "", "GLB JSON chunk runs past the end of the file");
+    return std::string_view(bytes).substr(20, length);
+}
+
+// glTF properties whose values are integers (indices, counts, enums; glTF 2.0 schema).
+// tinygltf ignores a non-integral one as if absent (node.mesh 0.5: no mesh) or truncates
+// it (a light index 0.5: light 0); here it is refused. "attributes" and "targets" map
+// names to integers; the others are integers or arrays of them.
+enum class Integers { No, Numbers, Members };
+
+Integers integersOf(const std::string& key) {
+    static const char* names[] = {"scene", "nodes", "children", "mesh", "camera", "skin", "buffer", "bufferView",
+                                  "byteOffset", "byteLength", "byteStride", "count", "componentType", "indices",
+                                  "material", "mode", "source", "sampler", "index", "texCoord", "light",
+                                  "magFilter", "minFilter", "wrapS", "wrapT", "input", "output", "node", "joints",
+                                  "inverseBindMatrices", "skeleton"};
+    if (key == "attributes" || key == "targets") return Integers::Members;
+    bool listed = std::any_of(std::begin(names), std::end(names), [&](const char* n) { return key == n; });
+    return listed ? Integers::Numbers : Integers::No;
+}
+
+// Walks the document (at most kMaxJsonDepth deep, checked before); "extras" hold the
+// author's own data and are skipped.
+void checkIntegers(const nlohmann::json& value, const std::string& path, Integers mode, const std::string& label) {
+    if (value.is_number_float()) {
+        double x = value.get<double>();
+        if (mode != Integers::No && x != std::floor(x)) throwInputError(label, path, "expected an integer, got " + value.dump());
+    } else if (value.is_array()) {
+        for (size_t i = 0; i < value.size(); ++i) checkIntegers(value[i], path + "[" + std::to_string(i) + "]", mode, label);
+    } else if (value.is_object()) {
+        for (const auto& item : value.items()) {
+            if (item.key() == "extras") continue;
+            std::string child = path.empty() ? item.key() : path + "." + item.key();
+            checkIntegers(item.value(), child, mode == Integers::Members ? Integers::Numbers : integersOf(item.key()), label);
+        }
+    }
+}
+
+// The input rules every JSON reader shares (depth, duplicate keys, syntax without echo),
+// applied before tinygltf, whose value conversion recurses; then the version: glTF 1.0
+// files parse as JSON but mean something else.
+void checkDocument(std::string_view json, const std::string& label) {
+    nlohmann::json doc = parseJsonText(json, label);
+    if (!doc.is_object()) throwInputError(label, "", "expected a JSON object");
+    auto asset = doc.find("asset");
+    if (asset == doc.end() || !asset->is_object()) throwInputError(label, "asset", "missing (glTF 2.0 requires it)");
+    auto version = asset->find("version");
+    if (version == asset->end() || !version->is_string()) throwInputError(label, "asset.version", "expected a string such as \"2.0\"");
+    std::string v = version->get<std::string>();
+    if (v.substr(0, 2) != "2.") throwInputError(label, "asset.version", "\"" + v + "\" is not supported (glTF 2.x only)");
+    checkIntegers(doc, "", Integers::No, label);
+    // tinygltf joins every URI to a folder, so an absolute one would read as "not found":
+    // say why it is refused instead (the relative ones are checked as they are opened).
+    for (const char* array : {"buffers", "images"}) {
+        auto list = doc.find(array);
+        if (list == doc.end() || !list->is_array()) continue;
+        for (const auto& item : *list) {
+            auto uri = item.is_object() ? item.find("uri") : item.end();
+            if (uri == item.end() || !uri->is_string()) continue;
+            std::string text = uri->get<std::string>();
+            if (!text.empty() && text[0] == '/' && !allowAnyPath())
+                throwInputError(label, "", "refusing to read \"" + text + "\": it is outside the model's folder (--allow-any-path reads it)");
+        }
+    }
+}
+
+// tinygltf's file callbacks, confined to the model's folder unless any path is allowed.
+// The first refusal or failure is kept for the message; nothing read is ever echoed.
+struct FileAccess {
+    fs::path folder;
+    std::string refused;  // the URI (as the folder-relative path tinygltf built)
+    std::string failed;
+};
+
+// The URI as written in the file: tinygltf joined it to the model's folder or to ".".
+std::string uriOf(const std::string& path, const FileAccess& access) {
+    std::string folder = access.folder.string();
+    if (!folder.empty() && path.rfind(folder + "/", 0) == 0) return path.substr(folder.size() + 1);
+    if (path.rfind("./", 0) == 0) return path.substr(2);
+    return path;
+}
+
+bool permitted(const std::string& path, FileAccess& access) {
+    if (allowAnyPath() || isInsideFolder(path, access.folder)) return true;
+    if (access.refused.empty()) access.refused = uriOf(path, access);
+    return false;
+}
+
+// tinygltf looks for a relative URI in the model's folder, then in the working directory:
+// only a file that exists is refused, so that a missing one reads "not found".
+bool confinedFileExists(const std::string& path, void* user) {
+    struct stat st {};
+    if (::stat(path.c_str(), &st) != 0) return false;
+    return permitted(path, *static_cast<FileAccess*>(user));
+}
+
+// tinygltf's own version runs wordexp on every URI; a path is only a path here.
+std::string keepPath(const std::string& path, void*) { return path; }
+
+bool confinedReadWholeFile(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
+    auto& access = *static_cast<FileAccess*>(user);
+    if (!permitted(path, access)) return false;
+    try {
+        std::string bytes = readInputFile(path, uriOf(path, access), kMaxModelFileBytes);
+        out->assign(bytes.begin(), bytes.end());
+        return true;
+    } catch (const InputError& e) {
+        if (access.failed.empty()) access.failed = e.what();
+        if (err) *err += std::string(e.what()) + "\n";
+        return false;
+    }
+}
+
+bool refuseWrite(std::string*, const std::string&, const std::vector<unsigned char>&, void*) { return false; }
 
 // A bounds-checked view of an accessor's elements (component type and count as stored).
 struct AccessorView {
@@ -240,9 +373,9 @@ void Importer::loadMaterials() {
                 fail(path + ".extensions.KHR_materials_emissive_strength.emissiveStrength", "expected a number");
             emission *= strength.GetNumberAsDouble();
         }
-        auto bad = [](glm::dvec3 c) { return !(c.x >= 0 && c.y >= 0 && c.z >= 0) || !std::isfinite(c.x + c.y + c.z) || std::max({c.x, c.y, c.z}) > 3e38; };
+        auto bad = [](glm::dvec3 c) { return !(c.x >= 0 && c.y >= 0 && c.z >= 0) || !std::isfinite(c.x + c.y + c.z) || std::max({c.x, c.y, c.z}) > double(float(kMaxRadiometric)); };
         if (bad(albedo)) fail(path + ".pbrMetallicRoughness.baseColorFactor", "negative or non-finite");
-        if (bad(emission)) fail(path + ".emissiveFactor", "negative or non-finite emission");
+        if (bad(emission)) fail(path + ".emissiveFactor", "negative, non-finite or above 1e20 emission (README: ranges)");
         Material m;
         m.name = m_label + ":" + (mat.name.empty() ? path : mat.name);
         m.kd = glm::clamp(glm::vec3(albedo), 0.0f, 1.0f);
@@ -267,8 +400,8 @@ void Importer::addPrimitive(const tinygltf::Primitive& prim, const glm::dmat4& w
     shape.positions.resize(pos.count);
     for (size_t i = 0; i < pos.count; ++i) {
         glm::dvec3 p = glm::dvec3(world * glm::dvec4(pos.vec3(i), 1.0));
-        if (!std::isfinite(p.x + p.y + p.z) || std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)}) > 3e38)
-            fail(path + ".attributes.POSITION", "vertex " + std::to_string(i) + " is not finite");
+        if (!std::isfinite(p.x + p.y + p.z) || std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)}) > kMaxCoordinate)
+            fail(path + ".attributes.POSITION", "vertex " + std::to_string(i) + " is not within [-1e8, 1e8] (README: ranges)");
         shape.positions[i] = glm::vec3(p);
     }
     if (auto normal = prim.attributes.find("NORMAL"); normal != prim.attributes.end()) {
@@ -343,7 +476,10 @@ void Importer::addLight(const tinygltf::Node& node, const glm::dmat4& world, con
     if (ext == node.extensions.end() || !ext->second.Has("light")) return;
     std::string extPath = path + ".extensions.KHR_lights_punctual.light";
     const tinygltf::Value& index = ext->second.Get("light");
-    if (!index.IsNumber() || index.GetNumberAsInt() < 0 || size_t(index.GetNumberAsInt()) >= m_model.lights.size())
+    // An index is an integer: 0.5 is refused, not truncated to light 0.
+    if (!index.IsNumber() || index.GetNumberAsDouble() != std::floor(index.GetNumberAsDouble()))
+        fail(extPath, "expected an integer light index");
+    if (index.GetNumberAsDouble() < 0 || index.GetNumberAsDouble() >= double(m_model.lights.size()))
         fail(extPath, "no such light in KHR_lights_punctual.lights");
     size_t li = size_t(index.GetNumberAsInt());
     const tinygltf::Light& src = m_model.lights[li];
@@ -355,13 +491,17 @@ void Importer::addLight(const tinygltf::Node& node, const glm::dmat4& world, con
         color = glm::make_vec3(src.color.data());
     }
     glm::dvec3 value = color * src.intensity;
-    if (!(value.x >= 0 && value.y >= 0 && value.z >= 0) || !std::isfinite(value.x + value.y + value.z))
-        fail(lightPath, "negative or non-finite intensity");
+    if (!(value.x >= 0 && value.y >= 0 && value.z >= 0) || !std::isfinite(value.x + value.y + value.z) ||
+        std::max({value.x, value.y, value.z}) > double(float(kMaxRadiometric)))
+        fail(lightPath, "negative, non-finite or above 1e20 intensity (README: ranges)");
     Light light;
     light.intensity = glm::vec3(value);  // point: candela read as W/sr; directional: lux as W/m^2
     if (src.type == "point") {
         light.type = LightType::Point;
-        light.position = glm::vec3(world * glm::dvec4(0, 0, 0, 1));
+        glm::dvec3 p = glm::dvec3(world * glm::dvec4(0, 0, 0, 1));
+        if (!std::isfinite(p.x + p.y + p.z) || std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)}) > kMaxCoordinate)
+            fail(path, "light position not within [-1e8, 1e8] (README: ranges)");
+        light.position = glm::vec3(p);
     } else if (src.type == "directional") {
         light.type = LightType::Directional;
         glm::dvec3 d = glm::dmat3(world) * glm::dvec3(0, 0, -1);  // lights point down their local -Z
@@ -459,30 +599,33 @@ GltfImport Importer::run() {
 }  // namespace
 
 GltfImport importGltf(const fs::path& file, const std::string& label) {
-    std::error_code ec;
-    if (!fs::exists(file, ec)) throwInputError(label, "", "cannot open file (no such file)");
-    if (fs::is_directory(file, ec)) throwInputError(label, "", "cannot open file (it is a directory)");
-    std::ifstream in(file, std::ios::binary);
-    std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (!in.good() && !in.eof()) throwInputError(label, "", "cannot read file");
-    if (bytes.size() > std::numeric_limits<uint32_t>::max()) throwInputError(label, "", "file too large (4 GiB or more)");
+    std::string bytes = readInputFile(file, label, kMaxModelFileBytes);
+    // A .glb starts with the magic "glTF"; anything else is read as JSON (.gltf).
+    bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+    checkDocument(binary ? glbJsonChunk(bytes, label) : std::string_view(bytes), label);
 
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(skipImage, nullptr);
+    FileAccess access{file.parent_path(), {}, {}};
+    loader.SetFsCallbacks({confinedFileExists, keepPath, confinedReadWholeFile, refuseWrite, &access});
     tinygltf::Model model;
     std::string err, warn;
     std::string baseDir = file.parent_path().string();
     bool ok = false;
     try {
-        // A .glb starts with the magic "glTF"; anything else is read as JSON (.gltf).
-        if (bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0)
-            ok = loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), unsigned(bytes.size()), baseDir);
+        const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
+        if (binary)
+            ok = loader.LoadBinaryFromMemory(&model, &err, &warn, data, unsigned(bytes.size()), baseDir);
         else
-            ok = loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
-                                            unsigned(bytes.size()), baseDir);
+            ok = loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(), unsigned(bytes.size()), baseDir);
     } catch (const std::exception& e) {
         throwInputError(label, "", firstLine(e.what()));
     }
+    // A refused or failed read is reported even where tinygltf only warns (images).
+    if (!access.refused.empty())
+        throwInputError(label, "", "refusing to read \"" + access.refused +
+                                       "\": it is outside the model's folder (--allow-any-path reads it)");
+    if (!access.failed.empty()) throwInputError(label, "", access.failed);
     if (!ok) throwInputError(label, "", err.empty() ? "not a valid glTF file" : firstLine(err));
     return Importer(model, label).run();
 }
