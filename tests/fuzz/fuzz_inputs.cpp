@@ -17,13 +17,19 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// A folder of this process's own, removed at exit.
+struct Folder {
+    fs::path path = fs::temp_directory_path() / ("penumbra-fuzz-" + std::to_string(::getpid()));
+    Folder() { fs::create_directories(path); }
+    ~Folder() {
+        std::error_code ec;
+        fs::remove_all(path, ec);
+    }
+};
+
 const fs::path& folder() {
-    static const fs::path dir = [] {
-        fs::path d = fs::temp_directory_path() / ("penumbra-fuzz-" + std::to_string(::getpid()));
-        fs::create_directories(d);
-        return d;
-    }();
-    return dir;
+    static const Folder dir;
+    return dir.path;
 }
 
 }  // namespace
