@@ -10,6 +10,7 @@
 #include "cli/commands.h"
 #include "core/errors.h"
 #include "core/exit_status.h"
+#include "scene/input_file.h"
 
 using namespace penumbra;
 
@@ -87,6 +88,12 @@ int main(int argc, char** argv) {
 
     CLI::App* devicesCmd = app.add_subcommand("devices", "list Vulkan devices; '*' marks the one used");
 
+    // Files that scenes and glTF models name are read only from inside their own folder
+    // unless the inputs are trusted (README, "glTF file access").
+    bool anyPath = false;
+    for (CLI::App* cmd : {renderCmd, batchCmd, previewCmd})
+        cmd->add_flag("--allow-any-path", anyPath, "trusted inputs: let scenes and glTF models read files outside their folder");
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -95,6 +102,7 @@ int main(int argc, char** argv) {
         return 2;
     }
 
+    setAllowAnyPath(anyPath);
     return runReportingErrors("penumbra", [&]() -> int {
         if (renderCmd->parsed()) {
             render.overrides = collectOverrides(sets, spp, seed, width, height);

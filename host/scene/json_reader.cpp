@@ -3,6 +3,7 @@
 #include "scene/json_reader.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cfloat>
 #include <cmath>
 
@@ -18,7 +19,23 @@ std::string indexPath(const std::string& path, size_t index) {
     return path + "[" + std::to_string(index) + "]";
 }
 
-void JsonReader::fail(const std::string& message) const { throwInputError(m_file, m_path, message); }
+namespace {
+std::atomic<size_t> g_pathTexts{0};
+}  // namespace
+
+size_t jsonPathTextCount() { return g_pathTexts; }
+
+std::string JsonReader::path() const {
+    ++g_pathTexts;
+    std::vector<const Step*> steps;
+    for (const Step* s = m_step.get(); s; s = s->parent.get()) steps.push_back(s);
+    std::string result;
+    for (auto s = steps.rbegin(); s != steps.rend(); ++s)
+        result = (*s)->isIndex ? indexPath(result, (*s)->index) : joinPath(result, (*s)->key);
+    return result;
+}
+
+void JsonReader::fail(const std::string& message) const { throwInputError(*m_file, path(), message); }
 
 std::string JsonReader::typeName() const {
     switch (m_value->type()) {
@@ -54,7 +71,7 @@ bool JsonReader::has(const char* key) const {
 
 JsonReader JsonReader::at(const char* key) const {
     if (!has(key)) fail(std::string("missing required field \"") + key + "\"");
-    return JsonReader(m_value->at(key), m_file, joinPath(m_path, key));
+    return JsonReader(m_value->at(key), *this, Step{m_step, key, 0, false});
 }
 
 std::optional<JsonReader> JsonReader::find(const char* key) const {
@@ -76,7 +93,7 @@ size_t JsonReader::size() const {
 
 JsonReader JsonReader::operator[](size_t index) const {
     if (index >= size()) fail("index " + std::to_string(index) + " out of range");
-    return JsonReader((*m_value)[index], m_file, indexPath(m_path, index));
+    return JsonReader((*m_value)[index], *this, Step{m_step, {}, index, true});
 }
 
 float JsonReader::number() const {
@@ -128,7 +145,8 @@ std::string JsonReader::choice(std::initializer_list<const char*> choices) const
 
 glm::vec3 JsonReader::vec3() const {
     if (!m_value->is_array() || m_value->size() != 3) failType("an array of 3 numbers");
-    return {(*this)[0].number(), (*this)[1].number(), (*this)[2].number()};
+    std::vector<float> v = numbers();  // element readers (and their paths) only on an error
+    return {v[0], v[1], v[2]};
 }
 
 glm::vec3 JsonReader::color() const {

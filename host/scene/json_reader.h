@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <initializer_list>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -16,12 +17,16 @@ namespace penumbra {
 
 class JsonReader {
 public:
-    JsonReader(const nlohmann::json& value, std::string file, std::string path = {})
-        : m_value(&value), m_file(std::move(file)), m_path(std::move(path)) {}
+    // A reader of the document's root.
+    JsonReader(const nlohmann::json& value, std::string file)
+        : m_value(&value), m_file(std::make_shared<const std::string>(std::move(file))) {}
 
     const nlohmann::json& json() const { return *m_value; }
-    const std::string& file() const { return m_file; }
-    const std::string& path() const { return m_path; }
+    const std::string& file() const { return *m_file; }
+    // The JSON path as text, e.g. "shapes[3].material". Readers keep only a link to their
+    // parent's step (one small node each), and the text is built here, for a message, so
+    // that reading a million-element array stays linear and cheap.
+    std::string path() const;
 
     // Throws InputError("<file>: <path>: <message>").
     [[noreturn]] void fail(const std::string& message) const;
@@ -64,13 +69,27 @@ public:
     glm::vec3 colorOr(const char* key, glm::vec3 fallback) const { return has(key) ? at(key).color() : fallback; }
 
 private:
+    // One step from the root: a key or an index, and the steps before it.
+    struct Step {
+        std::shared_ptr<const Step> parent;
+        std::string key;
+        size_t index;
+        bool isIndex;
+    };
+
+    JsonReader(const nlohmann::json& value, const JsonReader& parent, Step step)
+        : m_value(&value), m_file(parent.m_file), m_step(std::make_shared<const Step>(std::move(step))) {}
     std::string typeName() const;
     [[noreturn]] void failType(const char* expected) const;
 
     const nlohmann::json* m_value;
-    std::string m_file;
-    std::string m_path;
+    std::shared_ptr<const std::string> m_file;
+    std::shared_ptr<const Step> m_step;  // null at the root
 };
+
+// How many times a JSON path has been turned into text in this process (a test hook:
+// loading a valid scene must build none).
+size_t jsonPathTextCount();
 
 // "a.b" / "a[3]" path building, shared with the glTF loader's messages.
 std::string joinPath(const std::string& path, const std::string& key);

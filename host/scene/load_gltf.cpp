@@ -6,7 +6,6 @@
 #include <array>
 #include <cmath>
 #include <cstring>
-#include <fstream>
 #include <iterator>
 #include <limits>
 #include <numbers>
@@ -17,6 +16,9 @@
 
 #include "core/errors.h"
 #include "scene/gltf_import.h"
+#include "scene/gltf_input_rules.h"
+#include "scene/input_file.h"
+#include "scene/limits.h"
 
 namespace penumbra {
 namespace {
@@ -240,9 +242,9 @@ void Importer::loadMaterials() {
                 fail(path + ".extensions.KHR_materials_emissive_strength.emissiveStrength", "expected a number");
             emission *= strength.GetNumberAsDouble();
         }
-        auto bad = [](glm::dvec3 c) { return !(c.x >= 0 && c.y >= 0 && c.z >= 0) || !std::isfinite(c.x + c.y + c.z) || std::max({c.x, c.y, c.z}) > 3e38; };
+        auto bad = [](glm::dvec3 c) { return !(c.x >= 0 && c.y >= 0 && c.z >= 0) || !std::isfinite(c.x + c.y + c.z) || std::max({c.x, c.y, c.z}) > double(float(kMaxRadiometric)); };
         if (bad(albedo)) fail(path + ".pbrMetallicRoughness.baseColorFactor", "negative or non-finite");
-        if (bad(emission)) fail(path + ".emissiveFactor", "negative or non-finite emission");
+        if (bad(emission)) fail(path + ".emissiveFactor", "negative, non-finite or above 1e20 emission (README: ranges)");
         Material m;
         m.name = m_label + ":" + (mat.name.empty() ? path : mat.name);
         m.kd = glm::clamp(glm::vec3(albedo), 0.0f, 1.0f);
@@ -267,8 +269,8 @@ void Importer::addPrimitive(const tinygltf::Primitive& prim, const glm::dmat4& w
     shape.positions.resize(pos.count);
     for (size_t i = 0; i < pos.count; ++i) {
         glm::dvec3 p = glm::dvec3(world * glm::dvec4(pos.vec3(i), 1.0));
-        if (!std::isfinite(p.x + p.y + p.z) || std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)}) > 3e38)
-            fail(path + ".attributes.POSITION", "vertex " + std::to_string(i) + " is not finite");
+        if (!std::isfinite(p.x + p.y + p.z) || std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)}) > kMaxCoordinate)
+            fail(path + ".attributes.POSITION", "vertex " + std::to_string(i) + " is not within [-1e8, 1e8] (README: ranges)");
         shape.positions[i] = glm::vec3(p);
     }
     if (auto normal = prim.attributes.find("NORMAL"); normal != prim.attributes.end()) {
@@ -343,7 +345,10 @@ void Importer::addLight(const tinygltf::Node& node, const glm::dmat4& world, con
     if (ext == node.extensions.end() || !ext->second.Has("light")) return;
     std::string extPath = path + ".extensions.KHR_lights_punctual.light";
     const tinygltf::Value& index = ext->second.Get("light");
-    if (!index.IsNumber() || index.GetNumberAsInt() < 0 || size_t(index.GetNumberAsInt()) >= m_model.lights.size())
+    // An index is an integer: 0.5 is refused, not truncated to light 0.
+    if (!index.IsNumber() || index.GetNumberAsDouble() != std::floor(index.GetNumberAsDouble()))
+        fail(extPath, "expected an integer light index");
+    if (index.GetNumberAsDouble() < 0 || index.GetNumberAsDouble() >= double(m_model.lights.size()))
         fail(extPath, "no such light in KHR_lights_punctual.lights");
     size_t li = size_t(index.GetNumberAsInt());
     const tinygltf::Light& src = m_model.lights[li];
@@ -355,13 +360,17 @@ void Importer::addLight(const tinygltf::Node& node, const glm::dmat4& world, con
         color = glm::make_vec3(src.color.data());
     }
     glm::dvec3 value = color * src.intensity;
-    if (!(value.x >= 0 && value.y >= 0 && value.z >= 0) || !std::isfinite(value.x + value.y + value.z))
-        fail(lightPath, "negative or non-finite intensity");
+    if (!(value.x >= 0 && value.y >= 0 && value.z >= 0) || !std::isfinite(value.x + value.y + value.z) ||
+        std::max({value.x, value.y, value.z}) > double(float(kMaxRadiometric)))
+        fail(lightPath, "negative, non-finite or above 1e20 intensity (README: ranges)");
     Light light;
     light.intensity = glm::vec3(value);  // point: candela read as W/sr; directional: lux as W/m^2
     if (src.type == "point") {
         light.type = LightType::Point;
-        light.position = glm::vec3(world * glm::dvec4(0, 0, 0, 1));
+        glm::dvec3 p = glm::dvec3(world * glm::dvec4(0, 0, 0, 1));
+        if (!std::isfinite(p.x + p.y + p.z) || std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)}) > kMaxCoordinate)
+            fail(path, "light position not within [-1e8, 1e8] (README: ranges)");
+        light.position = glm::vec3(p);
     } else if (src.type == "directional") {
         light.type = LightType::Directional;
         glm::dvec3 d = glm::dmat3(world) * glm::dvec3(0, 0, -1);  // lights point down their local -Z
@@ -459,30 +468,33 @@ GltfImport Importer::run() {
 }  // namespace
 
 GltfImport importGltf(const fs::path& file, const std::string& label) {
-    std::error_code ec;
-    if (!fs::exists(file, ec)) throwInputError(label, "", "cannot open file (no such file)");
-    if (fs::is_directory(file, ec)) throwInputError(label, "", "cannot open file (it is a directory)");
-    std::ifstream in(file, std::ios::binary);
-    std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (!in.good() && !in.eof()) throwInputError(label, "", "cannot read file");
-    if (bytes.size() > std::numeric_limits<uint32_t>::max()) throwInputError(label, "", "file too large (4 GiB or more)");
+    std::string bytes = readInputFile(file, label, kMaxModelFileBytes);
+    // A .glb starts with the magic "glTF"; anything else is read as JSON (.gltf).
+    bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+    checkGltfDocument(binary ? glbJsonChunk(bytes, label) : std::string_view(bytes), label);
 
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(skipImage, nullptr);
+    GltfFileAccess access{file.parent_path(), {}, {}};
+    loader.SetFsCallbacks(confinedFsCallbacks(access));
     tinygltf::Model model;
     std::string err, warn;
     std::string baseDir = file.parent_path().string();
     bool ok = false;
     try {
-        // A .glb starts with the magic "glTF"; anything else is read as JSON (.gltf).
-        if (bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0)
-            ok = loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), unsigned(bytes.size()), baseDir);
+        const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
+        if (binary)
+            ok = loader.LoadBinaryFromMemory(&model, &err, &warn, data, unsigned(bytes.size()), baseDir);
         else
-            ok = loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
-                                            unsigned(bytes.size()), baseDir);
+            ok = loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(), unsigned(bytes.size()), baseDir);
     } catch (const std::exception& e) {
         throwInputError(label, "", firstLine(e.what()));
     }
+    // A refused or failed read is reported even where tinygltf only warns (images).
+    if (!access.refused.empty())
+        throwInputError(label, "", "refusing to read \"" + access.refused +
+                                       "\": it is outside the model's folder (--allow-any-path reads it)");
+    if (!access.failed.empty()) throwInputError(label, "", access.failed);
     if (!ok) throwInputError(label, "", err.empty() ? "not a valid glTF file" : firstLine(err));
     return Importer(model, label).run();
 }

@@ -4,16 +4,15 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <cstring>
-#include <fstream>
-#include <functional>
 #include <map>
 #include <numbers>
-#include <sstream>
 
 #include "core/errors.h"
 #include "scene/gltf_import.h"
+#include "scene/input_file.h"
+#include "scene/json_parse.h"
 #include "scene/json_reader.h"
+#include "scene/limits.h"
 #include "scene/load.h"
 
 namespace penumbra {
@@ -23,71 +22,20 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 constexpr float kPi = std::numbers::pi_v<float>;
 
-std::string readText(const fs::path& file, const std::string& label) {
-    std::error_code ec;
-    if (!fs::exists(file, ec)) throwInputError(label, "", "cannot open file (no such file)");
-    if (fs::is_directory(file, ec)) throwInputError(label, "", "cannot open file (it is a directory)");
-    std::ifstream in(file, std::ios::binary);
-    if (!in) throwInputError(label, "", std::string("cannot open file (") + std::strerror(errno) + ")");
-    std::ostringstream text;
-    text << in.rdbuf();
-    return text.str();
+// A position or size (limits.h): every component within [-1e8, 1e8].
+glm::vec3 coordinates(const JsonReader& r) {
+    glm::vec3 v = r.vec3();
+    for (int c = 0; c < 3; ++c)
+        if (std::fabs(v[c]) > float(kMaxCoordinate)) r[size_t(c)].fail("must be within [-1e8, 1e8] (README: ranges)");
+    return v;
 }
 
-// Follows the parser through the document so that an error thrown mid-parse can name the
-// JSON path of the value being read (nlohmann's events: key, value, object/array start/end).
-class PathTracker {
-public:
-    bool operator()(int /*depth*/, json::parse_event_t event, json& parsed) {
-        using E = json::parse_event_t;
-        if (event == E::object_start || event == E::array_start) {
-            m_frames.push_back({event == E::array_start, 0, {}});
-        } else if (event == E::key) {
-            m_frames.back().key = parsed.get<std::string>();
-        } else if (event == E::object_end || event == E::array_end) {
-            m_frames.pop_back();
-            finishValue();
-        } else if (event == E::value) {
-            finishValue();
-        }
-        return true;
-    }
-    std::string path() const {
-        std::string result;
-        for (const Frame& f : m_frames) result = f.isArray ? indexPath(result, f.index) : joinPath(result, f.key);
-        return result;
-    }
-
-private:
-    struct Frame {
-        bool isArray;
-        size_t index;
-        std::string key;
-    };
-    void finishValue() {
-        if (!m_frames.empty() && m_frames.back().isArray) ++m_frames.back().index;
-    }
-    std::vector<Frame> m_frames;
-};
-
-// Syntax errors: nlohmann reports "[json.exception.parse_error.101] parse error at line 3,
-// column 5: syntax error while parsing ..."; keep "line 3, column 5: syntax error ...".
-// A number literal beyond double range (1e999) throws out_of_range instead: name its path.
-json parseJson(const std::string& text, const std::string& label) {
-    PathTracker tracker;
-    try {
-        return json::parse(text, std::ref(tracker));
-    } catch (const json::parse_error& e) {
-        std::string what = e.what();
-        size_t at = what.find("line ");
-        std::string detail = at != std::string::npos ? what.substr(at) : "byte " + std::to_string(e.byte) + ": " + what;
-        std::replace(detail.begin(), detail.end(), '\n', ' ');
-        throwInputError(label, "", detail);
-    } catch (const json::exception& e) {
-        std::string what = e.what();
-        size_t at = what.find("] ");
-        throwInputError(label, tracker.path(), "number is not finite (" + what.substr(at == std::string::npos ? 0 : at + 2) + ")");
-    }
+// A radiance, intensity or irradiance (limits.h): each component at most 1e20; `what`
+// names it in the message.
+glm::vec3 radiometric(const JsonReader& r, glm::vec3 value, const char* what) {
+    // Compared as floats: 1e20 itself rounds up to the float 1.00000002e20.
+    if (std::max({value.x, value.y, value.z}) > float(kMaxRadiometric)) r.fail(std::string(what) + " exceeds 1e20 (README: ranges)");
+    return value;
 }
 
 // Total area of a triangle mesh; 0 when empty.
@@ -248,14 +196,15 @@ private:
         float area = 0.0f;
         if (type == "sphere") {
             s.type = ShapeType::Sphere;
-            s.center = r.at("center").vec3();
+            s.center = coordinates(r.at("center"));
             s.radius = r.at("radius").number();
             if (!(s.radius > 0.0f)) r.at("radius").fail("must be > 0");
+            if (s.radius > float(kMaxCoordinate)) r.at("radius").fail("must be at most 1e8 (README: ranges)");
         } else if (type == "quad") {
             s.type = ShapeType::Quad;
-            s.origin = r.at("origin").vec3();
-            s.edgeU = r.at("edge_u").vec3();
-            s.edgeV = r.at("edge_v").vec3();
+            s.origin = coordinates(r.at("origin"));
+            s.edgeU = coordinates(r.at("edge_u"));
+            s.edgeV = coordinates(r.at("edge_v"));
             area = glm::length(glm::cross(s.edgeU, s.edgeV));
             if (!(area > 0.0f) || !std::isfinite(area))
                 r.fail("quad has zero or non-finite area (edge_u and edge_v must be non-zero and not parallel)");
@@ -263,7 +212,7 @@ private:
             readMesh(r, s);
             area = meshArea(s);
         }
-        if (auto e = r.find("emission")) s.emission = e->color();
+        if (auto e = r.find("emission")) s.emission = radiometric(*e, e->color(), "radiance");
         if (auto p = r.find("power")) {
             glm::vec3 power = p->color();
             // Uniform emitters, SCENE_FORMAT.md: P = Le * pi * A per emitting face (cosine-weighted
@@ -274,6 +223,7 @@ private:
             s.emission = power / denominator;
             if (!std::isfinite(s.emission.x + s.emission.y + s.emission.z))
                 p->fail("radiance from this power is not finite (the shape is too small)");
+            radiometric(*p, s.emission, "the radiance from this power");
         }
         m_scene.shapes.push_back(std::move(s));
     }
@@ -284,6 +234,8 @@ private:
         std::vector<float> p = positions.numbers();
         if (p.size() % 3 != 0) positions.fail("length " + std::to_string(p.size()) + " is not a multiple of 3");
         size_t vertices = p.size() / 3;
+        for (size_t i = 0; i < p.size(); ++i)
+            if (std::fabs(p[i]) > float(kMaxCoordinate)) positions[i].fail("must be within [-1e8, 1e8] (README: ranges)");
         for (size_t v = 0; v < vertices; ++v) s.positions.emplace_back(p[3 * v], p[3 * v + 1], p[3 * v + 2]);
 
         size_t n = indices.size();
@@ -320,21 +272,26 @@ private:
     void readGltfShape(const JsonReader& r, const Shape& settings) {
         JsonReader fileField = r.at("file");
         fs::path file = m_baseDir / fileField.string();
-        std::error_code ec;
-        if (!fs::exists(file, ec)) fileField.fail("cannot open \"" + file.string() + "\" (no such file)");
+        if (auto problem = openProblem(file)) fileField.fail("cannot open \"" + file.string() + "\" (" + *problem + ")");
+        // A model given on the command line is the user's own choice; one that a scene
+        // names must lie in the scene's folder (README, "glTF file access").
+        if (!m_direct && !allowAnyPath() && !isInsideFolder(file, m_baseDir))
+            fileField.fail("refusing to read \"" + fileField.string() +
+                           "\": it is outside the scene's folder (--allow-any-path reads it)");
         GltfImport model = importGltf(file, file.string());
 
         // The file's materials join the scene unless the shape names its own.
         uint32_t firstMaterial = uint32_t(m_scene.materials.size());
         bool ownMaterial = r.has("material");
         if (!ownMaterial) m_scene.materials.insert(m_scene.materials.end(), model.materials.begin(), model.materials.end());
-        glm::vec3 emission = r.has("emission") ? r.at("emission").color() : glm::vec3(0.0f);
+        glm::vec3 emission = r.has("emission") ? radiometric(r.at("emission"), r.at("emission").color(), "radiance") : glm::vec3(0.0f);
         if (auto p = r.find("power")) {
             // As for a mesh: the power spreads over the total area of all primitives.
             float area = 0.0f;
             for (const Shape& s : model.shapes) area += meshArea(s);
             emission = p->color() / ((settings.twoSided ? 2.0f : 1.0f) * kPi * area);
             if (!std::isfinite(emission.x + emission.y + emission.z)) p->fail("the model has no area to emit from");
+            radiometric(*p, emission, "the radiance from this power");
         }
         for (size_t i = 0; i < model.shapes.size(); ++i) {
             Shape& s = model.shapes[i];
@@ -355,10 +312,11 @@ private:
         if (type == "point") {
             r.expectKeys({"type", "position", "power", "intensity"}, "a point light");
             light.type = LightType::Point;
-            light.position = r.at("position").vec3();
+            light.position = coordinates(r.at("position"));
             if (r.has("power") == r.has("intensity")) r.fail("give exactly one of \"power\" (W) and \"intensity\" (W/sr)");
             // Isotropic point light: I = P / (4 pi) W/sr.
-            light.intensity = r.has("power") ? r.at("power").color() / (4.0f * kPi) : r.at("intensity").color();
+            JsonReader given = r.at(r.has("power") ? "power" : "intensity");
+            light.intensity = radiometric(given, r.has("power") ? given.color() / (4.0f * kPi) : given.color(), "intensity");
         } else if (type == "directional") {
             r.expectKeys({"type", "direction", "irradiance"}, "a directional light");
             light.type = LightType::Directional;
@@ -367,11 +325,11 @@ private:
             float len = glm::length(d);
             if (!(len > 0.0f) || !std::isfinite(len)) direction.fail("must be a non-zero vector");
             light.direction = d / len;
-            light.intensity = r.at("irradiance").color();
+            light.intensity = radiometric(r.at("irradiance"), r.at("irradiance").color(), "irradiance");
         } else {
             r.expectKeys({"type", "radiance"}, "an environment light");
             light.type = LightType::Environment;
-            light.intensity = r.colorOr("radiance", glm::vec3(1.0f));
+            light.intensity = r.has("radiance") ? radiometric(r.at("radiance"), r.at("radiance").color(), "radiance") : glm::vec3(1.0f);
             bool second = std::any_of(m_scene.lights.begin(), m_scene.lights.end(),
                                       [](const Light& l) { return l.type == LightType::Environment; });
             if (second) r.fail("only one environment light is allowed");
@@ -415,19 +373,20 @@ private:
         Camera c = m_direct ? automaticCamera(r) : Camera{};
         if (r) {
             r->expectKeys({"eye", "target", "up", "fov_y"}, "camera");
-            c.eye = r->vec3Or("eye", c.eye);
-            c.target = r->vec3Or("target", c.target);
+            if (auto eye = r->find("eye")) c.eye = coordinates(*eye);
+            if (auto target = r->find("target")) c.target = coordinates(*target);
             c.up = r->vec3Or("up", c.up);
             c.fovY = r->numberOr("fov_y", c.fovY);
         }
-        std::string where = r ? r->path() : "camera";
-        if (!(c.fovY > 0.0f && c.fovY < 180.0f)) throwInputError(m_label, joinPath(where, "fov_y"), "must be in (0, 180) degrees");
+        auto fail = [&](const char* key, const std::string& why) {
+            throwInputError(m_label, joinPath(r ? r->path() : "camera", key), why);
+        };
+        if (!(c.fovY > 0.0f && c.fovY < 180.0f)) fail("fov_y", "must be in (0, 180) degrees");
         glm::vec3 view = c.target - c.eye;
-        if (!(glm::length(view) > 0.0f) || !std::isfinite(glm::length(view)))
-            throwInputError(m_label, joinPath(where, "target"), "must differ from eye");
+        if (!(glm::length(view) > 0.0f) || !std::isfinite(glm::length(view))) fail("target", "must differ from eye");
         glm::vec3 side = glm::cross(glm::normalize(view), c.up);
         if (!(glm::length(side) > 1e-6f * glm::length(c.up)) || !std::isfinite(glm::length(side)))
-            throwInputError(m_label, joinPath(where, "up"), "must be non-zero and not parallel to the view direction");
+            fail("up", "must be non-zero and not parallel to the view direction");
         m_scene.camera = c;
     }
 
@@ -449,7 +408,9 @@ private:
 
 }  // namespace
 
-json readJsonFile(const fs::path& file, const std::string& label) { return parseJson(readText(file, label), label); }
+json readJsonFile(const fs::path& file, const std::string& label) {
+    return parseJsonText(readInputFile(file, label, kMaxJsonFileBytes), label);
+}
 
 Scene loadScene(const fs::path& file, const std::vector<Override>& overrides) {
     std::string label = file.string();
@@ -461,11 +422,10 @@ Scene loadScene(const fs::path& file, const std::vector<Override>& overrides) {
     if (direct) {
         // A model on its own is the scene {"shapes": [{"type": "gltf", "file": ...}]}, so that
         // --set works on it exactly as on a scene file.
-        std::error_code ec;
-        if (!fs::exists(file, ec)) throwInputError(label, "", "cannot open file (no such file)");
+        if (auto problem = openProblem(file)) throwInputError(label, "", "cannot open file (" + *problem + ")");
         doc = {{"shapes", json::array({{{"type", "gltf"}, {"file", file.filename().string()}}})}};
     } else {
-        doc = parseJson(readText(file, label), label);
+        doc = readJsonFile(file, label);
     }
     for (const Override& o : overrides) applyOverride(doc, o);
 

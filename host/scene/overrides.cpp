@@ -8,6 +8,7 @@
 #include <variant>
 
 #include "core/errors.h"
+#include "scene/json_parse.h"
 #include "scene/json_reader.h"
 #include "scene/load.h"
 
@@ -63,8 +64,13 @@ Override parseOverride(const std::string& text) {
 void applyOverride(nlohmann::json& doc, const Override& o) {
     // The value is JSON if it parses as JSON (numbers, arrays, true, "quoted"), else a string,
     // so `integrator.strategy=bsdf` needs no shell-quoted JSON string.
+    // The shared rules hold here too: the depth is checked before parsing, and a value
+    // that is JSON is parsed again by parseJsonText to refuse duplicate keys.
+    const std::string label = "--set " + o.path;
+    checkJsonDepth(o.value, label);
     nlohmann::json value = nlohmann::json::parse(o.value, nullptr, /*allow_exceptions=*/false);
     if (value.is_discarded()) value = o.value;
+    else value = parseJsonText(o.value, label);
     // A JSON number beyond double range (1e999) fails to parse; keep it a number (+-inf) so
     // that validation reports "not finite" at its path rather than "expected a number".
     bool numeric = !o.value.empty() && (std::isdigit((unsigned char)o.value[0]) ||

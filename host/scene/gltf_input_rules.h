@@ -1,0 +1,35 @@
+// The input rules for glTF files (README, "Where the contract was silent or ambiguous"),
+// applied around tinygltf: what is checked on the file's JSON before tinygltf sees it, and
+// the file callbacks that keep buffer and image reads inside the model's folder.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+#include <tiny_gltf.h>
+
+namespace penumbra {
+
+// The JSON chunk of a .glb file; throws InputError for a container version other than 2
+// or a chunk that does not fit the file.
+std::string_view glbJsonChunk(const std::string& bytes, const std::string& label);
+
+// Parses the glTF JSON with the rules every JSON reader shares (depth, duplicate keys, no
+// echo), then requires asset.version 2.x, whole numbers in integer properties, and no
+// absolute buffer or image URI unless any path is allowed. Throws InputError.
+void checkGltfDocument(std::string_view json, const std::string& label);
+
+// What the file callbacks saw: the first URI refused and the first read that failed (as
+// messages for the caller to throw once tinygltf returns).
+struct GltfFileAccess {
+    std::filesystem::path folder;  // the model's folder; URIs are read only inside it
+    std::string refused;           // the URI as written (relative to the folder)
+    std::string failed;            // an InputError message
+};
+
+// tinygltf file callbacks reading through readInputFile, only inside access.folder
+// unless allowAnyPath(); never expanding a path (tinygltf's own runs wordexp); never writing.
+tinygltf::FsCallbacks confinedFsCallbacks(GltfFileAccess& access);
+
+}  // namespace penumbra

@@ -1,0 +1,91 @@
+// Bounded reads of input files with the system's own words for failures, and the rule
+// that a file named by another file lies inside the naming file's folder.
+#include "scene/input_file.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <cerrno>
+#include <cstring>
+
+#include "core/errors.h"
+
+namespace penumbra {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::atomic<bool> g_allowAnyPath{false};
+
+// "No such file or directory" -> "no such file"; others as strerror words, lower case.
+std::string describeErrno(int errnum) {
+    if (errnum == ENOENT) return "no such file";
+    if (errnum == EISDIR) return "it is a directory";
+    std::string text = std::strerror(errnum);
+    if (!text.empty()) text[0] = char(std::tolower((unsigned char)text[0]));
+    return text;
+}
+
+// Closes the descriptor on every way out of readInputFile.
+struct FileDescriptor {
+    int fd;
+    ~FileDescriptor() {
+        if (fd >= 0) ::close(fd);
+    }
+};
+
+}  // namespace
+
+std::optional<std::string> openProblem(const fs::path& file) {
+    struct stat st {};
+    if (::stat(file.c_str(), &st) != 0) return describeErrno(errno);
+    if (S_ISDIR(st.st_mode)) return describeErrno(EISDIR);
+    return std::nullopt;
+}
+
+std::string readInputFile(const fs::path& file, const std::string& label, uint64_t maxBytes) {
+    FileDescriptor in{::open(file.c_str(), O_RDONLY | O_CLOEXEC)};
+    if (in.fd < 0) throwInputError(label, "", "cannot open file (" + describeErrno(errno) + ")");
+    struct stat st {};
+    if (::fstat(in.fd, &st) != 0) throwInputError(label, "", "cannot open file (" + describeErrno(errno) + ")");
+    if (S_ISDIR(st.st_mode)) throwInputError(label, "", "cannot open file (" + describeErrno(EISDIR) + ")");
+    const std::string tooLarge = "file too large (more than " + std::to_string(maxBytes) + " bytes)";
+    // A regular file says its size up front; devices and pipes are read until the cap.
+    if (S_ISREG(st.st_mode) && uint64_t(st.st_size) > maxBytes) throwInputError(label, "", tooLarge);
+
+    std::string text;
+    if (S_ISREG(st.st_mode)) text.reserve(size_t(st.st_size));
+    char chunk[1 << 16];
+    while (true) {
+        ssize_t got = ::read(in.fd, chunk, sizeof chunk);
+        if (got < 0 && errno == EINTR) continue;
+        if (got < 0) throwInputError(label, "", "read error: " + describeErrno(errno));
+        if (got == 0) break;
+        if (text.size() + uint64_t(got) > maxBytes) throwInputError(label, "", tooLarge);
+        text.append(chunk, size_t(got));
+    }
+    return text;
+}
+
+void setAllowAnyPath(bool allow) { g_allowAnyPath = allow; }
+bool allowAnyPath() { return g_allowAnyPath; }
+
+bool isInsideFolder(const fs::path& file, const fs::path& folder) {
+    std::error_code ec1, ec2;
+    fs::path f = fs::weakly_canonical(file, ec1);
+    fs::path d = fs::weakly_canonical(folder.empty() ? fs::path(".") : folder, ec2);
+    if (ec1 || ec2) return false;
+    // Component-wise prefix: /a/bc is not inside /a/b.
+    auto fi = f.begin();
+    for (auto di = d.begin(); di != d.end(); ++di, ++fi) {
+        if (di->empty() && std::next(di) == d.end()) break;  // a trailing separator
+        if (fi == f.end() || *fi != *di) return false;
+    }
+    return true;
+}
+
+}  // namespace penumbra

@@ -1,0 +1,59 @@
+// The fuzz target's body: one input through the scene, job-file or glTF reader, exactly
+// as `penumbra render` and `penumbra batch` read them (loadScene, loadJobFile).
+#include "fuzz_inputs.h"
+
+#include <unistd.h>
+
+#include <exception>
+#include <filesystem>
+#include <fstream>
+
+#include "batch/job_file.h"
+#include "core/errors.h"
+#include "scene/load.h"
+
+namespace penumbra::fuzz {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A folder of this process's own, removed at exit.
+struct Folder {
+    fs::path path = fs::temp_directory_path() / ("penumbra-fuzz-" + std::to_string(::getpid()));
+    Folder() { fs::create_directories(path); }
+    ~Folder() {
+        std::error_code ec;
+        fs::remove_all(path, ec);
+    }
+};
+
+const fs::path& folder() {
+    static const Folder dir;
+    return dir.path;
+}
+
+}  // namespace
+
+std::string readOne(const uint8_t* data, size_t size) {
+    if (size == 0) return "";
+    const char kind = char(data[0]);
+    std::string body(reinterpret_cast<const char*>(data + 1), size - 1);
+    const char* name = kind == 'j' ? "jobs.json" : kind == 'g' ? (body.rfind("glTF", 0) == 0 ? "model.glb" : "model.gltf")
+                                                               : "scene.json";
+    fs::path file = folder() / name;
+    std::ofstream(file, std::ios::binary | std::ios::trunc) << body;
+    try {
+        if (kind == 'j') {
+            loadJobFile(file);
+        } else {
+            loadScene(file);
+        }
+    } catch (const InputError&) {
+        return "";
+    } catch (const std::exception& e) {
+        return std::string("not an InputError: ") + e.what();
+    }
+    return "";
+}
+
+}  // namespace penumbra::fuzz
