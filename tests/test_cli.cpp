@@ -4,10 +4,12 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sys/wait.h>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <vulkan/vulkan.h>
 
 #include "gpu_fixture.h"
 #include "image/image.h"
@@ -201,6 +203,46 @@ TEST(Cli, CompareAndDevicesPrintForScripts) {
     EXPECT_NE(out.find("max_abs 0\n"), std::string::npos) << out;
     ASSERT_EQ(test::runPenumbra("devices", nullptr, &out), 0);
     EXPECT_NE(out.find("* 0: llvmpipe"), std::string::npos) << out;
+}
+
+// The driver of device 0 as the Vulkan loader reports it to this process, queried here
+// without penumbra's own code: "<driverName>, <driverInfo>", or "" without driver properties.
+std::string driverOfFirstDevice() {
+    VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+    app.apiVersion = VK_API_VERSION_1_1;
+    VkInstanceCreateInfo info{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+    info.pApplicationInfo = &app;
+    VkInstance instance = VK_NULL_HANDLE;
+    if (vkCreateInstance(&info, nullptr, &instance) != VK_SUCCESS) return "";
+    uint32_t count = 1;
+    VkPhysicalDevice device = VK_NULL_HANDLE;
+    std::string driver;
+    VkResult result = vkEnumeratePhysicalDevices(instance, &count, &device);
+    if ((result == VK_SUCCESS || result == VK_INCOMPLETE) && count > 0) {
+        VkPhysicalDeviceDriverProperties props{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
+        VkPhysicalDeviceProperties2 props2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+        props2.pNext = &props;
+        vkGetPhysicalDeviceProperties2(device, &props2);
+        driver = std::string(props.driverName) + ", " + props.driverInfo;
+    }
+    vkDestroyInstance(instance, nullptr);
+    return driver;
+}
+
+TEST(Cli, DevicesPrintsTheDriverAndItsMesaVersion) {
+    std::string driver = driverOfFirstDevice();
+    ASSERT_FALSE(driver.empty()) << "lavapipe reports VK_KHR_driver_properties";
+    std::string out;
+    ASSERT_EQ(test::runPenumbra("devices", nullptr, &out), 0);
+    // The line under device 0 names the same driver and version as the loader reports.
+    size_t device = out.find("* 0: llvmpipe");
+    ASSERT_NE(device, std::string::npos) << out;
+    size_t lineEnd = out.find('\n', device);
+    ASSERT_NE(lineEnd, std::string::npos) << out;
+    std::string next = out.substr(lineEnd + 1, out.find('\n', lineEnd + 1) - lineEnd - 1);
+    EXPECT_EQ(next.rfind("    driver: " + driver, 0), 0u) << out;
+    // On lavapipe that is the Mesa release, e.g. "llvmpipe, Mesa 22.3.6 (LLVM 15.0.6)".
+    EXPECT_TRUE(std::regex_search(next, std::regex(R"(driver: llvmpipe, Mesa \d+\.\d+\.\d+)"))) << next;
 }
 
 TEST(Cli, GltfModelRendersDirectlyWithTheEnvironmentNote) {

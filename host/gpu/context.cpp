@@ -75,6 +75,16 @@ int computeQueueFamily(VkPhysicalDevice device, VkSurfaceKHR surface) {
     return -1;
 }
 
+bool hasDeviceExtension(VkPhysicalDevice device, const char* name) {
+    uint32_t count = 0;
+    if (vkEnumerateDeviceExtensionProperties(device, nullptr, &count, nullptr) != VK_SUCCESS) return false;
+    std::vector<VkExtensionProperties> extensions(count);
+    if (vkEnumerateDeviceExtensionProperties(device, nullptr, &count, extensions.data()) != VK_SUCCESS) return false;
+    for (const auto& e : extensions)
+        if (std::string(e.extensionName) == name) return true;
+    return false;
+}
+
 DeviceInfo describe(VkPhysicalDevice device, uint32_t index) {
     VkPhysicalDeviceProperties props;
     vkGetPhysicalDeviceProperties(device, &props);
@@ -84,6 +94,18 @@ DeviceInfo describe(VkPhysicalDevice device, uint32_t index) {
     info.type = deviceTypeName(props.deviceType);
     info.apiVersion = props.apiVersion;
     info.hasCompute = computeQueueFamily(device, VK_NULL_HANDLE) >= 0;
+    if (hasDeviceExtension(device, VK_KHR_DRIVER_PROPERTIES_EXTENSION_NAME)) {
+        VkPhysicalDeviceDriverPropertiesKHR driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES_KHR};
+        VkPhysicalDeviceProperties2 props2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+        props2.pNext = &driver;
+        vkGetPhysicalDeviceProperties2(device, &props2);
+        info.driverName = driver.driverName;
+        info.driverInfo = driver.driverInfo;
+        const auto& c = driver.conformanceVersion;
+        if (c.major || c.minor || c.subminor || c.patch)
+            info.conformanceVersion = std::to_string(c.major) + "." + std::to_string(c.minor) + "." +
+                                      std::to_string(c.subminor) + "." + std::to_string(c.patch);
+    }
     return info;
 }
 
@@ -166,7 +188,20 @@ Context::Context(const ContextOptions& options) {
         queueInfo.pQueuePriorities = &priority;
         std::vector<const char*> deviceExtensions;
         if (m_surface) deviceExtensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
+        VkPhysicalDeviceBufferDeviceAddressFeaturesKHR addressFeatures{
+            VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_BUFFER_DEVICE_ADDRESS_FEATURES_KHR};
+        if (options.bufferDeviceAddress &&
+            hasDeviceExtension(m_physicalDevice, VK_KHR_BUFFER_DEVICE_ADDRESS_EXTENSION_NAME)) {
+            VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+            features.pNext = &addressFeatures;
+            vkGetPhysicalDeviceFeatures2(m_physicalDevice, &features);
+            m_bufferDeviceAddress = addressFeatures.bufferDeviceAddress;
+            addressFeatures.bufferDeviceAddressCaptureReplay = VK_FALSE;
+            addressFeatures.bufferDeviceAddressMultiDevice = VK_FALSE;
+            if (m_bufferDeviceAddress) deviceExtensions.push_back(VK_KHR_BUFFER_DEVICE_ADDRESS_EXTENSION_NAME);
+        }
         VkDeviceCreateInfo deviceInfo{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
+        if (m_bufferDeviceAddress) deviceInfo.pNext = &addressFeatures;
         deviceInfo.queueCreateInfoCount = 1;
         deviceInfo.pQueueCreateInfos = &queueInfo;
         deviceInfo.enabledExtensionCount = uint32_t(deviceExtensions.size());

@@ -19,6 +19,11 @@ struct DeviceInfo {
     std::string type;  // "discrete", "integrated", "virtual", "cpu", "other"
     uint32_t apiVersion = 0;
     bool hasCompute = false;
+    // From VkPhysicalDeviceDriverProperties where the device has VK_KHR_driver_properties
+    // (lavapipe: "llvmpipe", "Mesa 22.3.6 (LLVM 15.0.6)"); empty otherwise.
+    std::string driverName;
+    std::string driverInfo;
+    std::string conformanceVersion;  // "1.3.1.1", or empty
 };
 
 struct ContextOptions {
@@ -28,6 +33,9 @@ struct ContextOptions {
     // If set, called once the instance exists; the queue family must then also be able to
     // present to the returned surface, and VK_KHR_swapchain is enabled on the device.
     std::function<VkSurfaceKHR(VkInstance)> createSurface;
+    // Enables VK_KHR_buffer_device_address (bufferDeviceAddress feature) when the device
+    // has it; Context::hasBufferDeviceAddress() tells. Used by tools/microbenchmarks.
+    bool bufferDeviceAddress = false;
 };
 
 class Context {
@@ -50,6 +58,7 @@ public:
     VkSurfaceKHR surface() const { return m_surface; }
     const DeviceInfo& info() const { return m_info; }
     const VkPhysicalDeviceLimits& limits() const { return m_limits; }
+    bool hasBufferDeviceAddress() const { return m_bufferDeviceAddress; }
 
     // Index of a memory type with all `required` flags (and `preferred` ones if possible).
     uint32_t findMemoryType(uint32_t typeBits, VkMemoryPropertyFlags required,
@@ -71,6 +80,7 @@ private:
     DeviceInfo m_info;
     VkPhysicalDeviceLimits m_limits{};
     VkPhysicalDeviceMemoryProperties m_memory{};
+    bool m_bufferDeviceAddress = false;
 };
 
 }  // namespace penumbra::gpu

@@ -18,7 +18,8 @@ def machine_info():
         model = m.group(1).strip() if m else model
     except OSError:
         pass
-    dev = subprocess.run([PENUMBRA, "devices"], capture_output=True, text=True).stdout.strip()
+    dev = " ".join(line.strip() for line in
+                   subprocess.run([PENUMBRA, "devices"], capture_output=True, text=True).stdout.splitlines())
     mesa = subprocess.run(["dpkg-query", "-W", "-f=${Version}", "mesa-vulkan-drivers"], capture_output=True,
                           text=True).stdout.strip()
     import drjit as dr

@@ -1,0 +1,526 @@
+// penumbra_microbench: how fast a compute kernel on this Vulkan device fetches BVH-like
+// nodes inside a divergent loop, from each kind of memory a kernel can read (storage,
+// uniform and texel buffers, workgroup memory, buffer device addresses, packed nodes), and
+// what the traversal stack costs (local array, workgroup memory, short stack, restart
+// trail). Kernels: tools/microbenchmarks/shaders; run everything with tools/microbench.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <memory>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+#include "gpu/context.h"
+#include "gpu/vk_check.h"
+
+namespace {
+
+using penumbra::gpu::Context;
+using penumbra::gpu::vkCheck;
+
+constexpr uint32_t kWorkgroup = 64;     // local_size_x of every kernel
+constexpr uint32_t kSmallNodes = 1024;  // SMALL_NODES in fetch.comp: 32 KiB of 32-byte nodes
+constexpr uint32_t kLargeNodes = 1u << 20;
+
+struct Push {
+    uint32_t address[2];
+    uint32_t mask;
+    uint32_t threshold;
+    float boxOrigin[4];
+    float boxScale[4];
+};
+
+// A host-visible buffer (on lavapipe all memory is), optionally with a texel view and a
+// device address.
+class HostBuffer {
+public:
+    HostBuffer(const Context& context, const void* data, VkDeviceSize size, VkBufferUsageFlags usage,
+               VkFormat viewFormat = VK_FORMAT_UNDEFINED)
+        : m_device(context.device()), m_size(size) {
+        VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+        info.size = size;
+        info.usage = usage;
+        info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+        vkCheck(vkCreateBuffer(m_device, &info, nullptr, &m_buffer), "create buffer");
+        VkMemoryRequirements req;
+        vkGetBufferMemoryRequirements(m_device, m_buffer, &req);
+        VkMemoryAllocateFlagsInfo flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
+        flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
+        VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+        if (usage & VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT) alloc.pNext = &flags;
+        alloc.allocationSize = req.size;
+        alloc.memoryTypeIndex = context.findMemoryType(
+            req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
+        vkCheck(vkAllocateMemory(m_device, &alloc, nullptr, &m_memory), "allocate buffer memory");
+        vkCheck(vkBindBufferMemory(m_device, m_buffer, m_memory, 0), "bind buffer memory");
+        vkCheck(vkMapMemory(m_device, m_memory, 0, size, 0, &m_mapped), "map buffer memory");
+        if (data) std::memcpy(m_mapped, data, size_t(size));
+        else std::memset(m_mapped, 0, size_t(size));
+        if (viewFormat != VK_FORMAT_UNDEFINED) {
+            VkBufferViewCreateInfo view{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
+            view.buffer = m_buffer;
+            view.format = viewFormat;
+            view.range = VK_WHOLE_SIZE;
+            vkCheck(vkCreateBufferView(m_device, &view, nullptr, &m_view), "create buffer view");
+        }
+        if (usage & VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT) {
+            auto getAddress = reinterpret_cast<PFN_vkGetBufferDeviceAddressKHR>(
+                vkGetDeviceProcAddr(m_device, "vkGetBufferDeviceAddressKHR"));
+            VkBufferDeviceAddressInfo addressInfo{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
+            addressInfo.buffer = m_buffer;
+            m_address = getAddress(m_device, &addressInfo);
+        }
+    }
+    ~HostBuffer() {
+        if (m_view) vkDestroyBufferView(m_device, m_view, nullptr);
+        vkDestroyBuffer(m_device, m_buffer, nullptr);
+        vkFreeMemory(m_device, m_memory, nullptr);
+    }
+    HostBuffer(const HostBuffer&) = delete;
+    HostBuffer& operator=(const HostBuffer&) = delete;
+
+    VkBuffer buffer() const { return m_buffer; }
+    VkBufferView view() const { return m_view; }
+    VkDeviceAddress address() const { return m_address; }
+    const void* data() const { return m_mapped; }
+    VkDeviceSize size() const { return m_size; }
+
+private:
+    VkDevice m_device;
+    VkDeviceSize m_size;
+    VkBuffer m_buffer = VK_NULL_HANDLE;
+    VkDeviceMemory m_memory = VK_NULL_HANDLE;
+    VkBufferView m_view = VK_NULL_HANDLE;
+    VkDeviceAddress m_address = 0;
+    void* m_mapped = nullptr;
+};
+
+std::vector<uint32_t> readSpirv(const std::string& path) {
+    std::ifstream in(path, std::ios::binary | std::ios::ate);
+    if (!in) throw std::runtime_error("cannot read " + path + " (build the penumbra_microbench target)");
+    std::vector<uint32_t> words(size_t(in.tellg()) / 4);
+    in.seekg(0);
+    in.read(reinterpret_cast<char*>(words.data()), std::streamsize(words.size() * 4));
+    return words;
+}
+
+// One kernel variant: pipeline, descriptor set (binding 0 = results, binding 1 = nodes
+// when the variant reads them through a descriptor) and what a run dispatches.
+class Bench {
+public:
+    Bench(const Context& context, const std::string& spirv, uint32_t steps, VkDescriptorType nodeType,
+          const HostBuffer& nodes, const HostBuffer& results, const Push& push, uint32_t invocations)
+        : m_context(context), m_push(push), m_groups(invocations / kWorkgroup) {
+        VkDevice device = context.device();
+        auto code = readSpirv(spirv);
+        VkShaderModuleCreateInfo moduleInfo{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+        moduleInfo.codeSize = code.size() * 4;
+        moduleInfo.pCode = code.data();
+        vkCheck(vkCreateShaderModule(device, &moduleInfo, nullptr, &m_module), "create shader module");
+        VkDescriptorSetLayoutBinding bindings[2] = {
+            {0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
+            {1, nodeType, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr}};
+        VkDescriptorSetLayoutCreateInfo setInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+        setInfo.bindingCount = 2;
+        setInfo.pBindings = bindings;
+        vkCheck(vkCreateDescriptorSetLayout(device, &setInfo, nullptr, &m_setLayout), "create set layout");
+        VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(Push)};
+        VkPipelineLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+        layoutInfo.setLayoutCount = 1;
+        layoutInfo.pSetLayouts = &m_setLayout;
+        layoutInfo.pushConstantRangeCount = 1;
+        layoutInfo.pPushConstantRanges = &range;
+        vkCheck(vkCreatePipelineLayout(device, &layoutInfo, nullptr, &m_layout), "create pipeline layout");
+        VkSpecializationMapEntry entry{0, 0, sizeof(uint32_t)};
+        VkSpecializationInfo spec{1, &entry, sizeof(uint32_t), &steps};
+        VkComputePipelineCreateInfo pipelineInfo{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+        pipelineInfo.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+        pipelineInfo.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+        pipelineInfo.stage.module = m_module;
+        pipelineInfo.stage.pName = "main";
+        pipelineInfo.stage.pSpecializationInfo = &spec;
+        pipelineInfo.layout = m_layout;
+        vkCheck(vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &pipelineInfo, nullptr, &m_pipeline),
+                "create compute pipeline");
+
+        VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1}, {nodeType, 1}};
+        VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+        poolInfo.maxSets = 1;
+        poolInfo.poolSizeCount = 2;
+        poolInfo.pPoolSizes = sizes;
+        vkCheck(vkCreateDescriptorPool(device, &poolInfo, nullptr, &m_pool), "create descriptor pool");
+        VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+        alloc.descriptorPool = m_pool;
+        alloc.descriptorSetCount = 1;
+        alloc.pSetLayouts = &m_setLayout;
+        vkCheck(vkAllocateDescriptorSets(device, &alloc, &m_set), "allocate descriptor set");
+        VkDescriptorBufferInfo resultInfo{results.buffer(), 0, VK_WHOLE_SIZE};
+        VkDescriptorBufferInfo nodeInfo{nodes.buffer(), 0, VK_WHOLE_SIZE};
+        VkBufferView view = nodes.view();
+        VkWriteDescriptorSet writes[2] = {{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}, {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}};
+        writes[0].dstSet = m_set;
+        writes[0].dstBinding = 0;
+        writes[0].descriptorCount = 1;
+        writes[0].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        writes[0].pBufferInfo = &resultInfo;
+        writes[1].dstSet = m_set;
+        writes[1].dstBinding = 1;
+        writes[1].descriptorCount = 1;
+        writes[1].descriptorType = nodeType;
+        if (nodeType == VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER || nodeType == VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER)
+            writes[1].pTexelBufferView = &view;
+        else
+            writes[1].pBufferInfo = &nodeInfo;
+        vkUpdateDescriptorSets(device, 2, writes, 0, nullptr);
+    }
+    ~Bench() {
+        VkDevice device = m_context.device();
+        vkDestroyDescriptorPool(device, m_pool, nullptr);
+        vkDestroyPipeline(device, m_pipeline, nullptr);
+        vkDestroyPipelineLayout(device, m_layout, nullptr);
+        vkDestroyDescriptorSetLayout(device, m_setLayout, nullptr);
+        vkDestroyShaderModule(device, m_module, nullptr);
+    }
+    Bench(const Bench&) = delete;
+    Bench& operator=(const Bench&) = delete;
+
+    // Seconds for one dispatch over all invocations, submitted and waited for.
+    double run() const {
+        auto start = std::chrono::steady_clock::now();
+        m_context.submitAndWait([&](VkCommandBuffer cmd) {
+            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_pipeline);
+            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_layout, 0, 1, &m_set, 0, nullptr);
+            vkCmdPushConstants(cmd, m_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(Push), &m_push);
+            vkCmdDispatch(cmd, m_groups, 1, 1);
+        });
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
+
+private:
+    const Context& m_context;
+    Push m_push;
+    uint32_t m_groups;
+    VkShaderModule m_module = VK_NULL_HANDLE;
+    VkDescriptorSetLayout m_setLayout = VK_NULL_HANDLE;
+    VkPipelineLayout m_layout = VK_NULL_HANDLE;
+    VkPipeline m_pipeline = VK_NULL_HANDLE;
+    VkDescriptorPool m_pool = VK_NULL_HANDLE;
+    VkDescriptorSet m_set = VK_NULL_HANDLE;
+};
+
+// The node tables of one size, in every layout the kernels read.
+struct Tables {
+    std::vector<float> nodes32;      // per node: min.xyz, next; max.xyz, 0
+    std::vector<uint32_t> nodes16;   // per node: next, unorm8 (min.xyz, max.x), unorm8 (max.yz), 0
+    std::vector<uint32_t> nodes8;    // per node: next, six 5-bit planes
+};
+
+// Boxes in [0, 1.5)^3, quantized against the origin 0 and scale 1.5 (the packed kernels'
+// push constants). `next` is uniform over the table, so walks scatter over all of it.
+Tables makeTables(uint32_t count, uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    Tables t;
+    t.nodes32.resize(size_t(count) * 8);
+    t.nodes16.resize(size_t(count) * 4);
+    t.nodes8.resize(size_t(count) * 2);
+    auto q8 = [](float v) { return uint32_t(std::clamp(v / 1.5f, 0.0f, 1.0f) * 255.0f + 0.5f); };
+    auto q5 = [](float v) { return uint32_t(std::clamp(v / 1.5f, 0.0f, 1.0f) * 31.0f + 0.5f); };
+    for (uint32_t i = 0; i < count; ++i) {
+        float lo[3], hi[3];
+        for (int k = 0; k < 3; ++k) {
+            lo[k] = unit(rng);
+            hi[k] = lo[k] + 0.5f * unit(rng);
+        }
+        uint32_t next = uint32_t(rng()) % count;
+        float* n = &t.nodes32[size_t(i) * 8];
+        n[0] = lo[0], n[1] = lo[1], n[2] = lo[2], n[3] = float(next);
+        n[4] = hi[0], n[5] = hi[1], n[6] = hi[2], n[7] = 0.0f;
+        uint32_t* p = &t.nodes16[size_t(i) * 4];
+        p[0] = next;
+        p[1] = q8(lo[0]) | q8(lo[1]) << 8 | q8(lo[2]) << 16 | q8(hi[0]) << 24;
+        p[2] = q8(hi[1]) | q8(hi[2]) << 8;
+        p[3] = 0;
+        uint32_t* e = &t.nodes8[size_t(i) * 2];
+        e[0] = next;
+        e[1] = q5(lo[0]) | q5(lo[1]) << 5 | q5(lo[2]) << 10 | q5(hi[0]) << 15 | q5(hi[1]) << 20 | q5(hi[2]) << 25;
+    }
+    return t;
+}
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+std::string loadAverage() {
+    std::ifstream in("/proc/loadavg");
+    double a = 0, b = 0, c = 0;
+    in >> a >> b >> c;
+    char text[64];
+    std::snprintf(text, sizeof text, "%.2f, %.2f, %.2f", a, b, c);
+    return text;
+}
+
+// One row of a table: a kernel variant with its data, timed in alternation with the others.
+struct Case {
+    std::string table;   // "small" / "large"
+    std::string label;   // the row's name
+    std::string group;   // rows whose results must agree exactly ("32", "16", "8", "stack")
+    std::string baseline;  // label of the row this one is compared with (same table)
+    std::unique_ptr<Bench> bench;
+    const HostBuffer* results = nullptr;
+    double work = 0;     // node fetches (fetch kernels) or traversals (stack kernels) per run
+    double createSeconds = 0;  // vkCreateComputePipelines and the rest of Bench's set-up
+    double firstSeconds = 0;
+    std::vector<double> seconds;
+    std::vector<float> output;
+};
+
+int usage() {
+    std::fprintf(stderr,
+                 "usage: penumbra_microbench [--runs N] [--invocations N] [--stack-invocations N] [--steps N] "
+                 "[--only fetch|stack] "
+                 "[--spirv-dir DIR]\n");
+    return 2;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    int runs = 5;
+    uint32_t invocations = 1u << 20;
+    uint32_t stackInvocations = 1u << 18;  // a traversal is about 40 steps, not 32 cheap ones
+    uint32_t steps = 32;
+    std::string only;
+    std::string spirvDir = PENUMBRA_MICROBENCH_SPIRV_DIR;
+    for (int i = 1; i < argc; ++i) {
+        std::string arg = argv[i];
+        auto value = [&]() -> std::string {
+            if (i + 1 >= argc) throw std::runtime_error(arg + " needs a value");
+            return argv[++i];
+        };
+        try {
+            if (arg == "--runs") runs = std::stoi(value());
+            else if (arg == "--invocations") invocations = uint32_t(std::stoul(value()));
+            else if (arg == "--stack-invocations") stackInvocations = uint32_t(std::stoul(value()));
+            else if (arg == "--steps") steps = uint32_t(std::stoul(value()));
+            else if (arg == "--only") only = value();
+            else if (arg == "--spirv-dir") spirvDir = value();
+            else return usage();
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "penumbra_microbench: %s: %s\n", arg.c_str(), e.what());
+            return 2;
+        }
+    }
+    if (runs < 1 || invocations < kWorkgroup || invocations % kWorkgroup || stackInvocations < kWorkgroup ||
+        stackInvocations % kWorkgroup || steps < 1 ||
+        (!only.empty() && only != "fetch" && only != "stack"))
+        return usage();
+
+    try {
+        penumbra::gpu::ContextOptions options;
+        options.bufferDeviceAddress = true;
+        Context context(options);
+        const auto& info = context.info();
+        std::printf("Device: %s; driver: %s %s; load average at start: %s\n", info.name.c_str(),
+                    info.driverName.c_str(), info.driverInfo.c_str(), loadAverage().c_str());
+        const auto& limits = context.limits();
+
+        std::map<std::string, Tables> tables;
+        tables["small"] = makeTables(kSmallNodes, 1);
+        tables["large"] = makeTables(kLargeNodes, 2);
+        std::vector<std::unique_ptr<HostBuffer>> buffers;
+        std::vector<Case> cases;
+        Push push{};
+        push.boxScale[0] = push.boxScale[1] = push.boxScale[2] = 1.5f;
+
+        auto addCase = [&](const std::string& table, const std::string& label, const std::string& group,
+                           const std::string& baseline, const std::string& kernel, uint32_t specSteps,
+                           VkDescriptorType type, const void* data, VkDeviceSize bytes, VkFormat format,
+                           Push p, double work, uint32_t threads) {
+            VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+            if (type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER) usage = VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT;
+            if (type == VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER) usage = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
+            if (type == VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER) usage = VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT;
+            bool bda = label.find("device address") != std::string::npos;
+            if (bda) {
+                if (!context.hasBufferDeviceAddress()) {
+                    std::printf("(skipped %s, %s: no bufferDeviceAddress on this device)\n", table.c_str(), label.c_str());
+                    return;
+                }
+                usage |= VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
+            }
+            if (type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER && bytes > limits.maxUniformBufferRange) return;
+            buffers.push_back(std::make_unique<HostBuffer>(context, data, bytes, usage, format));
+            const HostBuffer& nodes = *buffers.back();
+            if (bda) {
+                p.address[0] = uint32_t(nodes.address());
+                p.address[1] = uint32_t(nodes.address() >> 32);
+            }
+            buffers.push_back(std::make_unique<HostBuffer>(context, nullptr, VkDeviceSize(threads) * 8,
+                                                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT));
+            Case c;
+            c.table = table;
+            c.label = label;
+            c.group = group;
+            c.baseline = baseline;
+            c.results = buffers.back().get();
+            auto created = std::chrono::steady_clock::now();
+            c.bench = std::make_unique<Bench>(context, spirvDir + "/" + kernel + ".spv", specSteps, type, nodes,
+                                              *c.results, p, threads);
+            c.createSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - created).count();
+            c.work = work;
+            cases.push_back(std::move(c));
+        };
+
+        const auto SSBO = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, UBO = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
+                   TEXEL = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, IMAGE = VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
+        const auto F32 = VK_FORMAT_R32G32B32A32_SFLOAT, U32 = VK_FORMAT_R32G32B32A32_UINT,
+                   U32x2 = VK_FORMAT_R32G32_UINT, NONE = VK_FORMAT_UNDEFINED;
+        const std::string base = "(a) storage buffer";
+        if (only.empty() || only == "fetch") {
+            for (const std::string table : {"small", "large"}) {
+                const Tables& t = tables[table];
+                uint32_t count = uint32_t(t.nodes8.size() / 2);
+                Push p = push;
+                p.mask = count - 1;
+                double work = double(invocations) * steps;
+                VkDeviceSize b32 = t.nodes32.size() * 4, b16 = t.nodes16.size() * 4, b8 = t.nodes8.size() * 4;
+                const void *d32 = t.nodes32.data(), *d16 = t.nodes16.data(), *d8 = t.nodes8.data();
+                bool small = table == "small";
+                addCase(table, base, "32", base, "fetch_ssbo", steps, SSBO, d32, b32, NONE, p, work, invocations);
+                if (small) addCase(table, "(b) uniform buffer", "32", base, "fetch_ubo", steps, UBO, d32, b32, NONE, p, work, invocations);
+                if (2ull * count <= limits.maxTexelBufferElements) {
+                    addCase(table, "(c) texel buffer RGBA32F, texelFetch", "32", base, "fetch_texel", steps, TEXEL, d32,
+                            b32, F32, p, work, invocations);
+                    addCase(table, "(c') storage texel buffer RGBA32F, imageLoad", "32", base, "fetch_image", steps,
+                            IMAGE, d32, b32, F32, p, work, invocations);
+                }
+                if (small && b32 <= limits.maxComputeSharedMemorySize)
+                    addCase(table, "(d) shared memory, copied in per workgroup of 64", "32", base, "fetch_shared",
+                            steps, SSBO, d32, b32, NONE, p, work, invocations);
+                addCase(table, "(e) buffer device address", "32", base, "fetch_bda", steps, SSBO, d32, b32, NONE, p, work, invocations);
+                addCase(table, "(f) 16-byte node (8-bit planes), storage buffer", "16", base, "fetch_packed16_ssbo",
+                        steps, SSBO, d16, b16, NONE, p, work, invocations);
+                if (small)
+                    addCase(table, "(f) 16-byte node, uniform buffer", "16", base, "fetch_packed16_ubo", steps, UBO,
+                            d16, b16, NONE, p, work, invocations);
+                addCase(table, "(f) 16-byte node, texel buffer RGBA32UI", "16", base, "fetch_packed16_texel", steps,
+                        TEXEL, d16, b16, U32, p, work, invocations);
+                addCase(table, "(f) 8-byte node (5-bit planes), storage buffer", "8", base, "fetch_packed8_ssbo",
+                        steps, SSBO, d8, b8, NONE, p, work, invocations);
+                addCase(table, "(f) 8-byte node, texel buffer RG32UI", "8", base, "fetch_packed8_texel", steps, TEXEL,
+                        d8, b8, U32x2, p, work, invocations);
+            }
+        }
+        if (only.empty() || only == "stack") {
+            // Depth 9 (1,023 nodes, 32 KiB) and 19 (1M nodes); each child is visited with a
+            // probability that makes a traversal visit about 40 nodes.
+            for (const auto& [table, depth, probability] :
+                 {std::tuple{std::string("small"), 9u, 0.65}, std::tuple{std::string("large"), 19u, 0.535}}) {
+                const Tables& t = tables[table];
+                Push p = push;
+                p.threshold = uint32_t(probability * 65536.0);
+                const std::string local = "local array[64]";
+                VkDeviceSize bytes = t.nodes32.size() * 4;
+                std::string name = table + " tree";
+                addCase(name, local, "stack", local, "stack_local", depth, SSBO, t.nodes32.data(), bytes, NONE, p,
+                        stackInvocations, stackInvocations);
+                addCase(name, "shared memory, 64 entries per invocation", "stack", local, "stack_shared", depth, SSBO,
+                        t.nodes32.data(), bytes, NONE, p, stackInvocations, stackInvocations);
+                addCase(name, "short stack (4-entry ring) + restart trail", "stack", local, "stack_short", depth, SSBO,
+                        t.nodes32.data(), bytes, NONE, p, stackInvocations, stackInvocations);
+                addCase(name, "restart trail, no stack", "stack", local, "stack_trail", depth, SSBO, t.nodes32.data(),
+                        bytes, NONE, p, stackInvocations, stackInvocations);
+            }
+        }
+
+        // First dispatch (llvmpipe compiles the kernel here or at pipeline creation: "compile
+        // s" is the creation time plus the first dispatch's excess over the median), then
+        // `runs` rounds in which
+        // every case runs once, so that load changes on the machine hit all alike.
+        for (auto& c : cases) c.firstSeconds = c.bench->run();
+        for (int r = 0; r < runs; ++r)
+            for (auto& c : cases) c.seconds.push_back(c.bench->run());
+        for (auto& c : cases) {
+            const float* out = static_cast<const float*>(c.results->data());
+            c.output.assign(out, out + size_t(c.results->size() / sizeof(float)));
+        }
+
+        // Results that must agree: every 32-byte source with (a), each packed layout with its
+        // storage-buffer version, every stack with the local array (sums only).
+        std::map<std::string, const Case*> firstOfGroup;
+        bool allAgree = true;
+        for (const auto& c : cases) {
+            std::string key = c.table + "/" + c.group;
+            auto [it, inserted] = firstOfGroup.emplace(key, &c);
+            if (inserted) continue;
+            const auto& ref = it->second->output;
+            bool same = true;
+            for (size_t i = 0; i < ref.size(); i += (c.group == "stack" ? 2 : 1))
+                if (std::memcmp(&ref[i], &c.output[i], sizeof(float)) != 0) same = false;
+            if (!same) {
+                std::printf("MISMATCH: %s, %s computed other results than %s\n", c.table.c_str(), c.label.c_str(),
+                            it->second->label.c_str());
+                allAgree = false;
+            }
+        }
+
+        auto baselineRate = [&](const Case& c) {
+            for (const auto& o : cases)
+                if (o.table == c.table && o.label == c.baseline) return o.work / median(o.seconds);
+            return 0.0;
+        };
+        bool header = false;
+        for (const auto& c : cases) {
+            if (c.group == "stack") continue;
+            if (!header) {
+                std::printf("\nNode fetches in a divergent walk: %u invocations x %u steps, median of %d runs\n\n",
+                            invocations, steps, runs);
+                std::printf("| table | source | M node fetches/s | vs (a) | compile s |\n|---|---|---|---|---|\n");
+                header = true;
+            }
+            double rate = c.work / median(c.seconds);
+            std::printf("| %s (%s nodes) | %s | %.0f | %.2f | %.3f |\n", c.table.c_str(),
+                        c.table == "small" ? "1,024" : "1,048,576", c.label.c_str(), rate / 1e6,
+                        rate / baselineRate(c), c.createSeconds + std::max(0.0, c.firstSeconds - median(c.seconds)));
+        }
+        header = false;
+        for (const auto& c : cases) {
+            if (c.group != "stack") continue;
+            if (!header) {
+                std::printf("\nTraversal stack: %u traversals of a binary tree, nodes from a storage buffer, median of %d runs\n\n",
+                            stackInvocations, runs);
+                std::printf("| tree | stack | M traversals/s | nodes fetched per traversal | M node fetches/s | vs local array | compile s |\n|---|---|---|---|---|---|---|\n");
+                header = true;
+            }
+            double fetches = 0;
+            for (size_t i = 1; i < c.output.size(); i += 2) fetches += c.output[i];
+            double seconds = median(c.seconds);
+            double rate = c.work / seconds;
+            std::printf("| %s (depth %s) | %s | %.2f | %.1f | %.0f | %.2f | %.3f |\n", c.table.c_str(),
+                        c.table == "small tree" ? "9" : "19", c.label.c_str(), rate / 1e6, fetches / c.work,
+                        fetches / seconds / 1e6, rate / baselineRate(c), c.createSeconds + std::max(0.0, c.firstSeconds - seconds));
+        }
+        std::printf("\nLoad average at the end: %s. Results agree across variants: %s\n", loadAverage().c_str(),
+                    allAgree ? "yes" : "NO");
+        return allAgree ? 0 : 1;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "penumbra_microbench: %s\n", e.what());
+        return 1;
+    }
+}
