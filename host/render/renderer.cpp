@@ -24,6 +24,7 @@ std::vector<VkDescriptorType> renderBindings() {
     types[BINDING_PARAMS] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     types[BINDING_NODES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
     types[BINDING_PRIMITIVE_TEXELS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+    types[BINDING_MATERIALS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
     return types;
 }
 
@@ -45,7 +46,7 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
     m_nodes = Buffer::fromVector(context, m_arrays.bvh.childPairs, texels);
     m_primitives = Buffer::fromVector(context, m_arrays.bvh.primitives, texels | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     m_normals = Buffer::fromVector(context, m_arrays.normals);
-    m_materials = Buffer::fromVector(context, m_arrays.materials);
+    m_materials = Buffer::fromVector(context, m_arrays.materials, texels);
     m_lights = Buffer::fromVector(context, m_arrays.lights);
     m_lightTable = Buffer::fromVector(context, m_arrays.lightTable);
     m_meshTable = Buffer::fromVector(context, m_arrays.meshTable);

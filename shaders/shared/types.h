@@ -24,7 +24,7 @@ using uint = std::uint32_t;
 #define BINDING_NODES 2        // BvhNode[] in child pairs, as a texel buffer (see below)
 #define BINDING_PRIMITIVES 3   // Primitive[] in BVH leaf order (storage buffer: shading, lights)
 #define BINDING_NORMALS 4      // TriangleNormals[]
-#define BINDING_MATERIALS 5    // Material[]
+#define BINDING_MATERIALS 5    // Material[] as a texel buffer (MATERIAL_TEXELS texels each)
 #define BINDING_LIGHTS 6       // Light[]
 #define BINDING_LIGHT_TABLE 7  // AliasEntry[]: light selection (item = light index)
 #define BINDING_MESH_TABLE 8   // AliasEntry[]: mesh-light triangles (item = primitive index)
@@ -110,6 +110,7 @@ struct Material {
     vec3 ks;
     float exponent;
 };
+PENUMBRA_CONST uint MATERIAL_TEXELS = 2u;  // RGBA32UI texels per Material (bsdf/materials.glsl)
 
 // ---- Lights -----------------------------------------------------------------------------
 PENUMBRA_CONST uint LIGHT_POINT = 0u;        // position, emission = intensity (W/sr)
