@@ -12,10 +12,16 @@ static_assert(LIGHT_TEST_BINDING_IN >= BINDING_COUNT && LIGHT_TEST_BINDING_OUT >
 
 namespace {
 
+// Storage buffers, except the traversal's texel buffers (geometry/bvh.glsl).
+std::vector<VkDescriptorType> lightTestBindings() {
+    std::vector<VkDescriptorType> types(LIGHT_TEST_BINDING_COUNT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+    types[BINDING_NODES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+    types[BINDING_PRIMITIVE_TEXELS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+    return types;
+}
+
 gpu::Kernel& lightTestKernel() {
-    static gpu::Kernel kernel(gpuContext(), "tests/light_sampling",
-                              std::vector<VkDescriptorType>(LIGHT_TEST_BINDING_COUNT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER),
-                              sizeof(gpu::LightTestPush));
+    static gpu::Kernel kernel(gpuContext(), "tests/light_sampling", lightTestBindings(), sizeof(gpu::LightTestPush));
     return kernel;
 }
 
@@ -24,8 +30,9 @@ gpu::Kernel& lightTestKernel() {
 LightKernel::LightKernel(const SceneArrays& arrays)
     : m_ctx(gpuContext()),
       m_dummy(m_ctx, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT),
-      m_nodes(gpu::Buffer::fromVector(m_ctx, arrays.bvh.nodes)),
-      m_primitives(gpu::Buffer::fromVector(m_ctx, arrays.bvh.primitives)),
+      m_nodes(gpu::Buffer::fromVector(m_ctx, arrays.bvh.childPairs, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT)),
+      m_primitives(gpu::Buffer::fromVector(
+          m_ctx, arrays.bvh.primitives, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT)),
       m_normals(gpu::Buffer::fromVector(m_ctx, arrays.normals)),
       m_lights(gpu::Buffer::fromVector(m_ctx, arrays.lights)),
       m_lightTable(gpu::Buffer::fromVector(m_ctx, arrays.lightTable)),
@@ -41,6 +48,7 @@ std::vector<gpu::LightTestRecord> LightKernel::run(gpu::LightTestPush push, cons
         kernel.bind(b, m_dummy);
     kernel.bind(BINDING_NODES, m_nodes);
     kernel.bind(BINDING_PRIMITIVES, m_primitives);
+    kernel.bind(BINDING_PRIMITIVE_TEXELS, m_primitives);
     kernel.bind(BINDING_NORMALS, m_normals);
     kernel.bind(BINDING_LIGHTS, m_lights);
     kernel.bind(BINDING_LIGHT_TABLE, m_lightTable);

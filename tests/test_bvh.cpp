@@ -72,18 +72,40 @@ struct TraceResult {
 };
 static_assert(sizeof(TraceRay) == 32 && sizeof(TraceResult) == 16);
 
+// The test kernels' descriptor set: their own buffers at 0 and 1, the scene's at the render
+// kernels' BINDING_* numbers (types as in render/renderer.cpp); unused ones stay unbound.
+std::vector<VkDescriptorType> sceneBindings() {
+    std::vector<VkDescriptorType> types(BINDING_COUNT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+    types[BINDING_NODES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+    types[BINDING_PRIMITIVE_TEXELS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+    return types;
+}
+
+// A BVH's nodes and primitives (and shading normals) uploaded the way the renderer does.
+struct SceneBuffers {
+    gpu::Buffer nodes, primitives, normals;
+    SceneBuffers(const gpu::Context& ctx, const Bvh& bvh, const std::vector<gpu::TriangleNormals>& shadingNormals)
+        : nodes(gpu::Buffer::fromVector(ctx, bvh.childPairs, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT)),
+          primitives(gpu::Buffer::fromVector(
+              ctx, bvh.primitives, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT)),
+          normals(gpu::Buffer::fromVector(ctx, shadingNormals)) {}
+    void bind(gpu::Kernel& kernel) const {
+        kernel.bind(BINDING_NODES, nodes);
+        kernel.bind(BINDING_PRIMITIVES, primitives);
+        kernel.bind(BINDING_PRIMITIVE_TEXELS, primitives);
+        kernel.bind(BINDING_NORMALS, normals);
+    }
+};
+
 std::vector<TraceResult> traceOnGpu(const Bvh& bvh, const std::vector<TraceRay>& rays) {
     auto& ctx = test::gpuContext();
     auto rayBuffer = gpu::Buffer::fromVector(ctx, rays);
     gpu::Buffer results(ctx, rays.size() * sizeof(TraceResult), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-    auto nodes = gpu::Buffer::fromVector(ctx, bvh.nodes);
-    auto primitives = gpu::Buffer::fromVector(ctx, bvh.primitives);
-    VkDescriptorType storage = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    gpu::Kernel kernel(ctx, "tests/bvh_trace", {storage, storage, storage, storage}, sizeof(uint32_t));
+    SceneBuffers scene(ctx, bvh, {});
+    gpu::Kernel kernel(ctx, "tests/bvh_trace", sceneBindings(), sizeof(uint32_t));
     kernel.bind(0, rayBuffer);
     kernel.bind(1, results);
-    kernel.bind(BINDING_NODES, nodes);
-    kernel.bind(BINDING_PRIMITIVES, primitives);
+    scene.bind(kernel);
     uint32_t count = uint32_t(rays.size());
     kernel.run((count + 63) / 64, 1, 1, &count);
     auto out = results.read<TraceResult>();
@@ -337,6 +359,68 @@ TEST(Bvh, CoincidentCentroidsSplitByMedian) {
     expectAllAgree(scene, bvh, rays);
 }
 
+// ---- (c2) The child-pair arrangement the traversal reads -----------------------------------
+
+TEST(Bvh, ChildPairsHoldEveryBinaryNodeOnce) {
+    Random rng(77);
+    auto scene = randomScene(rng, 300, 30, 30);
+    Bvh bvh = buildBvh(scene);
+    const auto& nodes = bvh.nodes;
+    const auto& pairs = bvh.childPairs;
+    ASSERT_EQ(pairs.size() % 2, 0u);
+    // Pair 0: the root and an inverted (empty) box.
+    EXPECT_EQ(pairs[0].boundsMin, nodes[0].boundsMin);
+    EXPECT_EQ(pairs[0].boundsMax, nodes[0].boundsMax);
+    EXPECT_GT(pairs[1].boundsMin.x, pairs[1].boundsMax.x);
+    EXPECT_EQ(pairs[1].primCount, 0u);
+    // Walk both arrangements together: each pair entry equals its binary node in box and
+    // leaf range, and an interior entry's pair holds exactly that node's two children.
+    uint32_t interior = 0, leaves = 0;
+    std::vector<uint32_t> pairUses(pairs.size() / 2, 0);
+    pairUses[0] = 1;
+    std::vector<std::pair<uint32_t, uint32_t>> stack{{0u, 0u}};  // (pair entry, binary node)
+    while (!stack.empty()) {
+        auto [entry, index] = stack.back();
+        stack.pop_back();
+        ASSERT_LT(entry, pairs.size());
+        const gpu::BvhNode& e = pairs[entry];
+        const gpu::BvhNode& n = nodes[index];
+        ASSERT_EQ(e.boundsMin, n.boundsMin);
+        ASSERT_EQ(e.boundsMax, n.boundsMax);
+        ASSERT_EQ(e.primCount, n.primCount);
+        if (n.primCount > 0) {
+            ASSERT_EQ(e.offset, n.offset);
+            ++leaves;
+            continue;
+        }
+        ++interior;
+        ASSERT_LT(e.offset, pairUses.size());
+        ++pairUses[e.offset];
+        stack.push_back({2 * e.offset, index + 1});
+        stack.push_back({2 * e.offset + 1, n.offset});
+    }
+    EXPECT_EQ(interior + leaves, nodes.size());
+    EXPECT_EQ(pairs.size(), 2 * (interior + 1)) << "one pair per interior node, plus pair 0";
+    EXPECT_TRUE(std::all_of(pairUses.begin(), pairUses.end(), [](uint32_t u) { return u == 1; }));
+}
+
+TEST(Bvh, LargestLeavesSurviveTheStackPacking) {
+    // The traversal stack packs a child as offset | primCount << BVH_COUNT_SHIFT: leaves of
+    // BVH_MAX_LEAF_SIZE primitives must come back whole. Nested spheres around one centre
+    // cannot be split by SAH, so they fill leaves up to the (clamped) size limit.
+    std::vector<gpu::Primitive> scene;
+    vec3 c(-2, 1, 0.5f);
+    for (int i = 0; i < 248; ++i) scene.push_back(sphere(c, 0.03125f * float(i + 1)));  // 248 = 8 x 31
+    Bvh bvh = buildBvh(scene, {1000, 16});
+    uint32_t largest = 0;
+    for (const auto& node : bvh.nodes) largest = std::max(largest, node.primCount);
+    EXPECT_EQ(largest, gpu::BVH_MAX_LEAF_SIZE) << "maxLeafSize is clamped to BVH_MAX_LEAF_SIZE";
+    Random rng(31);
+    auto rays = randomRays(rng, 3000, 8.0f);
+    for (auto& ray : rays) ray.originTMax += glm::vec4(c, 0);
+    expectAllAgree(scene, bvh, rays);
+}
+
 // ---- (d) Large builds: structure, SAH cost, depth bound --------------------------------
 
 namespace {
@@ -515,16 +599,11 @@ TEST(Bvh, SecondaryRaysNeverReHitTheirOwnSurface) {
     auto& ctx = test::gpuContext();
     auto caseBuffer = gpu::Buffer::fromVector(ctx, cases);
     gpu::Buffer resultBuffer(ctx, cases.size() * sizeof(SurfaceResult), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-    auto nodes = gpu::Buffer::fromVector(ctx, bvh.nodes);
-    auto primitives = gpu::Buffer::fromVector(ctx, bvh.primitives);
-    auto normals = gpu::Buffer::fromVector(ctx, shadingNormals);
-    VkDescriptorType storage = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    gpu::Kernel kernel(ctx, "tests/bvh_surface", {storage, storage, storage, storage, storage}, sizeof(uint32_t));
+    SceneBuffers sceneBuffers(ctx, bvh, shadingNormals);
+    gpu::Kernel kernel(ctx, "tests/bvh_surface", sceneBindings(), sizeof(uint32_t));
     kernel.bind(0, caseBuffer);
     kernel.bind(1, resultBuffer);
-    kernel.bind(BINDING_NODES, nodes);
-    kernel.bind(BINDING_PRIMITIVES, primitives);
-    kernel.bind(BINDING_NORMALS, normals);
+    sceneBuffers.bind(kernel);
     uint32_t count = uint32_t(cases.size());
     kernel.run((count + 63) / 64, 1, 1, &count);
     auto results = resultBuffer.read<SurfaceResult>();

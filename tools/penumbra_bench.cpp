@@ -1,5 +1,6 @@
 // penumbra_bench: render throughput and BVH statistics for benchmark scenes.
-// For each scene: BVH build time and SAH cost, scene upload and first-pass time (llvmpipe
+// For each scene: BVH build time and SAH cost, the bytes per triangle (or other primitive)
+// of the geometry the kernels read (BVH nodes, primitives and shading normals), scene upload and first-pass time (llvmpipe
 // compiles shaders lazily on the first dispatch) reported separately, then the render
 // time as the median of --runs full renders, million pixel samples per second, and million
 // rays per second: rays per sample are counted in separate, untimed passes by a
@@ -103,6 +104,12 @@ double raysPerSample(Renderer& renderer, const Scene& scene) {
     return double(renderer.countRays(passes)) / (pixels * passes);
 }
 
+// Bytes of geometry uploaded for the traversal and shading: nodes, primitives, normals.
+size_t geometryBytes(const SceneArrays& arrays) {
+    return arrays.bvh.nodes.size() * sizeof(gpu::BvhNode) + arrays.bvh.primitives.size() * sizeof(gpu::Primitive) +
+           arrays.normals.size() * sizeof(gpu::TriangleNormals);
+}
+
 size_t triangleCount(const Scene& scene) {
     size_t n = 0;
     for (const Shape& s : scene.shapes) n += s.type == ShapeType::Mesh ? s.indices.size() / 3 : 1;
@@ -143,8 +150,8 @@ int main(int argc, char** argv) {
             return 0;
         }
         std::printf("device: %s\n", context.info().name.c_str());
-        std::printf("%-28s %10s %9s %9s %9s %9s %10s %10s %9s %9s\n", "scene", "prims", "bvh_s", "sah", "upload_s",
-                    "first_s", "render_s", "Msamples/s", "rays/spl", "Mrays/s");
+        std::printf("%-28s %10s %9s %9s %9s %9s %10s %10s %9s %9s %9s\n", "scene", "prims", "bvh_s", "sah", "upload_s",
+                    "first_s", "render_s", "Msamples/s", "rays/spl", "Mrays/s", "bytes/prim");
         for (const std::string& name : scenes) {
             Scene scene = benchScene(name);
             auto t0 = Clock::now();
@@ -168,9 +175,10 @@ int main(int argc, char** argv) {
             double samples = double(scene.film.width) * scene.film.height * scene.sampler.spp;
             renderer.reset();
             double rays = raysPerSample(renderer, scene);
-            std::printf("%-28s %10zu %9.3f %9.2f %9.3f %9.3f %10.3f %10.2f %9.3f %9.2f\n", name.c_str(),
-                        triangleCount(scene), bvhSeconds, arrays.bvh.sahCost, upload, first, median,
-                        samples / median * 1e-6, rays, samples * rays / median * 1e-6);
+            size_t prims = triangleCount(scene);
+            std::printf("%-28s %10zu %9.3f %9.2f %9.3f %9.3f %10.3f %10.2f %9.3f %9.2f %9.1f\n", name.c_str(), prims,
+                        bvhSeconds, arrays.bvh.sahCost, upload, first, median, samples / median * 1e-6, rays,
+                        samples * rays / median * 1e-6, double(geometryBytes(arrays)) / double(std::max<size_t>(prims, 1)));
             std::fflush(stdout);
         }
     } catch (const std::exception& e) {

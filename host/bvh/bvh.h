@@ -19,13 +19,16 @@ struct BvhOptions {
 };
 
 struct Bvh {
-    std::vector<gpu::BvhNode> nodes;          // nodes[0] is the root
+    std::vector<gpu::BvhNode> nodes;          // binary, depth-first; nodes[0] is the root
+    std::vector<gpu::BvhNode> childPairs;     // the same tree in child pairs: what traversal reads
     std::vector<gpu::Primitive> primitives;   // reordered so every leaf is a contiguous range
     std::vector<uint32_t> originalIndex;      // primitives[i] was input primitive originalIndex[i]
     float sahCost = 0.0f;                     // SAH cost of the tree (traversal 1, intersection 1)
 };
 
-// Builds the tree; `primitives` may be empty (one empty leaf that nothing hits).
+// Builds the tree; `primitives` may be empty (one empty leaf that nothing hits). Leaves hold
+// at most min(maxLeafSize, BVH_MAX_LEAF_SIZE) primitives; more than BVH_MAX_PRIMITIVES
+// primitives throw std::length_error.
 Bvh buildBvh(std::vector<gpu::Primitive> primitives, const BvhOptions& options = {});
 
 struct CpuHit {
@@ -42,6 +45,10 @@ std::optional<CpuHit> intersectBruteForce(const std::vector<gpu::Primitive>& pri
                                           glm::vec3 dir, float tMax);
 // Bounds of one primitive.
 void primitiveBounds(const gpu::Primitive& primitive, glm::vec3& lo, glm::vec3& hi);
+
+// The child-pair arrangement of a depth-first binary tree (shared/types.h): pairs in the
+// order a depth-first walk reaches their parents, so a subtree's pairs lie together.
+std::vector<gpu::BvhNode> makeChildPairs(const std::vector<gpu::BvhNode>& nodes);
 
 // Depth of the deepest leaf (root = 0); the builder keeps it <= BVH_MAX_DEPTH, the size of
 // the traversal stacks on both sides.

@@ -106,13 +106,10 @@ inline glm::vec3 rayInverseDirection(glm::vec3 dir) {
     return 1.0f / d;
 }
 
-// 1 + 2 gamma(3): widens the exit distance so rounding never culls a box the ray touches
-// (Ize 2013, "Robust BVH Ray Traversal", JCGT 2(2); pbrt-v4 Bounds3::IntersectP).
-inline constexpr float kBoxExitScale = 1.0000004f;
-
 // Slab test in the sign-selected form of Williams et al. 2005 ("An Efficient and Robust
 // Ray-Box Intersection Algorithm"): near planes chosen by the sign of the direction, so an
-// inverted (empty) box always misses. tEntry = where the ray enters (clamped to 0).
+// inverted (empty) box always misses. tEntry = where the ray enters (clamped to 0). The exit is
+// widened by BOX_EXIT_SCALE (shared/types.h, one constant for both sides).
 inline bool intersectBox(glm::vec3 lo, glm::vec3 hi, glm::vec3 origin, glm::vec3 invDir, float tMax,
                          float& tEntry) {
     glm::vec3 nearP, farP;
@@ -124,7 +121,7 @@ inline bool intersectBox(glm::vec3 lo, glm::vec3 hi, glm::vec3 origin, glm::vec3
     glm::vec3 tNear3 = (nearP - origin) * invDir;
     glm::vec3 tFar3 = (farP - origin) * invDir;
     float tNear = glm::max(glm::max(tNear3.x, tNear3.y), glm::max(tNear3.z, 0.0f));
-    float tFar = glm::min(glm::min(tFar3.x, tFar3.y), glm::min(tFar3.z, tMax)) * kBoxExitScale;
+    float tFar = glm::min(glm::min(tFar3.x, tFar3.y), glm::min(tFar3.z, tMax)) * gpu::BOX_EXIT_SCALE;
     tEntry = tNear;
     return tNear <= tFar;
 }

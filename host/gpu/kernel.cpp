@@ -101,6 +101,8 @@ Kernel::Kernel(const Context& context, std::shared_ptr<const Pipeline> pipeline)
 }
 
 Kernel::~Kernel() {
+    for (VkBufferView view : m_views)
+        if (view) vkDestroyBufferView(m_context.device(), view, nullptr);
     if (m_pool) vkDestroyDescriptorPool(m_context.device(), m_pool, nullptr);  // frees m_set too
 }
 
@@ -114,6 +116,23 @@ void Kernel::bind(uint32_t binding, const Buffer& buffer) {
     write.descriptorCount = 1;
     write.descriptorType = bindings[binding];
     write.pBufferInfo = &info;
+    if (bindings[binding] == VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER) {
+        // Texels of 16 bytes; buffers are at least 16 bytes, so the view is never empty.
+        VkDevice device = m_context.device();
+        m_views.resize(bindings.size(), VK_NULL_HANDLE);
+        VkBufferViewCreateInfo viewInfo{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
+        viewInfo.buffer = buffer.handle();
+        viewInfo.format = VK_FORMAT_R32G32B32A32_UINT;
+        viewInfo.offset = 0;
+        viewInfo.range = buffer.size() / 16 * 16;
+        VkBufferView view = VK_NULL_HANDLE;
+        vkCheck(vkCreateBufferView(device, &viewInfo, nullptr, &view),
+                ("create texel buffer view for shader " + m_pipeline->name()).c_str());
+        if (m_views[binding]) vkDestroyBufferView(device, m_views[binding], nullptr);
+        m_views[binding] = view;
+        write.pBufferInfo = nullptr;
+        write.pTexelBufferView = &m_views[binding];
+    }
     vkUpdateDescriptorSets(m_context.device(), 1, &write, 0, nullptr);
 }
 

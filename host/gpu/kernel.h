@@ -59,6 +59,9 @@ public:
     Kernel& operator=(const Kernel&) = delete;
 
     // Points `binding` at the whole of `buffer` (kept by handle: the buffer must outlive use).
+    // A texel-buffer binding (VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER) gets a view of the
+    // buffer as RGBA32UI texels, owned by this kernel; such a buffer needs
+    // VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT.
     void bind(uint32_t binding, const Buffer& buffer);
 
     // Records a dispatch of `groups` workgroups; `push` must hold pushConstantBytes bytes.
@@ -74,6 +77,7 @@ private:
     std::shared_ptr<const Pipeline> m_pipeline;
     VkDescriptorPool m_pool = VK_NULL_HANDLE;
     VkDescriptorSet m_set = VK_NULL_HANDLE;
+    std::vector<VkBufferView> m_views;  // per binding, VK_NULL_HANDLE unless a texel buffer
 };
 
 // A barrier that makes compute-shader writes visible to later compute-shader reads and

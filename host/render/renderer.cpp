@@ -22,6 +22,9 @@ const char* kernelName(IntegratorType type) {
 std::vector<VkDescriptorType> renderBindings() {
     std::vector<VkDescriptorType> types(BINDING_COUNT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
     types[BINDING_PARAMS] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    types[BINDING_NODES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+    types[BINDING_PRIMITIVE_TEXELS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+    types[BINDING_MATERIALS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
     return types;
 }
 
@@ -37,10 +40,13 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
     uploadParams();
     m_accum = Buffer(context, VkDeviceSize(m_params.width) * m_params.height * sizeof(glm::vec4),
                      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-    m_nodes = Buffer::fromVector(context, m_arrays.bvh.nodes);
-    m_primitives = Buffer::fromVector(context, m_arrays.bvh.primitives);
+    // Nodes and primitives are read by the traversal as texel buffers (bvh.glsl); the
+    // primitives also as a storage buffer by shading and light sampling.
+    const VkBufferUsageFlags texels = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
+    m_nodes = Buffer::fromVector(context, m_arrays.bvh.childPairs, texels);
+    m_primitives = Buffer::fromVector(context, m_arrays.bvh.primitives, texels | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     m_normals = Buffer::fromVector(context, m_arrays.normals);
-    m_materials = Buffer::fromVector(context, m_arrays.materials);
+    m_materials = Buffer::fromVector(context, m_arrays.materials, texels);
     m_lights = Buffer::fromVector(context, m_arrays.lights);
     m_lightTable = Buffer::fromVector(context, m_arrays.lightTable);
     m_meshTable = Buffer::fromVector(context, m_arrays.meshTable);
@@ -60,6 +66,7 @@ std::unique_ptr<gpu::Kernel> Renderer::createKernel(const KernelOptions& options
     kernel->bind(BINDING_ACCUM, m_accum);
     kernel->bind(BINDING_NODES, m_nodes);
     kernel->bind(BINDING_PRIMITIVES, m_primitives);
+    kernel->bind(BINDING_PRIMITIVE_TEXELS, m_primitives);
     kernel->bind(BINDING_NORMALS, m_normals);
     kernel->bind(BINDING_MATERIALS, m_materials);
     kernel->bind(BINDING_LIGHTS, m_lights);

@@ -9,11 +9,24 @@
 #include "geometry/intersect.glsl"
 #include "geometry/ray_count.glsl"
 
-// Depth-first flat nodes: an interior node's left child is the next node, `offset` its
-// right child; a leaf covers primitives[offset, offset + primCount).
-layout(std430, binding = BINDING_NODES) readonly restrict buffer BvhNodes { BvhNode nodes[]; };
-// Primitives in leaf order: Hit.primitive indexes this array.
+// The tree in child pairs (shared/types.h): pair p holds the boxes of an interior node's two
+// children and where each leads. The traversal reads pairs and primitives through texel
+// buffers (texelFetch on a usamplerBuffer): llvmpipe (Mesa 22.3) turns a storage-buffer load
+// inside a loop into a loop over the SIMD lanes with a bounds-check branch per component, a
+// texel fetch into a branch-free gather of four words (measured: docs/PERFORMANCE.md,
+// "Round 2: the data the kernels read").
+layout(binding = BINDING_NODES) uniform usamplerBuffer pairTexels;
+layout(binding = BINDING_PRIMITIVE_TEXELS) uniform usamplerBuffer primitiveTexels;
+// Primitives in leaf order: Hit.primitive indexes this array. Shading and light sampling
+// read it once per hit or sample; the traversal reads the same bytes through primitiveTexels.
 layout(std430, binding = BINDING_PRIMITIVES) readonly restrict buffer Primitives { Primitive primitives[]; };
+
+Primitive loadPrimitive(uint index) {
+    uvec4 a = texelFetch(primitiveTexels, int(PRIMITIVE_TEXELS * index));
+    uvec4 b = texelFetch(primitiveTexels, int(PRIMITIVE_TEXELS * index + 1u));
+    uvec4 c = texelFetch(primitiveTexels, int(PRIMITIVE_TEXELS * index + 2u));
+    return Primitive(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), b.w, uintBitsToFloat(c.xyz), c.w);
+}
 
 struct Hit {
     float t;           // ray parameter of the hit, in (0, tMax)
@@ -30,11 +43,11 @@ struct Hit {
 // (measured 1.09x on the Cornell box, 1.18x on the default AO scene, 1.03x with 300k
 // triangles: docs/PERFORMANCE.md).
 
-// The loop behind both queries. Stack-based, nearest child first: both child boxes are
-// tested, the far one is deferred with its entry distance and, for the closest hit,
-// skipped on pop if a closer hit has been found meanwhile. With `anyHit` it returns at the
-// first hit found, children in plain left-right order. The builder bounds leaf depth by
-// BVH_MAX_DEPTH, and at most one node per level waits on the stack, so the fixed stack
+// The loop behind both queries. Stack-based, nearest child first: both child boxes of a
+// pair are tested, the far one is deferred with its entry distance and, for the closest
+// hit, skipped on pop if a closer hit has been found meanwhile. With `anyHit` it returns at
+// the first hit found, children in plain order. The builder bounds leaf depth by
+// BVH_MAX_DEPTH, and at most one child per level waits on the stack, so the fixed stack
 // cannot overflow. `anyHit` is a constant at both call sites below, so after inlining the
 // compiler keeps a copy of the loop specialised for each query.
 bool traverse(vec3 origin, vec3 dir, float tMax, bool anyHit, out Hit hit) {
@@ -43,43 +56,48 @@ bool traverse(vec3 origin, vec3 dir, float tMax, bool anyHit, out Hit hit) {
     hit.primitive = NO_HIT;
     hit.uv = vec2(0.0);
     vec3 invDir = rayInverseDirection(dir);
-    uint stackNode[BVH_MAX_DEPTH];
+    uint stackNode[BVH_MAX_DEPTH];  // offset | primCount << BVH_COUNT_SHIFT
     float stackEntry[BVH_MAX_DEPTH];
     int sp = 0;
-    float tEntry;
-    if (!intersectBox(nodes[0].boundsMin, nodes[0].boundsMax, origin, invDir, tMax, tEntry)) return false;
-    uint index = 0u;
+    uint offset = 0u, count = 0u;  // an interior node whose children are pair 0: the root
     while (true) {
         // Descend to a leaf, or until both children are missed.
         bool atLeaf = false;
         while (true) {
-            if (nodes[index].primCount > 0u) {
+            if (count > 0u) {
                 atLeaf = true;
                 break;
             }
-            uint left = index + 1u;
-            uint right = nodes[index].offset;
-            float tLeft, tRight;
-            bool hitLeft = intersectBox(nodes[left].boundsMin, nodes[left].boundsMax, origin, invDir, hit.t, tLeft);
-            bool hitRight = intersectBox(nodes[right].boundsMin, nodes[right].boundsMax, origin, invDir, hit.t, tRight);
-            if (!hitLeft && !hitRight) break;
-            if (hitLeft && hitRight) {
-                bool leftFirst = anyHit || tLeft <= tRight;
-                stackNode[sp] = leftFirst ? right : left;
-                stackEntry[sp] = leftFirst ? tRight : tLeft;
+            int texel = int(PAIR_TEXELS * offset);
+            uvec4 lo0 = texelFetch(pairTexels, texel);
+            uvec4 hi0 = texelFetch(pairTexels, texel + 1);
+            uvec4 lo1 = texelFetch(pairTexels, texel + 2);
+            uvec4 hi1 = texelFetch(pairTexels, texel + 3);
+            float t0, t1;
+            bool hit0 = intersectBox(uintBitsToFloat(lo0.xyz), uintBitsToFloat(hi0.xyz), origin, invDir, hit.t, t0);
+            bool hit1 = intersectBox(uintBitsToFloat(lo1.xyz), uintBitsToFloat(hi1.xyz), origin, invDir, hit.t, t1);
+            if (!hit0 && !hit1) break;
+            uvec2 child0 = uvec2(lo0.w, hi0.w), child1 = uvec2(lo1.w, hi1.w);  // (offset, primCount)
+            if (hit0 && hit1) {
+                bool firstNear = anyHit || t0 <= t1;
+                uvec2 far = firstNear ? child1 : child0;
+                stackNode[sp] = far.x | (far.y << BVH_COUNT_SHIFT);
+                stackEntry[sp] = firstNear ? t1 : t0;
                 ++sp;
-                index = leftFirst ? left : right;
+                uvec2 near = firstNear ? child0 : child1;
+                offset = near.x;
+                count = near.y;
             } else {
-                index = hitLeft ? left : right;
+                uvec2 child = hit0 ? child0 : child1;
+                offset = child.x;
+                count = child.y;
             }
         }
         if (atLeaf) {
-            uint offset = nodes[index].offset;
-            uint primCount = nodes[index].primCount;
-            for (uint i = offset; i < offset + primCount; ++i) {
+            for (uint i = offset; i < offset + count; ++i) {
                 float t;
                 vec2 uv;
-                if (intersectPrimitive(primitives[i], origin, dir, hit.t, t, uv)) {
+                if (intersectPrimitive(loadPrimitive(i), origin, dir, hit.t, t, uv)) {
                     hit.t = t;
                     hit.primitive = i;
                     hit.uv = uv;
@@ -87,12 +105,13 @@ bool traverse(vec3 origin, vec3 dir, float tMax, bool anyHit, out Hit hit) {
                 }
             }
         }
-        // Pop the next deferred node that can still hold something nearer than the hit.
+        // Pop the next deferred child that can still hold something nearer than the hit.
         bool found = false;
         while (sp > 0) {
             --sp;
             if (anyHit || stackEntry[sp] <= hit.t * BOX_EXIT_SCALE) {
-                index = stackNode[sp];
+                offset = stackNode[sp] & BVH_OFFSET_MASK;
+                count = stackNode[sp] >> BVH_COUNT_SHIFT;
                 found = true;
                 break;
             }

@@ -102,13 +102,10 @@ vec3 rayInverseDirection(vec3 dir) {
     return 1.0 / d;
 }
 
-// 1 + 2 gamma(3): widens the exit distance so rounding never culls a box the ray touches
-// (Ize 2013, "Robust BVH Ray Traversal", JCGT 2(2); pbrt-v4 Bounds3::IntersectP).
-const float BOX_EXIT_SCALE = 1.0000004;
-
 // Slab test in the sign-selected form of Williams et al. 2005 ("An Efficient and Robust
 // Ray-Box Intersection Algorithm"): the near planes are chosen by the sign of the direction,
 // so an inverted (empty) box always misses. tEntry = where the ray enters (clamped to 0).
+// The exit is widened by BOX_EXIT_SCALE (shared/types.h).
 bool intersectBox(vec3 lo, vec3 hi, vec3 origin, vec3 invDir, float tMax, out float tEntry) {
     bvec3 negative = lessThan(invDir, vec3(0.0));
     vec3 tNear3 = (mix(lo, hi, negative) - origin) * invDir;

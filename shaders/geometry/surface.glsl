@@ -31,7 +31,7 @@ struct SurfacePoint {
 // (barycentrics, (s, t), or the sphere's centre and radius), which is more accurate than
 // origin + t dir, so that offsetRayOrigin starts from a point on the surface.
 SurfacePoint surfaceAt(Hit hit, vec3 origin, vec3 dir) {
-    Primitive primitive = primitives[hit.primitive];
+    Primitive primitive = loadPrimitive(hit.primitive);  // texel fetch: no per-lane load loop
     SurfacePoint sp;
     sp.material = primitive.material;
     sp.light = primitive.light;

@@ -12,7 +12,7 @@
 #include "geometry/surface.glsl"
 #include "sampling/warp.glsl"
 
-layout(std430, binding = BINDING_MATERIALS) readonly restrict buffer Materials { Material materials[]; };
+#include "bsdf/materials.glsl"
 
 void main() {
     uvec2 pixel;
@@ -30,7 +30,7 @@ void main() {
     // Two-sided shading: use the side facing the viewer.
     vec3 ng = dot(sp.geometricNormal, dir) < 0.0 ? sp.geometricNormal : -sp.geometricNormal;
     vec3 ns = dot(sp.shadingNormal, ng) < 0.0 ? -sp.shadingNormal : sp.shadingNormal;
-    vec3 albedo = materials[sp.material].kd;
+    vec3 albedo = loadMaterial(sp.material).kd;
 
     vec2 u = rand2(rng);
     vec3 local;

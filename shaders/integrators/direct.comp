@@ -21,7 +21,7 @@
 #include "bsdf/bsdf.glsl"
 #include "integrators/mis.glsl"
 
-layout(std430, binding = BINDING_MATERIALS) readonly restrict buffer Materials { Material materials[]; };
+#include "bsdf/materials.glsl"
 
 // The shading point, with normals turned to the viewer's side (two-sided materials).
 struct Shading {
@@ -188,7 +188,7 @@ void main() {
     // A shading normal facing away from the viewer would reflect nothing: fall back.
     if (dot(s.ns, s.wo) <= 0.0) s.ns = s.ng;
     s.origin = offsetRayOrigin(s.x, s.ng);
-    s.m = materials[sp.material];
+    s.m = loadMaterial(sp.material);
     L += reflectedRadiance(s, rng);
     accumulate(pixel, L);
 }

@@ -21,15 +21,16 @@ using uint = std::uint32_t;
 // ---- Descriptor bindings of the render kernels (set 0) -------------------------------
 #define BINDING_PARAMS 0       // uniform RenderParams
 #define BINDING_ACCUM 1        // vec4 per pixel: rgb = sum of samples, w = sample count
-#define BINDING_NODES 2        // BvhNode[]
-#define BINDING_PRIMITIVES 3   // Primitive[] in BVH leaf order
+#define BINDING_NODES 2        // BvhNode[] in child pairs, as a texel buffer (see below)
+#define BINDING_PRIMITIVES 3   // Primitive[] in BVH leaf order (storage buffer: shading, lights)
 #define BINDING_NORMALS 4      // TriangleNormals[]
-#define BINDING_MATERIALS 5    // Material[]
+#define BINDING_MATERIALS 5    // Material[] as a texel buffer (MATERIAL_TEXELS texels each)
 #define BINDING_LIGHTS 6       // Light[]
 #define BINDING_LIGHT_TABLE 7  // AliasEntry[]: light selection (item = light index)
 #define BINDING_MESH_TABLE 8   // AliasEntry[]: mesh-light triangles (item = primitive index)
 #define BINDING_RAY_COUNT 9    // uint: rays traced, when SPEC_COUNT_RAYS is set
-#define BINDING_COUNT 10
+#define BINDING_PRIMITIVE_TEXELS 10  // the same Primitive[] as a texel buffer: traversal
+#define BINDING_COUNT 11
 
 // ---- BVH ------------------------------------------------------------------------------
 // Flattened depth-first: an interior node's left child is the next node, `offset` is the
@@ -40,6 +41,36 @@ struct BvhNode {
     vec3 boundsMax;
     uint primCount;
 };
+
+// What the traversal reads (Bvh::childPairs, BINDING_NODES): the same BvhNode struct in
+// "child pairs", the arrangement of Aila & Laine 2009 ("Understanding the Efficiency of Ray
+// Traversal on GPUs", section 4: a node holds its two children's boxes). Pair p is entries
+// 2p and 2p + 1: the two children of one interior node, each with its box, and
+//   primCount == 0: an interior child; offset = the pair that holds ITS children,
+//   primCount  > 0: a leaf; primitives [offset, offset + primCount).
+// Pair 0 holds the root and an empty (inverted) box that no ray hits. One traversal step
+// reads one pair, 64 bytes: the two boxes it tests and where each child leads, where the
+// depth-first binary array above needs the node and both of its children (96 bytes).
+//
+// Texel buffers (BINDING_NODES, BINDING_PRIMITIVE_TEXELS) are views of the same bytes as
+// the structs, in RGBA32UI texels of 16 bytes: pair p is texels 4p (child 0: boundsMin,
+// offset), 4p + 1 (boundsMax, primCount), 4p + 2 and 4p + 3 (child 1); a Primitive is
+// texels 3i (p0, typeAndNormals), 3i + 1 (p1, material), 3i + 2 (p2, light). Floats are
+// read back with uintBitsToFloat.
+PENUMBRA_CONST uint PAIR_TEXELS = 4u;
+PENUMBRA_CONST uint PRIMITIVE_TEXELS = 3u;
+// The traversal stack packs a child as offset | primCount << BVH_COUNT_SHIFT: leaves hold
+// at most BVH_MAX_LEAF_SIZE primitives, and scenes at most BVH_MAX_PRIMITIVES (the texel
+// buffer limit, 2^27 texels on lavapipe, allows fewer still: 44.7M primitives).
+#define BVH_COUNT_SHIFT 27u
+PENUMBRA_CONST uint BVH_OFFSET_MASK = (1u << BVH_COUNT_SHIFT) - 1u;
+PENUMBRA_CONST uint BVH_MAX_LEAF_SIZE = 31u;
+PENUMBRA_CONST uint BVH_MAX_PRIMITIVES = 1u << BVH_COUNT_SHIFT;
+
+// 1 + 2 gamma(3): widens the exit distance of the slab test so that rounding never culls a
+// box the ray touches (Ize 2013, "Robust BVH Ray Traversal", JCGT 2(2); pbrt-v4
+// Bounds3::IntersectP). The CPU (host/bvh/intersect.h) and the GLSL read this one constant.
+PENUMBRA_CONST float BOX_EXIT_SCALE = 1.0000004f;
 
 // Deepest leaf the builder produces (root = depth 0). Traversal keeps at most one deferred
 // node per level on its stack, so a stack of BVH_MAX_DEPTH entries never overflows.
@@ -79,6 +110,7 @@ struct Material {
     vec3 ks;
     float exponent;
 };
+PENUMBRA_CONST uint MATERIAL_TEXELS = 2u;  // RGBA32UI texels per Material (bsdf/materials.glsl)
 
 // ---- Lights -----------------------------------------------------------------------------
 PENUMBRA_CONST uint LIGHT_POINT = 0u;        // position, emission = intensity (W/sr)

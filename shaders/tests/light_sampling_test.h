@@ -12,9 +12,9 @@ namespace penumbra::gpu {
 #endif
 
 // Test-only bindings: directions in (mode PDF), records out. Both >= BINDING_COUNT.
-#define LIGHT_TEST_BINDING_IN 10
-#define LIGHT_TEST_BINDING_OUT 11
-#define LIGHT_TEST_BINDING_COUNT 12
+#define LIGHT_TEST_BINDING_IN (BINDING_COUNT)
+#define LIGHT_TEST_BINDING_OUT (BINDING_COUNT + 1)
+#define LIGHT_TEST_BINDING_COUNT (BINDING_COUNT + 2)
 
 // SAMPLE: invocation i draws sampleLight(light, x, n, u_i, sphereSampling) with u_i from the
 //   stateless rng (pixel 0, sample index i, seed), then traces x + t wi through the scene
