@@ -5,7 +5,7 @@
 
 namespace penumbra::test {
 
-static_assert(sizeof(gpu::LightTestPush) == 64 && sizeof(gpu::LightTestRecord) == 48);
+static_assert(sizeof(gpu::LightTestPush) == 80 && sizeof(gpu::LightTestRecord) == 48);
 // The test buffers must not take a scene buffer's binding.
 static_assert(LIGHT_TEST_BINDING_IN >= BINDING_COUNT && LIGHT_TEST_BINDING_OUT >= BINDING_COUNT &&
               LIGHT_TEST_BINDING_IN != LIGHT_TEST_BINDING_OUT && LIGHT_TEST_BINDING_COUNT > LIGHT_TEST_BINDING_OUT);
@@ -62,7 +62,8 @@ std::vector<gpu::LightTestRecord> LightKernel::run(gpu::LightTestPush push, cons
 }
 
 std::vector<gpu::LightTestRecord> LightKernel::sample(uint32_t light, glm::vec3 x, glm::vec3 n,
-                                                      uint32_t sphereSampling, uint32_t seed, uint32_t count) {
+                                                      uint32_t sphereSampling, uint32_t seed, uint32_t count,
+                                                      uint32_t quadSampling, uint32_t triangleSampling) {
     gpu::LightTestPush push{};
     push.mode = gpu::LIGHT_TEST_MODE_SAMPLE;
     push.x = x;
@@ -71,11 +72,16 @@ std::vector<gpu::LightTestRecord> LightKernel::sample(uint32_t light, glm::vec3 
     push.count = count;
     push.seed = seed;
     push.sphereSampling = sphereSampling;
+    push.quadSampling = quadSampling;
+    push.triangleSampling = triangleSampling;
+    push.minSolidAngle = m_minSolidAngle;
+    push.minElevationSine = m_minElevationSine;
     return run(push, m_dummy);
 }
 
 std::vector<double> LightKernel::pdf(uint32_t light, glm::vec3 x, glm::vec3 n, uint32_t sphereSampling,
-                                     const std::vector<glm::vec3>& directions, std::vector<float>* hitDistance) {
+                                     const std::vector<glm::vec3>& directions, std::vector<float>* hitDistance,
+                                     uint32_t quadSampling, uint32_t triangleSampling) {
     std::vector<glm::vec4> dirs(directions.size());
     for (size_t i = 0; i < dirs.size(); ++i) dirs[i] = glm::vec4(directions[i], 0.0f);
     auto in = gpu::Buffer::fromVector(m_ctx, dirs);
@@ -86,6 +92,10 @@ std::vector<double> LightKernel::pdf(uint32_t light, glm::vec3 x, glm::vec3 n, u
     push.light = light;
     push.count = uint32_t(directions.size());
     push.sphereSampling = sphereSampling;
+    push.quadSampling = quadSampling;
+    push.triangleSampling = triangleSampling;
+    push.minSolidAngle = m_minSolidAngle;
+    push.minElevationSine = m_minElevationSine;
     auto records = run(push, in);
     std::vector<double> out(records.size());
     for (size_t i = 0; i < out.size(); ++i) out[i] = records[i].pdf;

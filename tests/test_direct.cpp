@@ -10,6 +10,7 @@
 // the pixel varies and its variance is known exactly; for area lights the per-sample variance
 // is unknown and a block t-test of the residuals checks unbiasedness instead.
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -145,9 +146,35 @@ TEST(DirectClosedForm, QuadLightEveryStrategy) {
     doc["shapes"].push_back({{"type", "quad"}, {"origin", {-0.5, h, -0.5}}, {"edge_u", {1, 0, 0}}, {"edge_v", {0, 0, 1}},
                              {"emission", {Le, Le, Le}}, {"material", "black"}});
     std::vector<glm::dvec3> quad = {{-0.5, h, -0.5}, {0.5, h, -0.5}, {0.5, h, 0.5}, {-0.5, h, 0.5}};
-    expectAreaLightMatches(doc, allStrategies(), [&](glm::dvec3 x) {
+    expectAreaLightMatches(doc, allStrategies({{"quad_sampling", "area"}}), [&](glm::dvec3 x) {
         return kAlbedo / M_PI * polygonIrradiance(quad, x, Le);
     }, "quad");
+}
+
+TEST(DirectClosedForm, QuadLightsInSolidAngleEveryStrategy) {
+    // A rectangle (spherical rectangle) and a skewed parallelogram (two spherical triangles,
+    // and under both sampling modes), close enough that the solid angle is large.
+    const double Le = 5.0, h = 0.8;
+    struct Quad {
+        std::string name;
+        glm::dvec3 origin, u, v;
+    };
+    const Quad quads[] = {{"rectangle", {-0.5, h, -0.5}, {1, 0, 0}, {0, 0, 1}},
+                          {"parallelogram", {-0.6, h, -0.4}, {1, 0, 0}, {0.7, 0, 0.8}}};
+    for (const Quad& q : quads) {
+        json doc = planeScene(256, direct("light"));
+        // edge_u x edge_v must face down (-y) toward the plane: u = x, v = z gives -y.
+        doc["shapes"].push_back({{"type", "quad"}, {"origin", {q.origin.x, q.origin.y, q.origin.z}},
+                                 {"edge_u", {q.u.x, q.u.y, q.u.z}}, {"edge_v", {q.v.x, q.v.y, q.v.z}},
+                                 {"emission", {Le, Le, Le}}, {"material", "black"}});
+        std::vector<glm::dvec3> outline = {q.origin, q.origin + q.u, q.origin + q.u + q.v, q.origin + q.v};
+        std::vector<json> integrators = allStrategies({{"quad_sampling", "solid_angle"}});
+        if (q.name == "parallelogram")
+            for (json& j : allStrategies({{"quad_sampling", "area"}})) integrators.push_back(j);
+        expectAreaLightMatches(doc, integrators, [&](glm::dvec3 x) {
+            return kAlbedo / M_PI * polygonIrradiance(outline, x, Le);
+        }, "quad-solid-angle-" + q.name);
+    }
 }
 
 TEST(DirectClosedForm, OneSidedQuadLightFacingAwayGivesNothing) {
@@ -196,6 +223,24 @@ TEST(DirectClosedForm, MeshLightIsSumOfItsTriangles) {
     }, "mesh");
 }
 
+TEST(DirectClosedForm, MeshLightTrianglesInSolidAngleEveryStrategy) {
+    // The fan of MeshLightIsSumOfItsTriangles, lower (large solid angles), each triangle
+    // sampled in its spherical triangle.
+    const double Le = 5.0, h = 0.6;
+    std::vector<glm::dvec3> outline = {{0.9, h, 0.0}, {0.3, h, 0.7}, {-0.4, h, 0.5},
+                                       {-0.8, h, 0.0}, {-0.3, h, -0.9}, {0.5, h, -0.6}};
+    json positions = json::array({0.0, h, 0.0});
+    for (auto& v : outline) positions.insert(positions.end(), {v.x, v.y, v.z});
+    json indices = json::array();
+    for (int i = 0; i < 6; ++i) indices.insert(indices.end(), {0, 1 + i, 1 + (i + 1) % 6});
+    json doc = planeScene(256, direct("light"));
+    doc["shapes"].push_back({{"type", "mesh"}, {"positions", positions}, {"indices", indices},
+                             {"emission", {Le, Le, Le}}, {"material", "black"}});
+    expectAreaLightMatches(doc, allStrategies({{"triangle_sampling", "solid_angle"}}), [&](glm::dvec3 x) {
+        return kAlbedo / M_PI * polygonIrradiance(outline, x, Le);
+    }, "mesh-solid-angle");
+}
+
 TEST(DirectClosedForm, IrradianceIsIndependentOfSphereRadius) {
     // Lecture, "Sphere Light - Validation": spheres of equal power P and any radius light the
     // plane exactly like a point light of intensity P / (4 pi).
@@ -236,6 +281,32 @@ TEST(DirectVariance, SphereSamplingOrderSolidAngleCapArea) {
     EXPECT_LT(mse[1], mse[2]) << "cap " << mse[1] << " area " << mse[2];
 }
 
+TEST(DirectVariance, QuadSolidAngleBelowAreaCloseUp) {
+    // A 2 x 2 quad light 0.3 above the floor and the 2 x 2 patch of floor beside it (the camera
+    // looks down past the light's edge): area sampling wastes samples on the far part of the
+    // light and its 1/pdf blows up at grazing angles. Independent samples, so that the MSE is
+    // the per-sample variance / spp.
+    const double Le = 2.0, h = 0.3;
+    std::vector<glm::dvec3> quad = {{-2, h, -1}, {0, h, -1}, {0, h, 1}, {-2, h, 1}};
+    double mse[2];
+    const char* samplings[2] = {"solid_angle", "area"};
+    for (int i = 0; i < 2; ++i) {
+        json doc = planeScene(16, direct("light", {{"quad_sampling", samplings[i]}}));
+        doc["sampler"]["type"] = "independent";
+        doc["camera"] = test::topDownCamera(1.0, 0.0, 1.0);
+        doc["shapes"].push_back({{"type", "quad"}, {"origin", {-2, h, -1}}, {"edge_u", {2, 0, 0}}, {"edge_v", {0, 0, 2}},
+                                 {"emission", {Le, Le, Le}}, {"material", "black"}});
+        Scene scene = test::sceneFromJson(doc, std::string("quad-order-") + samplings[i]);
+        mse[i] = test::meanSquaredError(test::renderScene(scene), test::expectedTopDown(scene, [&](glm::dvec3 x) {
+            return kAlbedo / M_PI * polygonIrradiance(quad, x, Le);
+        }));
+    }
+    // Each MSE averages 1024 pixels' squared errors of 16 independent samples.
+    std::printf("[ quad sampling ] MSE solid_angle %.4g area %.4g: ratio area / solid_angle %.3g\n", mse[0], mse[1],
+                mse[1] / mse[0]);
+    EXPECT_LT(mse[0], mse[1]) << "solid_angle " << mse[0] << " area " << mse[1];
+}
+
 TEST(DirectVariance, MseFallsAsOneOverN) {
     const double Le = 5.0, h = 1.5;
     std::vector<glm::dvec3> quad = {{-0.5, h, -0.5}, {0.5, h, -0.5}, {0.5, h, 0.5}, {-0.5, h, 0.5}};
@@ -245,6 +316,7 @@ TEST(DirectVariance, MseFallsAsOneOverN) {
         // MSE ~ 1/N is the rate of independent samples; Sobol' samples (the default) converge
         // faster on this smooth integrand (test_sampler_estimates.cpp), so that is not tested here.
         doc["sampler"]["type"] = "independent";
+        doc["integrator"]["quad_sampling"] = "area";
         doc["shapes"].push_back({{"type", "quad"}, {"origin", {-0.5, h, -0.5}}, {"edge_u", {1, 0, 0}},
                                  {"edge_v", {0, 0, 1}}, {"emission", {Le, Le, Le}}});
         Scene scene = test::sceneFromJson(doc, "slope-" + std::to_string(spp));

@@ -518,3 +518,23 @@ TEST(PreviewProgram, ResizeAndExposureKeepRunning) {
     }
     EXPECT_GT(sumBright, sumRendered * 1.05);
 }
+
+TEST(PreviewIntegratorKeys, TAndMToggleQuadAndTriangleSampling) {
+    EXPECT_EQ(*actionForKeyName("t"), Action::ToggleQuadSampling);
+    EXPECT_EQ(*actionForKeyName("m"), Action::ToggleTriangleSampling);
+    EXPECT_NE(keyHelp().find("\n  T "), std::string::npos) << keyHelp();
+    EXPECT_NE(keyHelp().find("\n  M "), std::string::npos) << keyHelp();
+    IntegratorSettings settings;  // quad solid_angle, triangle area
+    settings.json = {{"type", "direct"}};
+    EXPECT_TRUE(applyIntegratorAction(settings, Action::ToggleQuadSampling));
+    EXPECT_EQ(settings.quadSampling, QuadSampling::Area);
+    EXPECT_EQ(settings.json["quad_sampling"], "area");
+    EXPECT_TRUE(applyIntegratorAction(settings, Action::ToggleQuadSampling));
+    EXPECT_EQ(settings.quadSampling, QuadSampling::SolidAngle);
+    EXPECT_EQ(settings.json["quad_sampling"], "solid_angle");
+    EXPECT_TRUE(applyIntegratorAction(settings, Action::ToggleTriangleSampling));
+    EXPECT_EQ(settings.triangleSampling, TriangleSampling::SolidAngle);
+    EXPECT_EQ(settings.json["triangle_sampling"], "solid_angle");
+    EXPECT_TRUE(isIntegratorAction(Action::ToggleQuadSampling));
+    EXPECT_TRUE(isIntegratorAction(Action::ToggleTriangleSampling));
+}

@@ -288,3 +288,24 @@ TEST(SceneLoad, ExampleScenesLoad) {
     ASSERT_EQ(glb.shapes.size(), 1u);
     EXPECT_EQ(glb.shapes[0].indices.size(), 3u * 8192u);
 }
+
+// quad_sampling and triangle_sampling (SCENE_FORMAT.md v2): defaults, values, the header's
+// integrator object (which lists them when given: README), bad values.
+TEST(SceneLoad, PolygonSamplingOptions) {
+    Scene none = loadScene(writeFile(freshTempDir() / "none.json", "{}"));
+    EXPECT_EQ(none.integrator.quadSampling, QuadSampling::SolidAngle);
+    EXPECT_EQ(none.integrator.triangleSampling, TriangleSampling::Area);
+    EXPECT_FALSE(none.integrator.json.contains("quad_sampling"));
+
+    Scene set = loadScene(writeFile(freshTempDir() / "set.json", R"({
+      "integrator": {"quad_sampling": "area", "triangle_sampling": "solid_angle"}})"));
+    EXPECT_EQ(set.integrator.quadSampling, QuadSampling::Area);
+    EXPECT_EQ(set.integrator.triangleSampling, TriangleSampling::SolidAngle);
+    EXPECT_EQ(set.integrator.json["quad_sampling"], "area");
+    EXPECT_EQ(set.integrator.json["triangle_sampling"], "solid_angle");
+
+    auto bad = writeFile(freshTempDir() / "bad.json", R"({"integrator": {"quad_sampling": "cap"}})");
+    EXPECT_EQ(loadError(bad).rfind(bad.string() + ": integrator.quad_sampling: ", 0), 0u) << loadError(bad);
+    auto ao = writeFile(freshTempDir() / "ao.json", R"({"integrator": {"type": "ao", "triangle_sampling": "area"}})");
+    EXPECT_NE(loadError(ao).find("triangle_sampling"), std::string::npos) << loadError(ao);
+}

@@ -5,7 +5,7 @@
 // Vulkan context, one Renderer (each value changes RenderParams or the specialized kernel:
 // Renderer::retarget).
 //
-//   penumbra_figure SCENE --vary strategy|sphere_sampling|heuristic [--values a,b,c]
+//   penumbra_figure SCENE --vary strategy|sphere_sampling|quad_sampling|triangle_sampling|heuristic [--values a,b,c]
 //       [--spp N] [--reference-spp M] [--width W --height H] [--set PATH=VALUE]...
 //       [--columns C] [--exposure E] [--exr-prefix P] [--device N] [--quiet] -o FIGURE.png
 //
@@ -37,7 +37,7 @@ namespace fs = std::filesystem;
 namespace {
 
 const char* kUsage =
-    "usage: penumbra_figure SCENE --vary strategy|sphere_sampling|heuristic [--values a,b,c] [--spp N] "
+    "usage: penumbra_figure SCENE --vary strategy|sphere_sampling|quad_sampling|triangle_sampling|heuristic [--values a,b,c] [--spp N] "
     "[--reference-spp M] [--width W] [--height H] [--set PATH=VALUE]... [--columns C] [--exposure E] "
     "[--exr-prefix P] [--device N] [--quiet] -o FIGURE.png";
 
@@ -46,6 +46,8 @@ const char* kUsage =
 const std::map<std::string, std::vector<std::string>> kVaryValues = {
     {"strategy", {"light", "bsdf", "mis", "mixture"}},
     {"sphere_sampling", {"area", "cap", "solid_angle"}},
+    {"quad_sampling", {"area", "solid_angle"}},
+    {"triangle_sampling", {"area", "solid_angle"}},
     {"heuristic", {"balance", "power"}},
 };
 
@@ -120,7 +122,7 @@ Options parseArguments(int argc, char** argv) {
     if (o.output.empty()) throw InputError("missing -o FIGURE.png");
     auto known = kVaryValues.find(o.vary);
     if (known == kVaryValues.end())
-        throw InputError("--vary: unknown option \"" + o.vary + "\" (strategy, sphere_sampling or heuristic)");
+        throw InputError("--vary: unknown option \"" + o.vary + "\" (strategy, sphere_sampling, quad_sampling, triangle_sampling or heuristic)");
     if (o.values.empty()) o.values = known->second;
     for (const std::string& v : o.values) {
         bool ok = false;
@@ -169,6 +171,8 @@ int run(const Options& o) {
     std::vector<Override> refOverrides = o.overrides;
     refOverrides.push_back({"integrator.strategy", "mis"});
     refOverrides.push_back({"integrator.sphere_sampling", "solid_angle"});
+    refOverrides.push_back({"integrator.quad_sampling", "solid_angle"});
+    refOverrides.push_back({"integrator.triangle_sampling", "solid_angle"});
     refOverrides.push_back(
         {"sampler.spp", std::to_string(o.referenceSpp > 0 ? uint64_t(o.referenceSpp) : 64ull * sampler.spp)});
     refOverrides.push_back({"sampler.seed", std::to_string(uint64_t(sampler.seed) + 1)});

@@ -35,7 +35,9 @@ bool isIntegratorAction(Action action) {
         case Action::StrategyMis:
         case Action::StrategyMixture:
         case Action::ToggleHeuristic:
-        case Action::CycleSphereSampling: return true;
+        case Action::CycleSphereSampling:
+        case Action::ToggleQuadSampling:
+        case Action::ToggleTriangleSampling: return true;
         default: return false;
     }
 }
@@ -56,6 +58,17 @@ bool applyIntegratorAction(IntegratorSettings& settings, Action action) {
                                       : settings.sphereSampling == SphereSampling::Cap ? SphereSampling::SolidAngle
                                                                                       : SphereSampling::Area;
             settings.json["sphere_sampling"] = sphereName(settings.sphereSampling);
+            return true;
+        case Action::ToggleQuadSampling:
+            settings.quadSampling =
+                settings.quadSampling == QuadSampling::Area ? QuadSampling::SolidAngle : QuadSampling::Area;
+            settings.json["quad_sampling"] = settings.quadSampling == QuadSampling::Area ? "area" : "solid_angle";
+            return true;
+        case Action::ToggleTriangleSampling:
+            settings.triangleSampling = settings.triangleSampling == TriangleSampling::Area ? TriangleSampling::SolidAngle
+                                                                                            : TriangleSampling::Area;
+            settings.json["triangle_sampling"] =
+                settings.triangleSampling == TriangleSampling::Area ? "area" : "solid_angle";
             return true;
         default: return false;
     }

@@ -16,6 +16,8 @@ enum class Action {
     StrategyMixture,
     ToggleHeuristic,      // balance <-> power
     CycleSphereSampling,  // area -> cap -> solid_angle -> area
+    ToggleQuadSampling,      // quad lights: area <-> solid_angle
+    ToggleTriangleSampling,  // mesh-light triangles: area <-> solid_angle
     ExposureUp,           // +0.5 stop
     ExposureDown,         // -0.5 stop
     Save,                 // EXR + PNG of the current accumulation
@@ -25,7 +27,7 @@ enum class Action {
 
 // The action bound to a GLFW key code (GLFW_KEY_*), if any.
 std::optional<Action> actionForGlfwKey(int key);
-// The action for a key as an input script names it: "1".."4", "h", "s", "+", "-", "p",
+// The action for a key as an input script names it: "1".."4", "h", "s", "t", "m", "+", "-", "p",
 // "r", "q", "esc" (case-insensitive).
 std::optional<Action> actionForKeyName(std::string_view name);
 

@@ -14,6 +14,8 @@ std::vector<uint32_t> KernelOptions::specialization() const {
     values[SPEC_AO_SAMPLING] = aoSampling;
     values[SPEC_SCENE_FEATURES] = sceneFeatures;
     values[SPEC_SAMPLER] = sampler;
+    values[SPEC_QUAD_SAMPLING] = quadSampling;
+    values[SPEC_TRIANGLE_SAMPLING] = triangleSampling;
     return values;
 }
 
@@ -41,6 +43,9 @@ KernelOptions makeKernelOptions(const Scene& scene, const SceneArrays& arrays) {
         o.sphereSampling = in.sphereSampling == SphereSampling::Area  ? gpu::SPHERE_AREA
                            : in.sphereSampling == SphereSampling::Cap ? gpu::SPHERE_CAP
                                                                       : gpu::SPHERE_SOLID_ANGLE;
+        o.quadSampling = in.quadSampling == QuadSampling::Area ? gpu::QUAD_AREA : gpu::QUAD_SOLID_ANGLE;
+        o.triangleSampling =
+            in.triangleSampling == TriangleSampling::Area ? gpu::TRIANGLE_AREA : gpu::TRIANGLE_SOLID_ANGLE;
     }
     o.sceneFeatures = sceneFeatures(arrays);
     o.sampler = scene.sampler.type == SamplerType::Sobol ? gpu::SAMPLER_SOBOL : gpu::SAMPLER_INDEPENDENT;

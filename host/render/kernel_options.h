@@ -21,6 +21,8 @@ struct KernelOptions {
     uint32_t aoSampling = gpu::AO_COSINE;
     uint32_t sceneFeatures = gpu::FEATURES_ALL;
     uint32_t sampler = gpu::SAMPLER_SOBOL;
+    uint32_t quadSampling = gpu::QUAD_SOLID_ANGLE;
+    uint32_t triangleSampling = gpu::TRIANGLE_AREA;
 
     // Values in constant_id order, for gpu::Pipeline.
     std::vector<uint32_t> specialization() const;

@@ -103,7 +103,7 @@ private:
             }
         } else {
             if (r) r->expectKeys({"type", "strategy", "heuristic", "light_samples", "bsdf_samples", "sphere_sampling",
-                                  "light_selection"}, "the direct integrator");
+                                  "quad_sampling", "triangle_sampling", "light_selection"}, "the direct integrator");
             s.type = IntegratorType::Direct;
             s.json = {{"type", "direct"},       {"strategy", "mis"},    {"heuristic", "power"},
                       {"light_samples", 1},     {"bsdf_samples", 1},    {"sphere_sampling", "solid_angle"},
@@ -128,6 +128,11 @@ private:
             std::string x = v->choice({"area", "cap", "solid_angle"});
             s.sphereSampling = x == "area" ? SphereSampling::Area : x == "cap" ? SphereSampling::Cap : SphereSampling::SolidAngle;
         }
+        if (auto v = r.find("quad_sampling"))
+            s.quadSampling = v->choice({"area", "solid_angle"}) == "area" ? QuadSampling::Area : QuadSampling::SolidAngle;
+        if (auto v = r.find("triangle_sampling"))
+            s.triangleSampling =
+                v->choice({"area", "solid_angle"}) == "area" ? TriangleSampling::Area : TriangleSampling::SolidAngle;
         if (auto v = r.find("light_selection"))
             s.lightSelection = v->choice({"uniform", "power"}) == "uniform" ? LightSelection::Uniform : LightSelection::Power;
         // A strategy with no samples of its own would render only what the camera sees directly.

@@ -47,6 +47,8 @@ enum class AoSampling { Uniform, Cosine };
 enum class Strategy { Light, Bsdf, Mis, Mixture };
 enum class Heuristic { Balance, Power };
 enum class SphereSampling { Area, Cap, SolidAngle };
+enum class QuadSampling { Area, SolidAngle };
+enum class TriangleSampling { Area, SolidAngle };
 enum class LightSelection { Uniform, Power };
 
 struct IntegratorSettings {
@@ -60,6 +62,8 @@ struct IntegratorSettings {
     uint32_t lightSamples = 1;
     uint32_t bsdfSamples = 1;
     SphereSampling sphereSampling = SphereSampling::SolidAngle;
+    QuadSampling quadSampling = QuadSampling::SolidAngle;
+    TriangleSampling triangleSampling = TriangleSampling::Area;
     LightSelection lightSelection = LightSelection::Power;
     // The integrator object as written (after --set overrides), with defaults filled in,
     // for the EXR header attribute penumbra:integrator.

@@ -40,4 +40,15 @@ bool isFiniteVec(vec3 v) { return !any(isnan(v)) && !any(isinf(v)); }
 
 float sqr(float x) { return x * x; }
 
+// atan(y, x) to about float precision. Vulkan lets atan be off by 4096 ULP and lavapipe's is
+// off by ~2e-5 relative (measured through the solid angles of sampling/spherical_*.glsl,
+// whose pdfs integrated to 1 + 2e-5): one Newton step on y cos(t) - x sin(t) = 0 from the
+// built-in's estimate removes that (the error becomes quadratic in the first one's).
+float atan2Accurate(float y, float x) {
+    float t = atan(y, x);
+    float c = cos(t), s = sin(t);
+    float den = x * c + y * s;  // = |(x, y)| cos(error), never 0 once (x, y) != 0
+    return den > 0.0 ? t + (y * c - x * s) / den : t;
+}
+
 #endif

@@ -16,6 +16,8 @@ layout(constant_id = SPEC_SPHERE_SAMPLING) const uint kSphereSampling = SPHERE_S
 layout(constant_id = SPEC_AO_SAMPLING) const uint kAoSampling = AO_COSINE;
 layout(constant_id = SPEC_SCENE_FEATURES) const uint kSceneFeatures = FEATURES_ALL;
 layout(constant_id = SPEC_SAMPLER) const uint kSampler = SAMPLER_SOBOL;
+layout(constant_id = SPEC_QUAD_SAMPLING) const uint kQuadSampling = QUAD_SOLID_ANGLE;
+layout(constant_id = SPEC_TRIANGLE_SAMPLING) const uint kTriangleSampling = TRIANGLE_AREA;
 
 // Whether the scene has a primitive / light / material of this type; false compiles the
 // code that handles it out of the kernel.

@@ -7,7 +7,7 @@
 //   mixture  N1 + N2 samples from 0.5 p_light + 0.5 p_f (lecture, "Sample from Average PDF")
 // Delta lights cannot be hit: every strategy samples them explicitly (light and mis through
 // the full selection table; bsdf and mixture with one delta-only draw per sample).
-// The strategy, heuristic, N1, N2 and sphere sampling are specialization constants
+// The strategy, heuristic, N1, N2 and sphere, quad and triangle sampling are specialization constants
 // (common/specialization.glsl): each combination is its own compiled kernel.
 #version 450
 #extension GL_GOOGLE_include_directive : require
@@ -22,6 +22,12 @@
 #include "integrators/mis.glsl"
 
 #include "bsdf/materials.glsl"
+
+// How area lights are sampled, for sampleLight and lightPdf alike.
+LightSamplingModes lightModes() {
+    return LightSamplingModes(kSphereSampling, kQuadSampling, kTriangleSampling, SPHERICAL_MIN_SOLID_ANGLE,
+                              SPHERICAL_MIN_ELEVATION_SINE);
+}
 
 // The shading point, with normals turned to the viewer's side (two-sided materials).
 struct Shading {
@@ -59,7 +65,7 @@ vec3 lightSampleEstimate(Shading s, uint index, float pmf, int weighting, float 
                          inout Rng rng) {
     vec3 u = vec3(rand2(rng), rand1(rng));
     LightSample ls;
-    if (!(pmf > 0.0) || !sampleLight(index, s.origin, s.ns, u, kSphereSampling, ls)) return vec3(0.0);
+    if (!(pmf > 0.0) || !sampleLight(index, s.origin, s.ns, u, lightModes(), ls)) return vec3(0.0);
     vec3 fc = reflectance(s, ls.wi);
     if (fc == vec3(0.0) || !visible(s, ls)) return vec3(0.0);
     if (ls.isDelta) return fc * ls.radiance / pmf;
@@ -84,7 +90,7 @@ vec3 incidentEmission(Shading s, vec3 wi, float selectionScale, out float pLight
         if (params.environmentLight == NO_LIGHT) return vec3(0.0);
         Light env = lights[params.environmentLight];
         pLight = env.selectionProb * selectionScale *
-                 lightPdf(params.environmentLight, s.origin, s.ns, wi, vec3(0.0), vec3(0.0), 0.0, kSphereSampling);
+                 lightPdf(params.environmentLight, s.origin, s.ns, wi, vec3(0.0), vec3(0.0), 0.0, NO_HIT, lightModes());
         return env.emission;
     }
     SurfacePoint y = surfaceAt(hit, s.origin, wi);
@@ -93,7 +99,7 @@ vec3 incidentEmission(Shading s, vec3 wi, float selectionScale, out float pLight
     vec3 Le = emittedRadiance(light, y.geometricNormal, wi);
     if (Le == vec3(0.0)) return Le;
     pLight = light.selectionProb * selectionScale *
-             lightPdf(y.light, s.origin, s.ns, wi, y.position, y.geometricNormal, hit.t, kSphereSampling);
+             lightPdf(y.light, s.origin, s.ns, wi, y.position, y.geometricNormal, hit.t, hit.primitive, lightModes());
     return Le;
 }
 

@@ -4,6 +4,8 @@
 // not included): area-measure densities are converted here and nowhere else, with
 //   p_w(wi) = p_A(y) * d^2 / |cos theta_y|      (lecture, "Sphere Light": Caution!)
 // Delta lights (point, directional) have no density: their samples carry isDelta.
+// Quads and mesh triangles are sampled on their area or in the solid angle they subtend
+// (QUAD_*, TRIANGLE_*); the solid-angle warps give densities in solid angle already.
 #ifndef PENUMBRA_LIGHTS_GLSL
 #define PENUMBRA_LIGHTS_GLSL
 
@@ -11,6 +13,8 @@
 #include "common/specialization.glsl"
 #include "common/math.glsl"
 #include "sampling/warp.glsl"
+#include "sampling/spherical_rectangle.glsl"
+#include "sampling/spherical_triangle.glsl"
 #include "geometry/bvh.glsl"
 
 layout(std430, binding = BINDING_LIGHTS) readonly restrict buffer Lights { Light lights[]; };
@@ -65,6 +69,105 @@ vec3 emittedRadiance(Light light, vec3 nFront, vec3 wi) {
     return dot(wi, nFront) < 0.0 ? light.emission : vec3(0.0);
 }
 
+// The integrator options that choose how each kind of area light is sampled (SPHERE_*,
+// QUAD_*, TRIANGLE_*); sampleLight and lightPdf must be given the same.
+struct LightSamplingModes {
+    uint sphere;
+    uint quad;
+    uint triangle;
+    // The fallback bounds (below): SPHERICAL_MIN_SOLID_ANGLE and SPHERICAL_MIN_ELEVATION_SINE
+    // in the integrator; the light-sampling test kernel can lower them to measure the warps.
+    float minSolidAngle;
+    float minElevationSine;
+};
+
+// ---- Solid-angle sampling of quads and triangles, and its fallback ---------------------
+// A quad or triangle whose solid angle from x is below SPHERICAL_MIN_SOLID_ANGLE (sr), or that
+// x sees at a grazing angle (a vertex less than asin(SPHERICAL_MIN_ELEVATION_SINE) above its
+// plane), is sampled on its area instead, for that shading point and that light or triangle
+// alone (pbrt-v4 falls back the same way, with its own bound on the solid angle). For tiny
+// and for grazing polygons the spherical warps lose their precision in 32-bit floats: their
+// angles and cosines sit within a few float spacings of the values they are subtracted from
+// (the spherical polygon is small, or a thin sliver along a great circle). The grazing bound
+// also keeps away from x almost in the light's plane inside its outline, where the spherical
+// polygon nears a hemisphere and the warps' arcs degenerate: a polygon whose vertices are all
+// at least asin(s) above its plane lies inside a disk seen within 2 pi (1 - s) = 6.09 sr.
+// Both bounds were chosen by measurement (README, "Quad and triangle sampling";
+// LightSamplingMeasure in tests/test_light_sampling.cpp): with the fallback off, chi-square
+// fails at 3e-4 sr, at 1 degree and above 6.25 sr, and passes at 1e-3 sr, 3 degrees and
+// 6.2 sr; with it on, the tests pass on both sides of each bound. The decision is a function
+// of the shading point and the light only, so lightPdf (MIS) takes the same one as sampleLight.
+bool sphericalSolidAngleUsable(float solidAngle, LightSamplingModes modes) { return solidAngle >= modes.minSolidAngle; }
+
+// Whether every vertex of a polygon (a triangle: v3 = v2) in the plane through v0 with unit
+// normal n is seen from x at least asin(minElevationSine) above that plane: the distance of x
+// from the plane over its distance to the farthest vertex.
+bool sphericalElevationUsable(vec3 v0, vec3 v1, vec3 v2, vec3 v3, vec3 n, vec3 x, LightSamplingModes modes) {
+    float farthest = max(max(distance(v0, x), distance(v1, x)), max(distance(v2, x), distance(v3, x)));
+    return abs(dot(x - v0, n)) >= modes.minElevationSine * farthest;
+}
+
+// Whether mesh triangle p is sampled in solid angle from x, with its solid angle.
+bool triangleSolidAngle(Primitive p, vec3 x, LightSamplingModes modes, out float omega) {
+    omega = sphericalTriangleSolidAngle(p.p0, p.p1, p.p2, x);
+    return sphericalSolidAngleUsable(omega, modes) &&
+           sphericalElevationUsable(p.p0, p.p1, p.p2, p.p2, primitiveFrontNormal(p), x, modes);
+}
+
+// A quad whose edges are orthogonal (to 1e-5 of their lengths' product: scene files write
+// rectangles in decimals) is sampled as a spherical rectangle, any other as two spherical
+// triangles (origin, origin + u, origin + u + v) and (origin, origin + u + v, origin + v).
+bool quadIsRectangle(Primitive p) { return abs(dot(p.p1, p.p2)) <= 1e-5 * length(p.p1) * length(p.p2); }
+
+// The solid angles of the quad's two triangles from x; whether the quad is sampled in solid
+// angle from x (else on its area): the rectangle's total, or each triangle's, in range.
+bool quadSolidAngles(Primitive p, vec3 x, LightSamplingModes modes, out float omega0, out float omega1) {
+    vec3 v0 = p.p0, v1 = p.p0 + p.p1, v2 = v1 + p.p2, v3 = p.p0 + p.p2;
+    omega0 = sphericalTriangleSolidAngle(v0, v1, v2, x);
+    omega1 = sphericalTriangleSolidAngle(v0, v2, v3, x);
+    if (!sphericalElevationUsable(v0, v1, v2, v3, primitiveFrontNormal(p), x, modes)) return false;
+    if (quadIsRectangle(p)) return sphericalSolidAngleUsable(omega0 + omega1, modes);
+    return sphericalSolidAngleUsable(omega0, modes) && sphericalSolidAngleUsable(omega1, modes);
+}
+
+// A point on quad p whose direction from x is uniform in the quad's solid angle
+// omega0 + omega1 (quadSolidAngles): the spherical rectangle, or one of the two spherical
+// triangles chosen in proportion to its solid angle (with uChoice) and sampled uniformly.
+bool sampleQuadSolidAngle(Primitive p, vec3 x, vec2 u, float uChoice, float omega0, float omega1, out vec3 y) {
+    y = x;
+    if (quadIsRectangle(p)) {
+        SphericalRectangle r = makeSphericalRectangle(p.p0, p.p1, p.p2, x, omega0 + omega1);
+        y = x + sampleSphericalRectangle(r, u);
+        return true;
+    }
+    vec3 v0 = p.p0, v1 = p.p0 + p.p1, v2 = v1 + p.p2, v3 = p.p0 + p.p2;
+    bool first = uChoice * (omega0 + omega1) < omega0;
+    vec3 a = v0, b = first ? v1 : v2, c = first ? v2 : v3;
+    vec3 w;
+    if (!sampleSphericalTriangle(a, b, c, x, first ? omega0 : omega1, u, w)) return false;
+    // Where the direction meets the quad's plane.
+    vec3 n = cross(p.p1, p.p2);
+    float t = dot(n, p.p0 - x) / dot(n, w);
+    if (!(t > 0.0) || isinf(t)) return false;
+    y = x + t * w;
+    return true;
+}
+
+// Area of a triangle primitive.
+float triangleArea(Primitive p) { return 0.5 * length(cross(p.p1 - p.p0, p.p2 - p.p0)); }
+
+// A point on triangle p whose direction from x is uniform in its solid angle `omega`.
+bool sampleTriangleSolidAngle(Primitive p, vec3 x, vec2 u, float omega, out vec3 y) {
+    y = x;
+    vec3 w;
+    if (!sampleSphericalTriangle(p.p0, p.p1, p.p2, x, omega, u, w)) return false;
+    vec3 n = cross(p.p1 - p.p0, p.p2 - p.p0);
+    float t = dot(n, p.p0 - x) / dot(n, w);
+    if (!(t > 0.0) || isinf(t)) return false;
+    y = x + t * w;
+    return true;
+}
+
 // sin^2 and 1 - cos of the half-angle of the cone a sphere of radius r subtends at
 // distance dist > r; 1 - cos computed as sin^2 / (1 + cos) to stay accurate for tiny or
 // distant spheres (pbrt-v4, Sphere::Sample with a reference point).
@@ -92,9 +195,11 @@ float spherePdf(vec3 x, vec3 center, float r, vec3 y, vec3 ny, float d, uint sph
 }
 
 // Samples a direction toward light `index` from x (shading normal n, used by the
-// environment's cosine sampling). u: three uniform numbers; sphereSampling: SPHERE_*. Returns false when the sample
-// carries nothing (back side of a one-sided light, x inside a sphere light, ...).
-bool sampleLight(uint index, vec3 x, vec3 n, vec3 u, uint sphereSampling, out LightSample ls) {
+// environment's cosine sampling). u: three uniform numbers; modes: how area lights are
+// sampled. Returns false when the sample carries nothing (back side of a one-sided light,
+// x inside a sphere light, ...).
+bool sampleLight(uint index, vec3 x, vec3 n, vec3 u, LightSamplingModes modes, out LightSample ls) {
+    uint sphereSampling = modes.sphere;
     Light light = lights[index];
     ls.isDelta = false;
     ls.pdf = 0.0;
@@ -129,6 +234,9 @@ bool sampleLight(uint index, vec3 x, vec3 n, vec3 u, uint sphereSampling, out Li
     }
 
     vec3 y, ny;
+    // > 0 when y was sampled in solid angle: the density of its direction (selection of the
+    // mesh triangle included), which then replaces the area-to-solid-angle conversion below.
+    float solidAnglePdf = 0.0;
     if (lightIs(light, LIGHT_SPHERE)) {
         Primitive p = primitives[light.first];
         vec3 center = p.p0;
@@ -168,14 +276,27 @@ bool sampleLight(uint index, vec3 x, vec3 n, vec3 u, uint sphereSampling, out Li
         y = center + r * ny;
     } else if (lightIs(light, LIGHT_QUAD)) {
         Primitive p = primitives[light.first];
-        y = p.p0 + u.x * p.p1 + u.y * p.p2;
         ny = primitiveFrontNormal(p);
-    } else if (lightIs(light, LIGHT_MESH)) {  // a triangle with probability area / total, then uniform on it
+        float omega0, omega1;
+        if (modes.quad == QUAD_SOLID_ANGLE && quadSolidAngles(p, x, modes, omega0, omega1)) {
+            if (!sampleQuadSolidAngle(p, x, u.xy, u.z, omega0, omega1, y)) return false;
+            solidAnglePdf = 1.0 / (omega0 + omega1);
+        } else {
+            y = p.p0 + u.x * p.p1 + u.y * p.p2;
+        }
+    } else if (lightIs(light, LIGHT_MESH)) {  // a triangle with probability area / total, then a point on it
         AliasEntry e = sampleAlias(light.first, light.count, u.z, true);
         Primitive p = primitives[e.item];
-        vec3 b = squareToUniformTriangle(u.xy);
-        y = b.x * p.p0 + b.y * p.p1 + b.z * p.p2;
         ny = primitiveFrontNormal(p);
+        float omega;
+        if (modes.triangle == TRIANGLE_SOLID_ANGLE && triangleSolidAngle(p, x, modes, omega)) {
+            if (!sampleTriangleSolidAngle(p, x, u.xy, omega, y)) return false;
+            // pmf of the triangle (area / total, the alias table's) times uniform in its solid angle.
+            solidAnglePdf = triangleArea(p) / (light.area * omega);
+        } else {
+            vec3 b = squareToUniformTriangle(u.xy);
+            y = b.x * p.p0 + b.y * p.p1 + b.z * p.p2;
+        }
     } else {
         return false;
     }
@@ -191,16 +312,18 @@ bool sampleLight(uint index, vec3 x, vec3 n, vec3 u, uint sphereSampling, out Li
         ls.pdf = spherePdf(x, primitives[light.first].p0, primitives[light.first].p1.x, y, ny, ls.dist, sphereSampling);
     } else {
         if (cosY <= 0.0 && (light.flags & LIGHT_TWO_SIDED) == 0u) return false;  // back of a one-sided light
-        ls.pdf = d2 / (abs(cosY) * light.area);  // p_A = 1 / area (mesh: lecture, p_A = 1 / sum A(k))
+        // p_A = 1 / area (mesh: lecture, p_A = 1 / sum A(k)), unless sampled in solid angle.
+        ls.pdf = solidAnglePdf > 0.0 ? solidAnglePdf : d2 / (abs(cosY) * light.area);
     }
     ls.radiance = light.emission;
     return ls.pdf > 0.0 && !isinf(ls.pdf);
 }
 
-// Density (solid angle, at x) with which sampleLight(index, x, n, .) produces wi, given
-// that the ray x + t wi first hits this light at y (geometric normal ny) at distance d;
-// for the environment, y, ny and d are ignored.
-float lightPdf(uint index, vec3 x, vec3 n, vec3 wi, vec3 y, vec3 ny, float d, uint sphereSampling) {
+// Density (solid angle, at x) with which sampleLight(index, x, n, ., modes) produces wi,
+// given that the ray x + t wi first hits this light at y (geometric normal ny) at distance d,
+// on primitive `primitive`; for the environment, y, ny, d and primitive are ignored.
+float lightPdf(uint index, vec3 x, vec3 n, vec3 wi, vec3 y, vec3 ny, float d, uint primitive, LightSamplingModes modes) {
+    uint sphereSampling = modes.sphere;
     Light light = lights[index];
     if (lightIs(light, LIGHT_ENVIRONMENT)) return max(dot(wi, n), 0.0) * INV_PI;
     if (lightIs(light, LIGHT_POINT) || lightIs(light, LIGHT_DIRECTIONAL)) return 0.0;
@@ -208,10 +331,22 @@ float lightPdf(uint index, vec3 x, vec3 n, vec3 wi, vec3 y, vec3 ny, float d, ui
         Primitive p = primitives[light.first];
         return spherePdf(x, p.p0, p.p1.x, y, ny, d, sphereSampling);
     }
-    // Quad and mesh: p_A = 1 / area in solid angle. sampleLight declines points on the back
-    // of a one-sided light, so the density of a direction that reaches its back is 0.
+    // Quad and mesh: sampleLight declines points on the back of a one-sided light, so the
+    // density of a direction that reaches its back is 0.
     float cosY = dot(-wi, ny);
     if (cosY <= 0.0 && (light.flags & LIGHT_TWO_SIDED) == 0u) return 0.0;
+    // Sampled in solid angle from x (the same decision as sampleLight's): uniform there.
+    if (lightIs(light, LIGHT_QUAD) && modes.quad == QUAD_SOLID_ANGLE) {
+        float omega0, omega1;
+        if (quadSolidAngles(primitives[light.first], x, modes, omega0, omega1)) return 1.0 / (omega0 + omega1);
+    }
+    if (lightIs(light, LIGHT_MESH) && modes.triangle == TRIANGLE_SOLID_ANGLE) {
+        // The hit triangle k: pmf_k / Omega_k, pmf_k = A_k / A the alias table's probability.
+        Primitive p = primitives[primitive];
+        float omega;
+        if (triangleSolidAngle(p, x, modes, omega)) return triangleArea(p) / (light.area * omega);
+    }
+    // Area sampling: p_A = 1 / area, in solid angle.
     cosY = abs(cosY);
     return cosY > 0.0 ? d * d / (cosY * light.area) : 0.0;
 }

@@ -160,6 +160,18 @@ PENUMBRA_CONST uint SPHERE_AREA = 0u;
 PENUMBRA_CONST uint SPHERE_CAP = 1u;
 PENUMBRA_CONST uint SPHERE_SOLID_ANGLE = 2u;
 
+PENUMBRA_CONST uint QUAD_AREA = 0u;         // uniform on the quad's area
+PENUMBRA_CONST uint QUAD_SOLID_ANGLE = 1u;  // uniform in its solid angle (spherical rectangle / 2 triangles)
+
+PENUMBRA_CONST uint TRIANGLE_AREA = 0u;         // mesh lights: uniform on the chosen triangle's area
+PENUMBRA_CONST uint TRIANGLE_SOLID_ANGLE = 1u;  // uniform in the chosen triangle's solid angle
+// Quads and triangles of a smaller solid angle (sr) than this are sampled on their area
+// instead of their solid angle, and so are those seen at grazing angles: with some vertex
+// less than asin(SPHERICAL_MIN_ELEVATION_SINE) (1.7 degrees) above their plane. Measured
+// bounds: lights/lights.glsl says why and how.
+PENUMBRA_CONST float SPHERICAL_MIN_SOLID_ANGLE = 1e-3f;
+PENUMBRA_CONST float SPHERICAL_MIN_ELEVATION_SINE = 0.03f;
+
 // ---- Sampler (shaders/common/rng.glsl) --------------------------------------------------
 PENUMBRA_CONST uint SAMPLER_INDEPENDENT = 0u;  // independent hashes per sample and dimension
 PENUMBRA_CONST uint SAMPLER_SOBOL = 1u;        // padded Owen-scrambled Sobol' (common/sobol.glsl)
@@ -181,7 +193,9 @@ PENUMBRA_CONST uint SAMPLER_SOBOL = 1u;        // padded Owen-scrambled Sobol' (
 #define SPEC_AO_SAMPLING 6       // AO_*
 #define SPEC_SCENE_FEATURES 7    // FEATURE_* bits: what the scene contains
 #define SPEC_SAMPLER 8           // SAMPLER_*
-#define SPEC_COUNT 9
+#define SPEC_QUAD_SAMPLING 9     // QUAD_*
+#define SPEC_TRIANGLE_SAMPLING 10  // TRIANGLE_*
+#define SPEC_COUNT 11
 
 // Scene feature bits: bit FEATURE_PRIMITIVE + PRIM_*, FEATURE_LIGHT + LIGHT_*,
 // FEATURE_MATERIAL + MATERIAL_* is set when the scene has such a primitive, light or

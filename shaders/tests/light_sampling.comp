@@ -19,22 +19,28 @@ layout(std430, binding = LIGHT_TEST_BINDING_IN) readonly restrict buffer Directi
 layout(std430, binding = LIGHT_TEST_BINDING_OUT) writeonly restrict buffer Records { LightTestRecord records[]; };
 layout(push_constant) uniform PushBlock { LightTestPush push; };
 
+LightSamplingModes testModes() {
+    return LightSamplingModes(push.sphereSampling, push.quadSampling, push.triangleSampling, push.minSolidAngle,
+                              push.minElevationSine);
+}
+
 // The density of wi as the integrator evaluates it for a BSDF-sampled ray: the first hit
 // along x + t wi must belong to the light, and lightPdf is taken there with the hit's
 // geometric (front) normal and distance. The environment is "hit" when the ray escapes,
 // and has no geometry: lightPdf directly. Delta lights cannot be hit (lightPdf says 0).
 float tracedLightPdf(uint index, vec3 x, vec3 n, vec3 wi, out float t, out uint primitive, out bool hitLight) {
+    LightSamplingModes modes = testModes();
     t = 0.0;
     primitive = NO_HIT;
     hitLight = false;
     uint type = lights[index].type;
     if (type == LIGHT_POINT || type == LIGHT_DIRECTIONAL)
-        return lightPdf(index, x, n, wi, vec3(0.0), vec3(0.0), 0.0, push.sphereSampling);
+        return lightPdf(index, x, n, wi, vec3(0.0), vec3(0.0), 0.0, NO_HIT, modes);
     Hit hit;
     bool found = traceClosest(x, wi, FLOAT_MAX, hit);
     if (type == LIGHT_ENVIRONMENT) {
         hitLight = !found;
-        return found ? 0.0 : lightPdf(index, x, n, wi, vec3(0.0), vec3(0.0), 0.0, push.sphereSampling);
+        return found ? 0.0 : lightPdf(index, x, n, wi, vec3(0.0), vec3(0.0), 0.0, NO_HIT, modes);
     }
     if (!found) return 0.0;
     t = hit.t;
@@ -42,7 +48,7 @@ float tracedLightPdf(uint index, vec3 x, vec3 n, vec3 wi, out float t, out uint 
     SurfacePoint y = surfaceAt(hit, x, wi);
     if (y.light != index) return 0.0;
     hitLight = true;
-    return lightPdf(index, x, n, wi, y.position, y.geometricNormal, hit.t, push.sphereSampling);
+    return lightPdf(index, x, n, wi, y.position, y.geometricNormal, hit.t, hit.primitive, modes);
 }
 
 void main() {
@@ -61,7 +67,8 @@ void main() {
         Rng rng = makeRng(0u, i, push.seed);
         vec3 u = vec3(rand2(rng), rand1(rng));  // the integrator's order (direct.comp)
         LightSample ls;
-        if (sampleLight(push.light, push.x, push.n, u, push.sphereSampling, ls)) {
+        if (sampleLight(push.light, push.x, push.n, u,
+                        testModes(), ls)) {
             r.wi = ls.wi;
             r.pdf = ls.pdf;
             r.radiance = ls.radiance;

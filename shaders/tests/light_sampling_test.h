@@ -16,7 +16,7 @@ namespace penumbra::gpu {
 #define LIGHT_TEST_BINDING_OUT (BINDING_COUNT + 1)
 #define LIGHT_TEST_BINDING_COUNT (BINDING_COUNT + 2)
 
-// SAMPLE: invocation i draws sampleLight(light, x, n, u_i, sphereSampling) with u_i from the
+// SAMPLE: invocation i draws sampleLight(light, x, n, u_i, modes) with u_i from the
 //   stateless rng (pixel 0, sample index i, seed), then traces x + t wi through the scene
 //   and evaluates lightPdf at that first hit (the consistency check).
 // PDF: record i holds the pdf of wi = directions[i].xyz as the integrator sees it: the
@@ -37,7 +37,7 @@ PENUMBRA_CONST uint LIGHT_TEST_HIT_LIGHT = 4u;  // the traced ray's first hit is
 
 PENUMBRA_CONST uint LIGHT_TEST_WORKGROUP_SIZE = 64u;
 
-// 64 bytes (std430 push constants).
+// 80 bytes (std430 push constants).
 struct LightTestPush {
     vec3 x;               // shading point
     uint mode;            // LIGHT_TEST_MODE_*
@@ -49,6 +49,10 @@ struct LightTestPush {
     uint table;           // SELECT: LIGHT_TEST_TABLE_*
     uint tableOffset;     // SELECT: the (sub-)table [tableOffset, tableOffset + tableCount)
     uint tableCount;
+    uint quadSampling;      // QUAD_* (0, the zero-initialized push: area)
+    uint triangleSampling;  // TRIANGLE_* (0: area)
+    float minSolidAngle;     // the fallback bounds of LightSamplingModes
+    float minElevationSine;
     uint pad0, pad1;
 };
 
