@@ -5,13 +5,11 @@
 // trail). Kernels: tools/microbenchmarks/shaders; run everything with tools/microbench.
 #include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
-#include <functional>
 #include <map>
 #include <memory>
 #include <random>

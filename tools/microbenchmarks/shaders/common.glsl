@@ -20,8 +20,8 @@ layout(push_constant) uniform Push {
 // away and lets the driver check that every variant computed the same thing.
 layout(std430, binding = 0) writeonly restrict buffer Results { vec2 results[]; };
 
-// Bob Jenkins' one-at-a-time style integer mix (lowbias32, Wellons 2018): cheap and
-// well distributed, so per-lane indices differ.
+// Chris Wellons' "lowbias32" integer hash (hash-prospector, 2018): cheap and well
+// distributed, so per-lane indices differ.
 uint hash(uint x) {
     x ^= x >> 16;
     x *= 0x7feb352du;
