@@ -421,6 +421,28 @@ TEST(Bvh, LargestLeavesSurviveTheStackPacking) {
     expectAllAgree(scene, bvh, rays);
 }
 
+TEST(Bvh, NonFiniteRaysMissAndTerminate) {
+    // NaN can make every slab test pass, and pair 0's empty entry leads back to pair 0: the
+    // traversal must reject such rays before its loop, on both sides (a hang fails by timeout).
+    const float nan = std::nanf(""), inf = kInf * 2.0f;
+    std::vector<TraceRay> rays;
+    for (glm::vec4 o : {glm::vec4(nan, 0, 0, kInf), glm::vec4(0, 0, 5, kInf), glm::vec4(inf, 0, 0, kInf)})
+        for (glm::vec4 d : {glm::vec4(0, 0, -1, 0), glm::vec4(nan, nan, nan, 0), glm::vec4(0, -inf, 0, 0)})
+            if (!(o.z == 5 && d.z == -1)) rays.push_back({o, d});
+    Random rng(8);
+    for (auto scene : {std::vector<gpu::Primitive>{}, randomScene(rng, 50, 5, 5, 4.0f)}) {
+        Bvh bvh = buildBvh(scene);
+        for (const TraceRay& ray : rays) {
+            EXPECT_FALSE(intersectClosest(bvh, vec3(ray.originTMax), vec3(ray.dir), kInf)) << describe(ray);
+            EXPECT_FALSE(intersectAny(bvh, vec3(ray.originTMax), vec3(ray.dir), kInf)) << describe(ray);
+        }
+        for (const TraceResult& r : traceOnGpu(bvh, rays)) {
+            EXPECT_EQ(r.primitive, gpu::NO_HIT);
+            EXPECT_EQ(r.anyHit, 0u);
+        }
+    }
+}
+
 // ---- (d) Large builds: structure, SAH cost, depth bound --------------------------------
 
 namespace {

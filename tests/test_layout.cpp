@@ -25,6 +25,12 @@ static_assert(sizeof(RenderParams) % 16 == 0 && offsetof(RenderParams, right) ==
               offsetof(RenderParams, seed) == 64 &&
               sizeof(RenderParams) == 128);
 static_assert(sizeof(PassConstants) == 16);
+// Texel-buffer views (RGBA32UI, 16 bytes a texel) cover the structs exactly: a child pair,
+// a primitive and a material are whole numbers of texels.
+static_assert(2 * sizeof(BvhNode) == PAIR_TEXELS * 16 && sizeof(Primitive) == PRIMITIVE_TEXELS * 16 &&
+              sizeof(Material) == MATERIAL_TEXELS * 16);
+// The traversal stack packs offset | primCount << BVH_COUNT_SHIFT into 32 bits.
+static_assert(BVH_MAX_LEAF_SIZE < (1u << (32u - BVH_COUNT_SHIFT)) && BVH_MAX_PRIMITIVES - 1u == BVH_OFFSET_MASK);
 
 TEST(Layout, StructSizesMatchStd430) {
     // The static_asserts above are the test; this records the sizes in the test log.

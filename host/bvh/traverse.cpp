@@ -18,6 +18,10 @@ bool traverse(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax, bool 
     hit.t = tMax;
     hit.primitive = gpu::NO_HIT;
     hit.uv = glm::vec2(0.0f);
+    // A NaN or infinite ray misses (see bvh.glsl: it must not enter the loop).
+    if (glm::any(glm::isnan(origin)) || glm::any(glm::isinf(origin)) || glm::any(glm::isnan(dir)) ||
+        glm::any(glm::isinf(dir)))
+        return false;
     glm::vec3 invDir = rayInverseDirection(dir);
     uint32_t stackNode[BVH_MAX_DEPTH];  // offset | primCount << BVH_COUNT_SHIFT
     float stackEntry[BVH_MAX_DEPTH];

@@ -6,6 +6,7 @@
 #define PENUMBRA_BVH_GLSL
 
 #include "shared/types.h"
+#include "common/math.glsl"
 #include "geometry/intersect.glsl"
 #include "geometry/ray_count.glsl"
 
@@ -55,6 +56,10 @@ bool traverse(vec3 origin, vec3 dir, float tMax, bool anyHit, out Hit hit) {
     hit.t = tMax;
     hit.primitive = NO_HIT;
     hit.uv = vec2(0.0);
+    // A NaN or infinite ray misses. It must not enter the loop: NaN can make the slab test
+    // pass for every box (min/max may drop NaN operands), and pair 0's empty entry leads
+    // back to pair 0, so such a ray would never leave.
+    if (!isFiniteVec(origin) || !isFiniteVec(dir)) return false;
     vec3 invDir = rayInverseDirection(dir);
     uint stackNode[BVH_MAX_DEPTH];  // offset | primCount << BVH_COUNT_SHIFT
     float stackEntry[BVH_MAX_DEPTH];
