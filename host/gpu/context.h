@@ -50,6 +50,8 @@ public:
     VkSurfaceKHR surface() const { return m_surface; }
     const DeviceInfo& info() const { return m_info; }
     const VkPhysicalDeviceLimits& limits() const { return m_limits; }
+    // maxMemoryAllocationSize (Vulkan 1.1): the largest single allocation; 0 if not reported.
+    VkDeviceSize maxAllocationSize() const { return m_maxAllocationSize; }
 
     // Index of a memory type with all `required` flags (and `preferred` ones if possible).
     uint32_t findMemoryType(uint32_t typeBits, VkMemoryPropertyFlags required,
@@ -60,6 +62,10 @@ public:
     void submitAndWait(const std::function<void(VkCommandBuffer)>& record) const;
 
 private:
+    // Destroys what exists (device after waiting for it, surface, instance) and nulls the
+    // handles; safe to call on a half-built Context, and twice.
+    void release() noexcept;
+
     VkInstance m_instance = VK_NULL_HANDLE;
     VkSurfaceKHR m_surface = VK_NULL_HANDLE;
     VkPhysicalDevice m_physicalDevice = VK_NULL_HANDLE;
@@ -70,6 +76,7 @@ private:
     VkFence m_fence = VK_NULL_HANDLE;
     DeviceInfo m_info;
     VkPhysicalDeviceLimits m_limits{};
+    VkDeviceSize m_maxAllocationSize = 0;
     VkPhysicalDeviceMemoryProperties m_memory{};
 };
 

@@ -33,17 +33,18 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
       m_params(makeRenderParams(scene, m_arrays)),
       m_options(makeKernelOptions(scene, m_arrays)) {
     using gpu::Buffer;
-    m_paramsBuffer = Buffer(context, sizeof(gpu::RenderParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
+    m_paramsBuffer = Buffer(context, sizeof(gpu::RenderParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, 0,
+                            VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, "render parameters");
     uploadParams();
     m_accum = Buffer(context, VkDeviceSize(m_params.width) * m_params.height * sizeof(glm::vec4),
-                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-    m_nodes = Buffer::fromVector(context, m_arrays.bvh.nodes);
-    m_primitives = Buffer::fromVector(context, m_arrays.bvh.primitives);
-    m_normals = Buffer::fromVector(context, m_arrays.normals);
-    m_materials = Buffer::fromVector(context, m_arrays.materials);
-    m_lights = Buffer::fromVector(context, m_arrays.lights);
-    m_lightTable = Buffer::fromVector(context, m_arrays.lightTable);
-    m_meshTable = Buffer::fromVector(context, m_arrays.meshTable);
+                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, "accumulation");
+    m_nodes = Buffer::fromVector(context, m_arrays.bvh.nodes, "BVH nodes");
+    m_primitives = Buffer::fromVector(context, m_arrays.bvh.primitives, "primitives");
+    m_normals = Buffer::fromVector(context, m_arrays.normals, "triangle normals");
+    m_materials = Buffer::fromVector(context, m_arrays.materials, "materials");
+    m_lights = Buffer::fromVector(context, m_arrays.lights, "lights");
+    m_lightTable = Buffer::fromVector(context, m_arrays.lightTable, "light selection table");
+    m_meshTable = Buffer::fromVector(context, m_arrays.meshTable, "mesh light table");
     m_rayCount = Buffer(context, sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
 
     m_kernel = createKernel(m_options);
