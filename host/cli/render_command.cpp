@@ -10,6 +10,7 @@
 #include "cli/commands.h"
 #include "gpu/context.h"
 #include "image/image.h"
+#include "image/output_check.h"
 #include "render/renderer.h"
 
 namespace penumbra {
@@ -17,17 +18,6 @@ namespace {
 
 std::atomic<bool> g_interrupted{false};
 extern "C" void onInterrupt(int) { g_interrupted = true; }
-
-// Fails early (exit 1) when the output cannot be written, instead of after the render.
-void checkWritableDirectory(const std::filesystem::path& file) {
-    std::filesystem::path dir = file.parent_path();
-    if (dir.empty()) dir = ".";
-    std::error_code ec;
-    if (!std::filesystem::is_directory(dir, ec))
-        throw std::runtime_error("cannot write " + file.string() + ": directory " + dir.string() + " does not exist");
-    if (access(dir.c_str(), W_OK) != 0)
-        throw std::runtime_error("cannot write " + file.string() + ": directory " + dir.string() + " is not writable");
-}
 
 }  // namespace
 
@@ -40,8 +30,10 @@ int renderCommand(const RenderOptions& options) {
     Scene scene = loadScene(options.scene, options.overrides);
     std::filesystem::path output = options.output.empty() ? std::filesystem::path(scene.name + ".exr")
                                                            : std::filesystem::path(options.output);
-    checkWritableDirectory(output);
-    if (!options.png.empty()) checkWritableDirectory(options.png);
+    // Every output is checked before the render, against the scene and each other.
+    std::vector<RunFile> outputs{{output, "-o"}};
+    if (!options.png.empty()) outputs.push_back({options.png, "--png"});
+    checkOutputs(outputs, {{options.scene, "the scene"}});
     printNotes(scene.notes, options.quiet);
 
     gpu::ContextOptions contextOptions;
