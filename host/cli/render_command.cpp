@@ -55,14 +55,26 @@ int renderCommand(const RenderOptions& options) {
                      rate * 1e-6, left);
         std::fflush(stderr);
     };
-    auto previous = std::signal(SIGINT, onInterrupt);
-    std::signal(SIGTERM, onInterrupt);
+    // A stop is seen at the next submission (each about 0.25 s, render/pass_bands.h); the
+    // handlers stay until the outputs are written, so that a signal during the writing
+    // lets it finish rather than leave a temporary file behind.
+    g_interrupted = false;
+    auto previousInt = std::signal(SIGINT, onInterrupt);
+    auto previousTerm = std::signal(SIGTERM, onInterrupt);
+    struct RestoreHandlers {
+        void (*sigint)(int);
+        void (*sigterm)(int);
+        ~RestoreHandlers() {
+            std::signal(SIGINT, sigint);
+            std::signal(SIGTERM, sigterm);
+        }
+    } restore{previousInt, previousTerm};
     renderer.renderAll(progress, &g_interrupted);
-    std::signal(SIGINT, previous);
     double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (showProgress) std::fprintf(stderr, "\rpenumbra: %u spp in %.2f s%40s\n", scene.sampler.spp, seconds, "");
 
     Image image = renderer.readback(seconds);
+    if (g_interrupted) throw std::runtime_error("render interrupted");
     writeExr(output, image);
     if (!options.png.empty()) writePng(options.png, image);
     return 0;
