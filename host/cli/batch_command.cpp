@@ -18,6 +18,7 @@
 #include "gpu/context.h"
 #include "gpu/kernel_cache.h"
 #include "image/image.h"
+#include "image/output_check.h"
 #include "render/renderer.h"
 
 namespace penumbra {
@@ -58,25 +59,32 @@ std::string incompleteReason(const fs::path& output, const Scene& scene) {
     if (image.width != scene.film.width || image.height != scene.film.height) return "other film size";
     if (m.seed && *m.seed != int64_t(scene.sampler.seed)) return "other seed";
     if (m.sampleOffset && *m.sampleOffset != int64_t(scene.sampler.sampleOffset)) return "other sample_offset";
+    // A merged file may match spp, seed and offset while holding other samples.
+    const int64_t first = scene.sampler.sampleOffset;
+    if (m.pieces && *m.pieces != std::vector<SamplePiece>{{scene.sampler.seed, first, first + scene.sampler.spp}})
+        return "other sample pieces";
     if (m.integrator && *m.integrator != scene.integrator.json.dump()) return "other integrator";
     // Absent: rendered before the sampler option, with independent samples.
     if (m.sampler.value_or("independent") != samplerTypeName(scene.sampler.type)) return "other sampler";
     return {};
 }
 
-// Creates the output's directory if needed and fails (exit 1) if it cannot be written,
-// before any time is spent rendering.
-void prepareOutput(const fs::path& file) {
-    fs::path dir = file.parent_path();
-    if (dir.empty()) dir = ".";
-    std::error_code ec;
-    fs::create_directories(dir, ec);
-    if (ec) throw std::runtime_error("cannot write " + file.string() + ": cannot create " + dir.string() + " (" +
-                                     ec.message() + ")");
-    if (!fs::is_directory(dir, ec))
-        throw std::runtime_error("cannot write " + file.string() + ": " + dir.string() + " is not a directory");
-    if (access(dir.c_str(), W_OK) != 0)
-        throw std::runtime_error("cannot write " + file.string() + ": directory " + dir.string() + " is not writable");
+// Every output of the job file against every other and against every input (the job
+// file and each job's scene), however spelled, before anything runs: exit 2 naming the
+// job file and the job's JSON path. All jobs, not only this task's: the tasks of one
+// job file run at the same time.
+void checkJobFiles(const fs::path& jobFile, const std::vector<BatchJob>& jobs) {
+    std::vector<RunFile> outputs, inputs{{jobFile, "the job file"}};
+    for (const BatchJob& job : jobs) {
+        // origin is the entry's JSON path, then " sweep N (values)" for a sweep.
+        const size_t space = job.origin.find(' ');
+        const std::string entry = job.origin.substr(0, space);
+        const std::string sweep = space == std::string::npos ? "" : job.origin.substr(space);
+        outputs.push_back({job.output, entry + ".output" + sweep});
+        if (!job.png.empty()) outputs.push_back({job.png, entry + ".png" + sweep});
+        inputs.push_back({job.scene, entry + ".scene" + sweep});
+    }
+    checkDistinctFiles(outputs, inputs, jobFile.string() + ": ");
 }
 
 struct Totals {
@@ -99,6 +107,7 @@ int batchCommand(const BatchOptions& options) {
                          ": need 0 <= task < tasks");
 
     const std::vector<BatchJob> all = loadJobFile(options.jobFile);
+    checkJobFiles(options.jobFile, all);
     std::vector<size_t> mine;  // this task's share: jobs j with j % tasks == task
     for (size_t j = task; j < all.size(); j += tasks) mine.push_back(j);
 
@@ -149,8 +158,9 @@ int batchCommand(const BatchOptions& options) {
                                  pngMissing ? " (PNG written from it)" : "");
                 continue;
             }
-            prepareOutput(job.output);
-            if (!job.png.empty()) prepareOutput(job.png);
+            // Runtime failure (status 1) before any rendering; the directory is created.
+            checkWritable(job.output, true);
+            if (!job.png.empty()) checkWritable(job.png, true);
             printNotes(scene.notes, options.quiet);
 
             if (!context) {

@@ -3,12 +3,18 @@
 
 #include "cli/commands.h"
 #include "image/image.h"
+#include "image/output_check.h"
 
 namespace penumbra {
 
 int mergeCommand(const std::vector<std::string>& inputs, const std::string& output) {
+    std::vector<RunFile> readFiles;
+    for (const std::string& input : inputs) readFiles.push_back({input, "input"});
+    // Bad usage and bad inputs (exit 2) are reported before an unwritable output (exit 1).
+    checkDistinctFiles({{output, "-o"}}, readFiles);
     std::vector<Image> images;
     for (const std::string& input : inputs) images.push_back(readExr(input));
+    checkWritable(output);
     writeExr(output, mergeImages(images, inputs));
     return 0;
 }

@@ -1,9 +1,9 @@
 // `penumbra preview`: load the scene (with render's overrides), then hand it to the
 // preview loop (host/preview/). Builds without GLFW say so and exit 1.
-#include <filesystem>
 #include <stdexcept>
 
 #include "cli/commands.h"
+#include "image/output_check.h"
 #include "preview/input_script.h"
 #include "preview/key_bindings.h"
 #include "preview/preview_loop.h"
@@ -32,11 +32,9 @@ int previewCommand(const PreviewOptions& options) {
     settings.deviceIndex = base.device;
     settings.quiet = base.quiet;
     if (!settings.screenshot.empty()) {
-        std::filesystem::path dir = settings.screenshot.parent_path();
-        std::error_code ec;
-        if (!dir.empty() && !std::filesystem::is_directory(dir, ec))
-            throw std::runtime_error("cannot write " + settings.screenshot.string() + ": directory " + dir.string() +
-                                     " does not exist");
+        std::vector<RunFile> inputs{{base.scene, "the scene"}};
+        if (!options.script.empty()) inputs.push_back({options.script, "--script"});
+        checkOutputs({{settings.screenshot, "--screenshot"}}, inputs);
     }
 #ifdef PENUMBRA_HAVE_GLFW
     printNotes(scene.notes, base.quiet);

@@ -10,6 +10,7 @@
 #include "cli/commands.h"
 #include "gpu/context.h"
 #include "image/image.h"
+#include "image/output_check.h"
 #include "render/renderer.h"
 
 namespace penumbra {
@@ -17,17 +18,6 @@ namespace {
 
 std::atomic<bool> g_interrupted{false};
 extern "C" void onInterrupt(int) { g_interrupted = true; }
-
-// Fails early (exit 1) when the output cannot be written, instead of after the render.
-void checkWritableDirectory(const std::filesystem::path& file) {
-    std::filesystem::path dir = file.parent_path();
-    if (dir.empty()) dir = ".";
-    std::error_code ec;
-    if (!std::filesystem::is_directory(dir, ec))
-        throw std::runtime_error("cannot write " + file.string() + ": directory " + dir.string() + " does not exist");
-    if (access(dir.c_str(), W_OK) != 0)
-        throw std::runtime_error("cannot write " + file.string() + ": directory " + dir.string() + " is not writable");
-}
 
 }  // namespace
 
@@ -40,8 +30,10 @@ int renderCommand(const RenderOptions& options) {
     Scene scene = loadScene(options.scene, options.overrides);
     std::filesystem::path output = options.output.empty() ? std::filesystem::path(scene.name + ".exr")
                                                            : std::filesystem::path(options.output);
-    checkWritableDirectory(output);
-    if (!options.png.empty()) checkWritableDirectory(options.png);
+    // Every output is checked before the render, against the scene and each other.
+    std::vector<RunFile> outputs{{output, "-o"}};
+    if (!options.png.empty()) outputs.push_back({options.png, "--png"});
+    checkOutputs(outputs, {{options.scene, "the scene"}});
     printNotes(scene.notes, options.quiet);
 
     gpu::ContextOptions contextOptions;
@@ -63,14 +55,26 @@ int renderCommand(const RenderOptions& options) {
                      rate * 1e-6, left);
         std::fflush(stderr);
     };
-    auto previous = std::signal(SIGINT, onInterrupt);
-    std::signal(SIGTERM, onInterrupt);
+    // A stop is seen at the next submission (each about 0.25 s, render/pass_bands.h); the
+    // handlers stay until the outputs are written, so that a signal during the writing
+    // lets it finish rather than leave a temporary file behind.
+    g_interrupted = false;
+    auto previousInt = std::signal(SIGINT, onInterrupt);
+    auto previousTerm = std::signal(SIGTERM, onInterrupt);
+    struct RestoreHandlers {
+        void (*sigint)(int);
+        void (*sigterm)(int);
+        ~RestoreHandlers() {
+            std::signal(SIGINT, sigint);
+            std::signal(SIGTERM, sigterm);
+        }
+    } restore{previousInt, previousTerm};
     renderer.renderAll(progress, &g_interrupted);
-    std::signal(SIGINT, previous);
     double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (showProgress) std::fprintf(stderr, "\rpenumbra: %u spp in %.2f s%40s\n", scene.sampler.spp, seconds, "");
 
     Image image = renderer.readback(seconds);
+    if (g_interrupted) throw std::runtime_error("render interrupted");
     writeExr(output, image);
     if (!options.png.empty()) writePng(options.png, image);
     return 0;

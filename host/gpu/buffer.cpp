@@ -2,15 +2,48 @@
 #include "gpu/buffer.h"
 
 #include <algorithm>
+#include <cstdio>
+#include <string>
 #include <utility>
 
 #include "gpu/vk_check.h"
 
 namespace penumbra::gpu {
 
+namespace {
+
+std::string byteText(VkDeviceSize bytes) {
+    char text[64];
+    if (bytes >= (VkDeviceSize(1) << 20))
+        std::snprintf(text, sizeof text, "%.1f MiB, %llu bytes", double(bytes) / double(1 << 20),
+                      static_cast<unsigned long long>(bytes));
+    else
+        std::snprintf(text, sizeof text, "%llu bytes", static_cast<unsigned long long>(bytes));
+    return text;
+}
+
+}  // namespace
+
+void checkBufferSize(std::string_view name, VkDeviceSize size, VkBufferUsageFlags usage,
+                     const VkPhysicalDeviceLimits& limits, VkDeviceSize maxAllocation) {
+    auto refuse = [&](const char* limit, VkDeviceSize value) {
+        throw GpuError("the " + (name.empty() ? std::string("GPU") : std::string(name)) + " buffer needs " +
+                       byteText(size) + ", more than this device's " + limit + " (" + byteText(value) +
+                       "); render a smaller film or scene, or use a device with a larger limit");
+    };
+    if ((usage & VK_BUFFER_USAGE_STORAGE_BUFFER_BIT) && size > limits.maxStorageBufferRange)
+        refuse("maxStorageBufferRange", limits.maxStorageBufferRange);
+    if ((usage & VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT) && size > limits.maxUniformBufferRange)
+        refuse("maxUniformBufferRange", limits.maxUniformBufferRange);
+    if (maxAllocation > 0 && size > maxAllocation) refuse("maxMemoryAllocationSize", maxAllocation);
+}
+
 Buffer::Buffer(const Context& context, VkDeviceSize size, VkBufferUsageFlags usage,
-               VkMemoryPropertyFlags required, VkMemoryPropertyFlags preferred)
+               VkMemoryPropertyFlags required, VkMemoryPropertyFlags preferred, std::string_view name)
     : m_context(&context), m_size(std::max<VkDeviceSize>(size, 16)) {
+    // Before anything is created: beyond these limits Vulkan's behaviour is undefined
+    // (lavapipe would bind a truncated range and render a silently wrong image).
+    checkBufferSize(name, m_size, usage, context.limits(), context.maxAllocationSize());
     VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
     info.size = m_size;
     info.usage = usage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;

@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstring>
 #include <span>
+#include <string_view>
 #include <vector>
 
 #include <vulkan/vulkan.h>
@@ -14,12 +15,22 @@
 
 namespace penumbra::gpu {
 
+// Throws GpuError("the NAME buffer needs N bytes, more than this device's LIMIT (M bytes)
+// ...") when a buffer of `size` bytes for `usage` exceeds what the device can bind in one
+// descriptor (maxStorageBufferRange, maxUniformBufferRange: the kernels bind whole
+// buffers) or allocate at once (`maxAllocation`, maxMemoryAllocationSize; 0: unknown).
+void checkBufferSize(std::string_view name, VkDeviceSize size, VkBufferUsageFlags usage,
+                     const VkPhysicalDeviceLimits& limits, VkDeviceSize maxAllocation);
+
 class Buffer {
 public:
     Buffer() = default;
     // `size` is rounded up to at least 16 bytes so that empty arrays can still be bound.
+    // Throws GpuError, naming the buffer by `name`, when the device cannot hold it in one
+    // allocation or bind it whole (checkBufferSize).
     Buffer(const Context& context, VkDeviceSize size, VkBufferUsageFlags usage,
-           VkMemoryPropertyFlags required = 0, VkMemoryPropertyFlags preferred = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+           VkMemoryPropertyFlags required = 0, VkMemoryPropertyFlags preferred = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT,
+           std::string_view name = {});
     ~Buffer();
     Buffer(Buffer&& other) noexcept;
     Buffer& operator=(Buffer&& other) noexcept;
@@ -30,14 +41,25 @@ public:
     template <class T>
     static Buffer fromSpan(const Context& context, std::span<const T> data,
                            VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT) {
-        Buffer buffer(context, data.size_bytes(), usage);
+        return fromSpan(context, data, std::string_view(), usage);
+    }
+    // The same, named for the message when it is too large (e.g. "BVH nodes").
+    template <class T>
+    static Buffer fromSpan(const Context& context, std::span<const T> data, std::string_view name,
+                           VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT) {
+        Buffer buffer(context, data.size_bytes(), usage, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, name);
         if (!data.empty()) buffer.upload(data.data(), data.size_bytes());
         return buffer;
     }
     template <class T>
     static Buffer fromVector(const Context& context, const std::vector<T>& data,
                              VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT) {
-        return fromSpan<T>(context, std::span<const T>(data), usage);
+        return fromSpan<T>(context, std::span<const T>(data), std::string_view(), usage);
+    }
+    template <class T>
+    static Buffer fromVector(const Context& context, const std::vector<T>& data, std::string_view name,
+                             VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT) {
+        return fromSpan<T>(context, std::span<const T>(data), name, usage);
     }
 
     void upload(const void* data, VkDeviceSize bytes, VkDeviceSize offset = 0);

@@ -154,75 +154,89 @@ std::vector<DeviceInfo> Context::listDevices(int* chosen) {
 }
 
 Context::Context(const ContextOptions& options) {
-    m_instance = createInstance(options.instanceExtensions);
-    try {
-        if (options.createSurface) m_surface = options.createSurface(m_instance);
-        auto devices = physicalDevices(m_instance);
-        if (devices.empty())
-            throw GpuError("no Vulkan device found; install a Vulkan driver, e.g. Debian's mesa-vulkan-drivers for lavapipe");
-        int index = options.deviceIndex >= 0 ? options.deviceIndex : deviceFromEnvironment();
-        if (index >= int(devices.size()))
-            throw GpuError("Vulkan device " + std::to_string(index) + " does not exist (" +
-                           std::to_string(devices.size()) + " found; see 'penumbra devices')");
-        if (index < 0) index = automaticChoice(devices, m_surface);
-        if (index < 0)
-            throw GpuError(m_surface ? "no Vulkan device can both compute and present to the window"
-                                     : "no Vulkan device has a compute queue");
-        m_physicalDevice = devices[size_t(index)];
-        m_info = describe(m_physicalDevice, uint32_t(index));
-        int family = computeQueueFamily(m_physicalDevice, m_surface);
-        if (family < 0)
-            throw GpuError("Vulkan device " + std::to_string(index) + " (" + m_info.name + ") " +
-                           (m_surface ? "cannot both compute and present to the window" : "has no compute queue"));
-        m_queueFamily = uint32_t(family);
-
-        VkPhysicalDeviceProperties props;
-        vkGetPhysicalDeviceProperties(m_physicalDevice, &props);
-        m_limits = props.limits;
-        vkGetPhysicalDeviceMemoryProperties(m_physicalDevice, &m_memory);
-
-        float priority = 1.0f;
-        VkDeviceQueueCreateInfo queueInfo{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
-        queueInfo.queueFamilyIndex = m_queueFamily;
-        queueInfo.queueCount = 1;
-        queueInfo.pQueuePriorities = &priority;
-        std::vector<const char*> deviceExtensions;
-        if (m_surface) deviceExtensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
-        VkPhysicalDeviceBufferDeviceAddressFeaturesKHR addressFeatures{
-            VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_BUFFER_DEVICE_ADDRESS_FEATURES_KHR};
-        if (options.bufferDeviceAddress &&
-            hasDeviceExtension(m_physicalDevice, VK_KHR_BUFFER_DEVICE_ADDRESS_EXTENSION_NAME)) {
-            VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
-            features.pNext = &addressFeatures;
-            vkGetPhysicalDeviceFeatures2(m_physicalDevice, &features);
-            m_bufferDeviceAddress = addressFeatures.bufferDeviceAddress;
-            addressFeatures.bufferDeviceAddressCaptureReplay = VK_FALSE;
-            addressFeatures.bufferDeviceAddressMultiDevice = VK_FALSE;
-            if (m_bufferDeviceAddress) deviceExtensions.push_back(VK_KHR_BUFFER_DEVICE_ADDRESS_EXTENSION_NAME);
+    // A constructor that throws runs no destructor, while the members' own destructors do
+    // run: the handles made so far are released by this guard, exactly once.
+    struct ReleaseUnlessDone {
+        Context* context;
+        bool done = false;
+        ~ReleaseUnlessDone() {
+            if (!done) context->release();
         }
-        VkDeviceCreateInfo deviceInfo{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
-        if (m_bufferDeviceAddress) deviceInfo.pNext = &addressFeatures;
-        deviceInfo.queueCreateInfoCount = 1;
-        deviceInfo.pQueueCreateInfos = &queueInfo;
-        deviceInfo.enabledExtensionCount = uint32_t(deviceExtensions.size());
-        deviceInfo.ppEnabledExtensionNames = deviceExtensions.data();
-        vkCheck(vkCreateDevice(m_physicalDevice, &deviceInfo, nullptr, &m_device),
-                ("create a logical device on " + m_info.name).c_str());
-        vkGetDeviceQueue(m_device, m_queueFamily, 0, &m_queue);
+    } guard{this};
+    m_instance = createInstance(options.instanceExtensions);
+    if (options.createSurface) m_surface = options.createSurface(m_instance);
+    auto devices = physicalDevices(m_instance);
+    if (devices.empty())
+        throw GpuError("no Vulkan device found; install a Vulkan driver, e.g. Debian's mesa-vulkan-drivers for lavapipe");
+    int index = options.deviceIndex >= 0 ? options.deviceIndex : deviceFromEnvironment();
+    if (index >= int(devices.size()))
+        throw GpuError("Vulkan device " + std::to_string(index) + " does not exist (" +
+                       std::to_string(devices.size()) + " found; see 'penumbra devices')");
+    if (index < 0) index = automaticChoice(devices, m_surface);
+    if (index < 0)
+        throw GpuError(m_surface ? "no Vulkan device can both compute and present to the window"
+                                 : "no Vulkan device has a compute queue");
+    m_physicalDevice = devices[size_t(index)];
+    m_info = describe(m_physicalDevice, uint32_t(index));
+    int family = computeQueueFamily(m_physicalDevice, m_surface);
+    if (family < 0)
+        throw GpuError("Vulkan device " + std::to_string(index) + " (" + m_info.name + ") " +
+                       (m_surface ? "cannot both compute and present to the window" : "has no compute queue"));
+    m_queueFamily = uint32_t(family);
 
-        VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
-        poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
-        poolInfo.queueFamilyIndex = m_queueFamily;
-        vkCheck(vkCreateCommandPool(m_device, &poolInfo, nullptr, &m_commandPool), "create command pool");
-        VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-        vkCheck(vkCreateFence(m_device, &fenceInfo, nullptr, &m_fence), "create fence");
-    } catch (...) {
-        this->~Context();
-        throw;
+    VkPhysicalDeviceProperties props;
+    vkGetPhysicalDeviceProperties(m_physicalDevice, &props);
+    m_limits = props.limits;
+    if (props.apiVersion >= VK_API_VERSION_1_1) {
+        VkPhysicalDeviceMaintenance3Properties maintenance3{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES};
+        VkPhysicalDeviceProperties2 props2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+        props2.pNext = &maintenance3;
+        vkGetPhysicalDeviceProperties2(m_physicalDevice, &props2);
+        m_maxAllocationSize = maintenance3.maxMemoryAllocationSize;
     }
+    vkGetPhysicalDeviceMemoryProperties(m_physicalDevice, &m_memory);
+
+    float priority = 1.0f;
+    VkDeviceQueueCreateInfo queueInfo{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+    queueInfo.queueFamilyIndex = m_queueFamily;
+    queueInfo.queueCount = 1;
+    queueInfo.pQueuePriorities = &priority;
+    std::vector<const char*> deviceExtensions;
+    if (m_surface) deviceExtensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
+    VkPhysicalDeviceBufferDeviceAddressFeaturesKHR addressFeatures{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_BUFFER_DEVICE_ADDRESS_FEATURES_KHR};
+    if (options.bufferDeviceAddress &&
+        hasDeviceExtension(m_physicalDevice, VK_KHR_BUFFER_DEVICE_ADDRESS_EXTENSION_NAME)) {
+        VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+        features.pNext = &addressFeatures;
+        vkGetPhysicalDeviceFeatures2(m_physicalDevice, &features);
+        m_bufferDeviceAddress = addressFeatures.bufferDeviceAddress;
+        addressFeatures.bufferDeviceAddressCaptureReplay = VK_FALSE;
+        addressFeatures.bufferDeviceAddressMultiDevice = VK_FALSE;
+        if (m_bufferDeviceAddress) deviceExtensions.push_back(VK_KHR_BUFFER_DEVICE_ADDRESS_EXTENSION_NAME);
+    }
+    VkDeviceCreateInfo deviceInfo{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
+    if (m_bufferDeviceAddress) deviceInfo.pNext = &addressFeatures;
+    deviceInfo.queueCreateInfoCount = 1;
+    deviceInfo.pQueueCreateInfos = &queueInfo;
+    deviceInfo.enabledExtensionCount = uint32_t(deviceExtensions.size());
+    deviceInfo.ppEnabledExtensionNames = deviceExtensions.data();
+    vkCheck(vkCreateDevice(m_physicalDevice, &deviceInfo, nullptr, &m_device),
+            ("create a logical device on " + m_info.name).c_str());
+    vkGetDeviceQueue(m_device, m_queueFamily, 0, &m_queue);
+
+    VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+    poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+    poolInfo.queueFamilyIndex = m_queueFamily;
+    vkCheck(vkCreateCommandPool(m_device, &poolInfo, nullptr, &m_commandPool), "create command pool");
+    VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    vkCheck(vkCreateFence(m_device, &fenceInfo, nullptr, &m_fence), "create fence");
+    guard.done = true;
 }
 
-Context::~Context() {
+Context::~Context() { release(); }
+
+void Context::release() noexcept {
     if (m_device) {
         vkDeviceWaitIdle(m_device);
         if (m_fence) vkDestroyFence(m_device, m_fence, nullptr);

@@ -59,6 +59,8 @@ public:
     const DeviceInfo& info() const { return m_info; }
     const VkPhysicalDeviceLimits& limits() const { return m_limits; }
     bool hasBufferDeviceAddress() const { return m_bufferDeviceAddress; }
+    // maxMemoryAllocationSize (Vulkan 1.1): the largest single allocation; 0 if not reported.
+    VkDeviceSize maxAllocationSize() const { return m_maxAllocationSize; }
 
     // Index of a memory type with all `required` flags (and `preferred` ones if possible).
     uint32_t findMemoryType(uint32_t typeBits, VkMemoryPropertyFlags required,
@@ -69,6 +71,10 @@ public:
     void submitAndWait(const std::function<void(VkCommandBuffer)>& record) const;
 
 private:
+    // Destroys what exists (device after waiting for it, surface, instance) and nulls the
+    // handles; safe to call on a half-built Context, and twice.
+    void release() noexcept;
+
     VkInstance m_instance = VK_NULL_HANDLE;
     VkSurfaceKHR m_surface = VK_NULL_HANDLE;
     VkPhysicalDevice m_physicalDevice = VK_NULL_HANDLE;
@@ -79,6 +85,7 @@ private:
     VkFence m_fence = VK_NULL_HANDLE;
     DeviceInfo m_info;
     VkPhysicalDeviceLimits m_limits{};
+    VkDeviceSize m_maxAllocationSize = 0;
     VkPhysicalDeviceMemoryProperties m_memory{};
     bool m_bufferDeviceAddress = false;
 };

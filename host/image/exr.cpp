@@ -5,6 +5,7 @@
 #include <OpenEXR/ImfDoubleAttribute.h>
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfIO.h>
 #include <OpenEXR/ImfInputFile.h>
 #include <OpenEXR/ImfIntAttribute.h>
 #include <OpenEXR/ImfOutputFile.h>
@@ -32,6 +33,7 @@ constexpr const char* kSampleOffset = "penumbra:sample_offset";
 constexpr const char* kIntegrator = "penumbra:integrator";
 constexpr const char* kRenderSeconds = "penumbra:render_seconds";
 constexpr const char* kSampler = "penumbra:sampler";
+constexpr const char* kPieces = "penumbra:pieces";
 constexpr const char* kChannels[3] = {"R", "G", "B"};
 
 // Far beyond any film we render, small enough that a corrupt header claiming a huge
@@ -43,6 +45,25 @@ std::string oneLine(std::string text) {
     std::replace(text.begin(), text.end(), '\r', ' ');
     return text;
 }
+
+// An EXR file in memory: OpenEXR writes the header, the pixels, then seeks back to fill
+// in the offset table.
+class MemoryStream : public Imf::OStream {
+public:
+    MemoryStream() : Imf::OStream("memory") {}
+    void write(const char c[], int n) override {
+        if (m_pos + uint64_t(n) > m_bytes.size()) m_bytes.resize(size_t(m_pos) + size_t(n));
+        std::memcpy(m_bytes.data() + m_pos, c, size_t(n));
+        m_pos += uint64_t(n);
+    }
+    uint64_t tellp() override { return m_pos; }
+    void seekp(uint64_t pos) override { m_pos = pos; }
+    const std::string& bytes() const { return m_bytes; }
+
+private:
+    std::string m_bytes;
+    uint64_t m_pos = 0;
+};
 
 // Attributes of another type than ours are treated as absent: the file is not ours.
 template <class Attr, class Value>
@@ -98,7 +119,10 @@ void writeExr(const std::filesystem::path& path, const Image& image) {
     if (image.rgb.size() != size_t(image.width) * image.height * 3)
         throw std::runtime_error("failed to write " + path.string() + ": pixel buffer does not match the image size");
 
-    writeFileAtomically(path, [&](const std::filesystem::path& tmp) {
+    // Encoded in memory first, so that the bytes can go to a regular file atomically or
+    // through to a device or FIFO, where OpenEXR could not seek back to its offset table.
+    MemoryStream stream;
+    try {
         Imf::Header header(int(image.width), int(image.height));
         header.compression() = Imf::ZIP_COMPRESSION;  // lossless; float noise compresses poorly with anything
         for (const char* c : kChannels) header.channels().insert(c, Imf::Channel(Imf::FLOAT));
@@ -109,6 +133,7 @@ void writeExr(const std::filesystem::path& path, const Image& image) {
         if (m.integrator) header.insert(kIntegrator, Imf::StringAttribute(*m.integrator));
         if (m.renderSeconds) header.insert(kRenderSeconds, Imf::DoubleAttribute(*m.renderSeconds));
         if (m.sampler) header.insert(kSampler, Imf::StringAttribute(*m.sampler));
+        if (m.pieces) header.insert(kPieces, Imf::StringAttribute(formatSamplePieces(*m.pieces)));
 
         Imf::FrameBuffer frame;
         const size_t xStride = 3 * sizeof(float), yStride = xStride * image.width;
@@ -116,12 +141,14 @@ void writeExr(const std::filesystem::path& path, const Image& image) {
         for (int c = 0; c < 3; ++c)
             frame.insert(kChannels[c], Imf::Slice(Imf::FLOAT, base + c * sizeof(float), xStride, yStride));
 
-        // The file is finished (offset table written) when OutputFile is destroyed,
-        // which must happen before the rename.
-        Imf::OutputFile file(tmp.c_str(), header);
+        // The file is finished (offset table written) when OutputFile is destroyed.
+        Imf::OutputFile file(stream, header);
         file.setFrameBuffer(frame);
         file.writePixels(int(image.height));
-    });
+    } catch (const std::exception& e) {
+        throw std::runtime_error("failed to write " + path.string() + ": " + oneLine(e.what()));
+    }
+    writeOutputFile(path, stream.bytes());
 }
 
 Image readExr(const std::filesystem::path& path) {
@@ -169,6 +196,13 @@ Image readExr(const std::filesystem::path& path) {
         readAttribute<Imf::StringAttribute>(header, kIntegrator, image.meta.integrator);
         readAttribute<Imf::DoubleAttribute>(header, kRenderSeconds, image.meta.renderSeconds);
         readAttribute<Imf::StringAttribute>(header, kSampler, image.meta.sampler);
+        if (const auto* pieces = header.findTypedAttribute<Imf::StringAttribute>(kPieces)) {
+            try {
+                image.meta.pieces = parseSamplePieces(pieces->value());
+            } catch (const std::invalid_argument& e) {
+                throwInputError(name, "", std::string(kPieces) + ": " + e.what());
+            }
+        }
         return image;
     } catch (const InputError&) {
         throw;

@@ -10,6 +10,15 @@
 
 namespace penumbra {
 
+// A run of sample indices of one seed, [first, end): a render of spp samples with
+// sample_offset K covers (seed, K, K + spp); a merge covers the union of its inputs'.
+struct SamplePiece {
+    int64_t seed = 0;
+    int64_t first = 0;
+    int64_t end = 0;
+    bool operator==(const SamplePiece&) const = default;
+};
+
 // The EXR header attributes of SCENE_FORMAT.md; absent ones are nullopt.
 struct ImageMetadata {
     std::optional<int> spp;               // penumbra:spp
@@ -20,7 +29,20 @@ struct ImageMetadata {
     // penumbra:sampler, "sobol" or "independent": beyond SCENE_FORMAT.md's list (README).
     // Renders made before the sampler option lack it; they used independent samples.
     std::optional<std::string> sampler;
+    // penumbra:pieces (README): the exact sample pieces of a merged image, written by merge
+    // as "SEED:FIRST-END,..." (END exclusive). Absent in renders: one piece, from the above.
+    std::optional<std::vector<SamplePiece>> pieces;
 };
+
+// "0:0-8,0:16-24" and back; parsing throws std::invalid_argument("why") on malformed
+// text, negative or empty ranges, or pieces that overlap.
+std::string formatSamplePieces(const std::vector<SamplePiece>& pieces);
+std::vector<SamplePiece> parseSamplePieces(const std::string& text);
+// The pieces an image covers: penumbra:pieces if present, else the one piece of (seed,
+// sample_offset (absent: 0), spp); empty when the seed or spp is unknown.
+std::vector<SamplePiece> samplePiecesOf(const ImageMetadata& meta);
+// Sorted by (seed, first), touching runs of one seed joined.
+std::vector<SamplePiece> normalizeSamplePieces(std::vector<SamplePiece> pieces);
 
 struct Image {
     uint32_t width = 0;

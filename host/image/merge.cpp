@@ -49,20 +49,35 @@ Image mergeImages(const std::vector<Image>& images, const std::vector<std::strin
 
     // Same seed and overlapping sample indices means the same random numbers were used
     // twice: the partials are correlated and their mean has the variance of fewer samples.
-    // An absent sample_offset is the scene default, 0.
+    // Each input covers its penumbra:pieces (a merged file), else the one piece of its
+    // seed, sample_offset (absent: the scene default, 0) and spp. Without a seed nothing
+    // can be checked (nor recorded).
+    std::vector<std::vector<SamplePiece>> pieces(images.size());
+    bool allKnown = true;
+    for (size_t i = 0; i < images.size(); ++i) {
+        pieces[i] = samplePiecesOf(images[i].meta);
+        allKnown = allKnown && !pieces[i].empty();
+        int64_t covered = 0;
+        for (const SamplePiece& p : pieces[i]) covered += p.end - p.first;
+        if (images[i].meta.pieces && covered != *images[i].meta.spp)
+            throwInputError(nameOf(i), "",
+                            "penumbra:pieces covers " + std::to_string(covered) + " samples but penumbra:spp is " +
+                                std::to_string(*images[i].meta.spp));
+    }
     for (size_t i = 0; i < images.size(); ++i) {
         for (size_t j = i + 1; j < images.size(); ++j) {
-            const ImageMetadata &a = images[i].meta, &b = images[j].meta;
-            if (!a.seed || !b.seed || *a.seed != *b.seed) continue;
-            const int64_t aBegin = a.sampleOffset.value_or(0), aEnd = aBegin + *a.spp;
-            const int64_t bBegin = b.sampleOffset.value_or(0), bEnd = bBegin + *b.spp;
-            const int64_t begin = std::max(aBegin, bBegin), end = std::min(aEnd, bEnd);
-            if (begin < end)
-                throwInputError(nameOf(j), "",
-                                "sample indices [" + std::to_string(begin) + ", " + std::to_string(end) +
-                                    ") overlap with " + nameOf(i) + " (both seed " + std::to_string(*a.seed) +
-                                    "); such partials are not independent, render them with disjoint "
-                                    "sampler.sample_offset ranges");
+            for (const SamplePiece& a : pieces[i]) {
+                for (const SamplePiece& b : pieces[j]) {
+                    if (a.seed != b.seed) continue;
+                    const int64_t begin = std::max(a.first, b.first), end = std::min(a.end, b.end);
+                    if (begin < end)
+                        throwInputError(nameOf(j), "",
+                                        "sample indices [" + std::to_string(begin) + ", " + std::to_string(end) +
+                                            ") overlap with " + nameOf(i) + " (both seed " + std::to_string(a.seed) +
+                                            "); such partials are not independent, render them with disjoint "
+                                            "sampler.sample_offset ranges");
+                }
+            }
         }
     }
 
@@ -81,6 +96,11 @@ Image mergeImages(const std::vector<Image>& images, const std::vector<std::strin
     m.seed = first.meta.seed;
     m.integrator = first.meta.integrator;
     m.sampler = first.meta.sampler;
+    if (allKnown) {
+        std::vector<SamplePiece> all;
+        for (const auto& p : pieces) all.insert(all.end(), p.begin(), p.end());
+        m.pieces = normalizeSamplePieces(std::move(all));
+    }
     for (const Image& image : images) {
         if (image.meta.sampleOffset) m.sampleOffset = std::min(m.sampleOffset.value_or(INT_MAX), *image.meta.sampleOffset);
         if (image.meta.renderSeconds) m.renderSeconds = m.renderSeconds.value_or(0.0) + *image.meta.renderSeconds;

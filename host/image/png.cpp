@@ -1,10 +1,7 @@
 // 8-bit sRGB PNG output for a quick look at a render: radiance times 2^exposure,
 // clamped to [0, 1], encoded with the exact sRGB transfer function (IEC 61966-2-1).
 // EXR stays the real output; this one is lossy by design.
-#include <cerrno>
 #include <cmath>
-#include <cstring>
-#include <fstream>
 #include <stdexcept>
 #include <string>
 
@@ -55,13 +52,7 @@ void writePngRgb8(const std::filesystem::path& path, uint32_t width, uint32_t he
     if (!stbi_write_png_to_func(append, &encoded, int(width), int(height), 3, rgb.data(), int(width) * 3))
         throw std::runtime_error("failed to write " + path.string() + ": PNG encoding failed");
 
-    writeFileAtomically(path, [&](const std::filesystem::path& tmp) {
-        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-        if (!out) throw std::runtime_error("cannot create " + tmp.string() + ": " + std::strerror(errno));
-        out.write(encoded.data(), std::streamsize(encoded.size()));
-        out.close();
-        if (!out) throw std::runtime_error("cannot write " + tmp.string());
-    });
+    writeOutputFile(path, encoded);
 }
 
 }  // namespace penumbra

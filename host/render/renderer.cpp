@@ -6,12 +6,14 @@
 #include <cstdint>
 #include <stdexcept>
 
+#include "gpu/gpu_timer.h"
 #include "gpu/vk_check.h"
+#include "render/pass_bands.h"
 
 namespace penumbra {
 namespace {
 
-constexpr uint32_t kTile = 8;  // local_size_x/y of the integrator kernels
+constexpr uint32_t kTile = PassBands::kTile;  // local_size_x/y of the integrator kernels
 
 const char* kernelName(IntegratorType type) {
     return type == IntegratorType::AmbientOcclusion ? "integrators/ao" : "integrators/direct";
@@ -36,20 +38,22 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
       m_params(makeRenderParams(scene, m_arrays)),
       m_options(makeKernelOptions(scene, m_arrays)) {
     using gpu::Buffer;
-    m_paramsBuffer = Buffer(context, sizeof(gpu::RenderParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
+    m_paramsBuffer = Buffer(context, sizeof(gpu::RenderParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, 0,
+                            VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, "render parameters");
     uploadParams();
     m_accum = Buffer(context, VkDeviceSize(m_params.width) * m_params.height * sizeof(glm::vec4),
-                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, "accumulation");
     // Nodes and primitives are read by the traversal as texel buffers (bvh.glsl); the
     // primitives also as a storage buffer by shading and light sampling.
     const VkBufferUsageFlags texels = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
-    m_nodes = Buffer::fromVector(context, m_arrays.bvh.childPairs, texels);
-    m_primitives = Buffer::fromVector(context, m_arrays.bvh.primitives, texels | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-    m_normals = Buffer::fromVector(context, m_arrays.normals);
-    m_materials = Buffer::fromVector(context, m_arrays.materials, texels);
-    m_lights = Buffer::fromVector(context, m_arrays.lights);
-    m_lightTable = Buffer::fromVector(context, m_arrays.lightTable);
-    m_meshTable = Buffer::fromVector(context, m_arrays.meshTable);
+    m_nodes = Buffer::fromVector(context, m_arrays.bvh.childPairs, "BVH child pairs", texels);
+    m_primitives = Buffer::fromVector(context, m_arrays.bvh.primitives, "primitives",
+                                      texels | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    m_normals = Buffer::fromVector(context, m_arrays.normals, "triangle normals");
+    m_materials = Buffer::fromVector(context, m_arrays.materials, "materials", texels);
+    m_lights = Buffer::fromVector(context, m_arrays.lights, "lights");
+    m_lightTable = Buffer::fromVector(context, m_arrays.lightTable, "light selection table");
+    m_meshTable = Buffer::fromVector(context, m_arrays.meshTable, "mesh light table");
     m_rayCount = Buffer(context, sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
 
     m_kernel = createKernel(m_options);
@@ -126,35 +130,45 @@ void Renderer::compileKernel() const {
 }
 
 void Renderer::recordPasses(VkCommandBuffer cmd, uint32_t first, uint32_t count, uint32_t firstRow,
-                            uint32_t rowCount) const {
+                            uint32_t rowCount, uint32_t firstColumn, uint32_t columnCount) const {
     rowCount = std::min(rowCount, m_params.height - std::min(firstRow, m_params.height));
-    if (rowCount == 0) return;
-    uint32_t groupsX = (m_params.width + kTile - 1) / kTile;
-    uint32_t groupsY = (rowCount + kTile - 1) / kTile;
+    columnCount = std::min(columnCount, m_params.width - std::min(firstColumn, m_params.width));
+    if (rowCount == 0 || columnCount == 0) return;
+    // The kernel bounds rows by rowCount but columns only by the film's width: a run of
+    // columns is whole tiles, or ends at the edge.
+    if (firstColumn % kTile != 0 || (columnCount % kTile != 0 && firstColumn + columnCount != m_params.width))
+        throw std::logic_error("recordPasses: a run of columns must be whole tiles or end at the film's edge");
+    const uint32_t groupsX = (columnCount + kTile - 1) / kTile;
+    const uint32_t groupsY = (rowCount + kTile - 1) / kTile;
     for (uint32_t i = 0; i < count; ++i) {
-        gpu::PassConstants pass{first + i, firstRow, rowCount, 0};
+        gpu::PassConstants pass{first + i, firstRow, rowCount, firstColumn};
         m_kernel->record(cmd, groupsX, groupsY, 1, &pass);
         gpu::computeToComputeBarrier(cmd);  // this pass's sums -> the next pass / readback
     }
 }
 
-void Renderer::renderAll(const std::function<void(const RenderProgress&)>& progress, const std::atomic<bool>* cancel) {
+void Renderer::renderAll(const std::function<void(const RenderProgress&)>& progress, const std::atomic<bool>* cancel,
+                         const RenderPacing& pacing) {
     using Clock = std::chrono::steady_clock;
     const uint32_t total = m_scene.sampler.spp;
     const auto start = Clock::now();
-    uint32_t done = 0, batch = 1;
-    // Grow the number of passes per submission until one takes about a quarter second:
-    // few submissions, yet progress (and cancellation) still several times a second.
-    while (done < total) {
+    // Each submission is sized to take about pacing.targetSeconds (render/pass_bands.h), by
+    // the device's time for it: the wall time also holds a fixed cost per submission that
+    // does not grow with the work (gpu/gpu_timer.h).
+    PassBands bands(m_params.width, m_params.height, total, pacing.maxPixelSamples);
+    const gpu::GpuTimer timer(m_context);
+    while (!bands.finished()) {
         if (cancel && cancel->load()) throw std::runtime_error("render interrupted");
-        uint32_t count = std::min(batch, total - done);
-        auto t0 = Clock::now();
-        m_context.submitAndWait([&](VkCommandBuffer cmd) { recordPasses(cmd, done, count, 0, m_params.height); });
-        double took = std::chrono::duration<double>(Clock::now() - t0).count();
-        done += count;
-        if (took < 0.1 && batch < 1024) batch *= 2;
-        else if (took > 0.5 && batch > 1) batch /= 2;
-        if (progress) progress({done, total, std::chrono::duration<double>(Clock::now() - start).count()});
+        const PassBand b = bands.next(pacing.targetSeconds);
+        const auto t0 = Clock::now();
+        m_context.submitAndWait([&](VkCommandBuffer cmd) {
+            timer.start(cmd);
+            recordPasses(cmd, b.firstSample, b.count, b.firstRow, b.rowCount, b.firstColumn, b.columnCount);
+            timer.stop(cmd);
+        });
+        const double device = timer.seconds();
+        bands.measured(device >= 0.0 ? device : std::chrono::duration<double>(Clock::now() - t0).count());
+        if (progress) progress({bands.samplesDone(), total, std::chrono::duration<double>(Clock::now() - start).count()});
     }
 }
 

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <atomic>
+#include <climits>
 #include <functional>
 #include <memory>
 
@@ -22,6 +23,12 @@ struct RenderProgress {
     uint32_t samplesDone = 0;  // per pixel
     uint32_t samplesTotal = 0;
     double seconds = 0.0;      // since the render started
+};
+
+// How Renderer::renderAll sizes its GPU submissions (render/pass_bands.h).
+struct RenderPacing {
+    double targetSeconds = 0.25;   // per submission: a stop waits about this long
+    uint64_t maxPixelSamples = 0;  // per submission; 0: only the time bounds it (tests set it)
 };
 
 class Renderer {
@@ -53,12 +60,17 @@ public:
     // (penumbra:render_seconds) count that compilation as start-up, not as rendering.
     void compileKernel() const;
     // Records `count` passes, sample indices [first, first + count), over rows
-    // [firstRow, firstRow + rowCount) into `cmd`, each followed by a barrier.
-    void recordPasses(VkCommandBuffer cmd, uint32_t first, uint32_t count, uint32_t firstRow, uint32_t rowCount) const;
+    // [firstRow, firstRow + rowCount) into `cmd`, each followed by a barrier; with
+    // `firstColumn`, only columns [firstColumn, firstColumn + columnCount), where
+    // firstColumn and columnCount are multiples of 8 or the run ends at the film's edge.
+    void recordPasses(VkCommandBuffer cmd, uint32_t first, uint32_t count, uint32_t firstRow, uint32_t rowCount,
+                      uint32_t firstColumn = 0, uint32_t columnCount = UINT32_MAX) const;
     // Runs passes until the scene's spp is reached, calling `progress` after each
-    // submission. Stops early (throwing std::runtime_error) if `cancel` becomes true.
+    // submission. Each submission is sized (render/pass_bands.h) to take about
+    // `pacing.targetSeconds`, so a stop is seen promptly: if `cancel` becomes true the
+    // render stops at the next submission, throwing std::runtime_error.
     void renderAll(const std::function<void(const RenderProgress&)>& progress = {},
-                   const std::atomic<bool>* cancel = nullptr);
+                   const std::atomic<bool>* cancel = nullptr, const RenderPacing& pacing = RenderPacing());
     // Rays traced (camera, shadow and BRDF rays) by `passes` passes over the whole film,
     // sample indices [0, passes), run with a ray-counting variant of the kernel; for
     // benchmarks (rays per second). The samples land in the accumulation: reset() after.

@@ -18,7 +18,7 @@ layout(std430, binding = BINDING_RAY_COUNT) restrict buffer RayCount { uint rayC
 
 // This invocation's pixel, or false when it lies outside the film / the pass's rows.
 bool invocationPixel(out uvec2 pixel) {
-    pixel = uvec2(gl_GlobalInvocationID.x, gl_GlobalInvocationID.y + pass.firstRow);
+    pixel = uvec2(gl_GlobalInvocationID.x + pass.firstColumn, gl_GlobalInvocationID.y + pass.firstRow);
     return pixel.x < params.width && gl_GlobalInvocationID.y < pass.rowCount && pixel.y < params.height;
 }
 

@@ -237,12 +237,14 @@ struct RenderParams {
 };
 
 // Per-dispatch constants: which sample index this pass adds, to which rows of pixels
-// (the preview renders a band of rows per frame to stay responsive).
+// (the preview renders a band of rows per frame to stay responsive), from which column
+// on (render/pass_bands.h: a heavy row is split into runs of tiles; the dispatch's width
+// ends the run).
 struct PassConstants {
     uint sampleIndex;  // relative to sampleOffset
     uint firstRow;
     uint rowCount;
-    uint pad;
+    uint firstColumn;
 };
 
 // ---- Preview tone map (shaders/preview/tonemap.comp) ------------------------------------

@@ -1,0 +1,252 @@
+// Prompt stop (render/pass_bands.h): a render is split into submissions of bounded time,
+// so SIGINT/SIGTERM end `render` and `batch` within 2 s even with 65536 light and BRDF
+// samples per pixel sample, writing nothing; and the split never changes a pixel.
+#include <pty.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <csignal>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <random>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "gpu_fixture.h"
+#include "render/pass_bands.h"
+#include "render/renderer.h"
+#include "render_helpers.h"
+
+using namespace penumbra;
+using nlohmann::json;
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+// A floor, a sphere, a sphere light and a point light. The width is not a multiple of the
+// 8-pixel tile, so runs of columns end at the film's edge too.
+json litScene(uint32_t width, uint32_t height) {
+    return {
+        {"camera", {{"eye", {0, 1, 4}}, {"target", {0, 0.5, 0}}, {"fov_y", 40}}},
+        {"film", {{"width", width}, {"height", height}}},
+        {"sampler", {{"spp", 3}}},
+        {"integrator", {{"type", "direct"}}},
+        {"materials", {{"floor", {{"type", "diffuse"}, {"albedo", {0.5, 0.5, 0.5}}}}}},
+        {"shapes",
+         {{{"type", "quad"}, {"origin", {-2, 0, -2}}, {"edge_u", {0, 0, 4}}, {"edge_v", {4, 0, 0}}, {"material", "floor"}},
+          {{"type", "sphere"}, {"center", {0, 0.5, 0}}, {"radius", 0.5}},
+          {{"type", "sphere"}, {"center", {1, 2, 1}}, {"radius", 0.3}, {"emission", {5, 5, 5}}}}},
+        {"lights", {{{"type", "point"}, {"position", {-1, 2, 1}}, {"power", {20, 20, 20}}}}},
+    };
+}
+
+bool samePixels(const Image& a, const Image& b) {
+    return a.width == b.width && a.height == b.height && a.rgb.size() == b.rgb.size() &&
+           std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)) == 0;
+}
+
+fs::path freshDir(const std::string& name) {
+    fs::path dir = test::outputPath("stop") / name;
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir;
+}
+
+// Runs penumbra with `args` on a pseudo-terminal (so that it prints progress), waits until
+// the progress shows the render running, sends `signal`, and returns the seconds from the
+// signal to the exit; `status` gets the wait status, `output` what it printed.
+double secondsToStop(const std::vector<std::string>& args, int signal, int& status, std::string& output) {
+    std::vector<char*> argv{const_cast<char*>(PENUMBRA_EXECUTABLE)};
+    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    int master = -1;
+    pid_t pid = forkpty(&master, nullptr, nullptr, nullptr);
+    if (pid < 0) return -1.0;
+    if (pid == 0) {
+        execv(PENUMBRA_EXECUTABLE, argv.data());
+        _exit(127);
+    }
+    // Reads what is there within `timeout` seconds; false at end of output.
+    auto pump = [&](double timeout) {
+        fd_set set;
+        FD_ZERO(&set);
+        FD_SET(master, &set);
+        timeval tv{0, int(timeout * 1e6)};
+        if (select(master + 1, &set, nullptr, nullptr, &tv) <= 0) return true;
+        char buffer[4096];
+        ssize_t n = read(master, buffer, sizeof buffer);
+        if (n <= 0) return false;
+        output.append(buffer, size_t(n));
+        return true;
+    };
+    // "N/M spp" is printed after each submission of the render loop.
+    const auto startDeadline = Clock::now() + std::chrono::seconds(120);
+    while (output.find(" spp") == std::string::npos && Clock::now() < startDeadline)
+        if (!pump(0.05)) break;
+    if (output.find(" spp") == std::string::npos) {
+        kill(pid, SIGKILL);
+        waitpid(pid, &status, 0);
+        close(master);
+        return -1.0;
+    }
+    const auto signalled = Clock::now();
+    kill(pid, signal);
+    const auto stopDeadline = signalled + std::chrono::seconds(60);
+    while (waitpid(pid, &status, WNOHANG) == 0) {
+        if (Clock::now() > stopDeadline) {
+            kill(pid, SIGKILL);
+            waitpid(pid, &status, 0);
+            break;
+        }
+        pump(0.01);  // keep the terminal drained so the child never blocks on it
+    }
+    const double seconds = std::chrono::duration<double>(Clock::now() - signalled).count();
+    while (pump(0.0)) {
+    }
+    close(master);
+    return seconds;
+}
+
+// The heavy settings: every pixel sample draws 65536 light and 65536 BRDF samples (one
+// whole pass of this film takes seconds on lavapipe, the render half a minute or more).
+json heavyScene() {
+    json doc = litScene(128, 96);
+    doc["integrator"] = {{"type", "direct"}, {"light_samples", 65536}, {"bsdf_samples", 65536}};
+    doc["sampler"]["spp"] = 8;
+    return doc;
+}
+
+}  // namespace
+
+TEST(PassBands, EveryPixelGetsEverySampleOnceInOrder) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> seconds(0.0, 0.6);
+    for (auto [width, height, spp] : {std::tuple{21u, 10u, 5u}, {8u, 3u, 4u}, {5u, 7u, 3u}, {64u, 9u, 2u}, {1u, 1u, 6u}}) {
+        std::vector<uint32_t> next(size_t(width) * height, 0);  // the sample index each pixel expects
+        PassBands bands(width, height, spp);
+        int submissions = 0;
+        while (!bands.finished()) {
+            ASSERT_LT(++submissions, 100000);
+            const PassBand band = bands.next(0.25);
+            // Runs of columns are whole tiles or end at the edge (a dispatch covers tiles).
+            ASSERT_EQ(band.firstColumn % PassBands::kTile, 0u);
+            ASSERT_TRUE(band.columnCount % PassBands::kTile == 0 || band.firstColumn + band.columnCount == width);
+            ASSERT_LE(band.firstRow + band.rowCount, height);
+            ASSERT_LE(band.firstColumn + band.columnCount, width);
+            ASSERT_GE(band.pixelSamples(), 1u);
+            for (uint32_t s = band.firstSample; s < band.firstSample + band.count; ++s)
+                for (uint32_t y = band.firstRow; y < band.firstRow + band.rowCount; ++y)
+                    for (uint32_t x = band.firstColumn; x < band.firstColumn + band.columnCount; ++x)
+                        ASSERT_EQ(next[size_t(y) * width + x]++, s) << "pixel " << x << "," << y;
+            bands.measured(seconds(rng) * double(band.pixelSamples()) / 64.0);
+            for (uint32_t v : next) EXPECT_GE(v, bands.samplesDone());
+        }
+        for (uint32_t v : next) EXPECT_EQ(v, spp);
+    }
+}
+
+TEST(PassBands, ASplitPassVisitsTheFilmSpreadOut) {
+    // Strips of 8 rows, first bands at rows 0, 32, 16, 48: the first submissions sample
+    // the whole height of the film.
+    PassBands bands(16, 64, 1);
+    std::vector<uint32_t> rows;
+    for (int i = 0; i < 4; ++i) {
+        rows.push_back(bands.next(0.25).firstRow);
+        bands.measured(1e-3);
+    }
+    EXPECT_EQ(rows, (std::vector<uint32_t>{0, 32, 16, 48}));
+}
+
+namespace {
+
+// Simulated device times: per pixel sample, `cost(row)`; returns the longest band's time.
+double simulate(uint32_t width, uint32_t height, uint32_t spp, const std::function<double(uint32_t)>& cost,
+                int* submissions = nullptr) {
+    PassBands bands(width, height, spp);
+    double longest = 0.0;
+    int n = 0;
+    while (!bands.finished()) {
+        const PassBand band = bands.next(0.25);
+        double seconds = 0.0;
+        for (uint32_t y = band.firstRow; y < band.firstRow + band.rowCount; ++y)
+            seconds += cost(y) * band.columnCount * band.count;
+        bands.measured(seconds);
+        if (n++ > 0) longest = std::max(longest, seconds);  // the first band: one tile, unknown cost
+    }
+    if (submissions) *submissions = n;
+    return longest;
+}
+
+}  // namespace
+
+TEST(PassBands, ABudgetLearntOnCheapPixelsIsNotSpentOnCostlyOnes) {
+    // Sky above row 40 costs nothing; below, each pixel sample takes 20 ms (one row of the
+    // film 2.6 s), as with 65536 light and BRDF samples. No submission may take a second.
+    EXPECT_LT(simulate(128, 96, 2, [](uint32_t y) { return y < 40 ? 1e-7 : 0.02; }), 1.0);
+    // The same the other way up. (A costly region smaller than a strip, below cheap rows of
+    // it, can still take one band of up to twice the last band's pixels: pass_bands.h.)
+    EXPECT_LT(simulate(128, 96, 2, [](uint32_t y) { return y >= 56 ? 1e-7 : 0.02; }), 1.0);
+    // A cheap film soon renders whole passes, many per submission.
+    int submissions = 0;
+    EXPECT_LT(simulate(64, 48, 4096, [](uint32_t) { return 1e-7; }, &submissions), 0.6);
+    EXPECT_LT(submissions, 100);
+}
+
+TEST(PassBands, SplittingARenderChangesNoPixel) {
+    // A sample's value depends only on (seed, pixel, sample index) and each pixel's sum
+    // receives its samples in the same order, so the bands must give identical bits.
+    const gpu::Context& context = test::gpuContext();
+    Scene scene = test::sceneFromJson(litScene(21, 10), "stop-bands");
+    Renderer whole(context, scene);
+    whole.renderAll({}, nullptr, RenderPacing{1.0, 1024 * 21 * 10});
+    const Image reference = whole.readback(0);
+    for (uint64_t maxPixelSamples : {1ull, 13ull, 21ull * 3 + 5, 21ull * 10 + 1}) {
+        Renderer banded(context, scene);
+        banded.renderAll({}, nullptr, RenderPacing{1.0, maxPixelSamples});
+        EXPECT_TRUE(samePixels(banded.readback(0), reference)) << "max " << maxPixelSamples << " pixel samples";
+    }
+    EXPECT_TRUE(samePixels(test::renderScene(scene), reference));
+}
+
+TEST(RenderStop, RenderStopsWithinTwoSecondsOfTheSignalWritingNothing) {
+    for (int signal : {SIGINT, SIGTERM}) {
+        fs::path dir = freshDir(signal == SIGINT ? "render-int" : "render-term");
+        fs::path scene = dir / "heavy.json";
+        std::ofstream(scene) << heavyScene().dump();
+        int status = 0;
+        std::string output;
+        const double seconds = secondsToStop(
+            {"render", scene.string(), "-o", (dir / "out.exr").string(), "--png", (dir / "out.png").string()}, signal,
+            status, output);
+        ASSERT_GE(seconds, 0.0) << "the render never showed progress: " << output;
+        EXPECT_LT(seconds, 2.0) << strsignal(signal) << ": " << output;
+        ASSERT_TRUE(WIFEXITED(status)) << output;
+        EXPECT_EQ(WEXITSTATUS(status), 1) << output;
+        EXPECT_NE(output.find("render interrupted"), std::string::npos) << output;
+        EXPECT_EQ(std::distance(fs::directory_iterator(dir), {}), 1) << "something was written: " << output;
+    }
+}
+
+TEST(RenderStop, BatchStopsWithinTwoSecondsOfTheSignalWritingNothing) {
+    for (int signal : {SIGTERM, SIGINT}) {
+        fs::path dir = freshDir(signal == SIGINT ? "batch-int" : "batch-term");
+        std::ofstream(dir / "heavy.json") << heavyScene().dump();
+        json jobs = {{"jobs", {{{"scene", "heavy.json"}, {"output", "out.exr"}, {"png", true}}}}};
+        std::ofstream(dir / "jobs.json") << jobs.dump();
+        int status = 0;
+        std::string output;
+        const double seconds = secondsToStop({"batch", (dir / "jobs.json").string()}, signal, status, output);
+        ASSERT_GE(seconds, 0.0) << "the batch never showed progress: " << output;
+        EXPECT_LT(seconds, 2.0) << strsignal(signal) << ": " << output;
+        ASSERT_TRUE(WIFEXITED(status)) << output;
+        EXPECT_EQ(WEXITSTATUS(status), 1) << output;
+        EXPECT_NE(output.find("interrupted, nothing written"), std::string::npos) << output;
+        EXPECT_NE(output.find("batch interrupted"), std::string::npos) << output;
+        EXPECT_EQ(std::distance(fs::directory_iterator(dir), {}), 2) << "something was written: " << output;
+    }
+}
