@@ -94,8 +94,10 @@ struct LightSamplingModes {
 // at least asin(s) above its plane lies inside a disk seen within 2 pi (1 - s) = 6.09 sr.
 // Both bounds were chosen by measurement (README, "Quad and triangle sampling";
 // LightSamplingMeasure in tests/test_light_sampling.cpp): with the fallback off, chi-square
-// fails at 3e-4 sr, at 1 degree and above 6.25 sr, and passes at 1e-3 sr, 3 degrees and
-// 6.2 sr; with it on, the tests pass on both sides of each bound. The decision is a function
+// of the spherical-rectangle map fails at 3e-4 sr and at 1 degree and passes at 1e-3 sr and
+// 3 degrees; every warp fails above 6.25 sr and passes at 6.2 sr (the spherical-triangle warp
+// holds down to 1e-7 sr and 0.1 degree: one pair of bounds serves both for now). With the
+// fallback on, the tests pass on both sides of each bound. The decision is a function
 // of the shading point and the light only, so lightPdf (MIS) takes the same one as sampleLight.
 bool sphericalSolidAngleUsable(float solidAngle, LightSamplingModes modes) { return solidAngle >= modes.minSolidAngle; }
 
