@@ -94,8 +94,10 @@ struct LightSamplingModes {
 // at least asin(s) above its plane lies inside a disk seen within 2 pi (1 - s) = 6.09 sr.
 // Both bounds were chosen by measurement (README, "Quad and triangle sampling";
 // LightSamplingMeasure in tests/test_light_sampling.cpp): with the fallback off, chi-square
-// fails at 3e-4 sr, at 1 degree and above 6.25 sr, and passes at 1e-3 sr, 3 degrees and
-// 6.2 sr; with it on, the tests pass on both sides of each bound. The decision is a function
+// of the spherical-rectangle map fails at 3e-4 sr and at 1 degree and passes at 1e-3 sr and
+// 3 degrees; every warp fails above 6.25 sr and passes at 6.2 sr (the spherical-triangle warp
+// holds down to 1e-7 sr and 0.1 degree: one pair of bounds serves both for now). With the
+// fallback on, the tests pass on both sides of each bound. The decision is a function
 // of the shading point and the light only, so lightPdf (MIS) takes the same one as sampleLight.
 bool sphericalSolidAngleUsable(float solidAngle, LightSamplingModes modes) { return solidAngle >= modes.minSolidAngle; }
 
@@ -120,7 +122,8 @@ bool triangleSolidAngle(Primitive p, vec3 x, LightSamplingModes modes, out float
 bool quadIsRectangle(Primitive p) { return abs(dot(p.p1, p.p2)) <= 1e-5 * length(p.p1) * length(p.p2); }
 
 // The solid angles of the quad's two triangles from x; whether the quad is sampled in solid
-// angle from x (else on its area): the rectangle's total, or each triangle's, in range.
+// angle from x (else on its area): seen above the grazing bound, and the rectangle's total
+// solid angle, or each triangle's, above the smallest.
 bool quadSolidAngles(Primitive p, vec3 x, LightSamplingModes modes, out float omega0, out float omega1) {
     vec3 v0 = p.p0, v1 = p.p0 + p.p1, v2 = v1 + p.p2, v3 = p.p0 + p.p2;
     omega0 = sphericalTriangleSolidAngle(v0, v1, v2, x);
@@ -128,6 +131,13 @@ bool quadSolidAngles(Primitive p, vec3 x, LightSamplingModes modes, out float om
     if (!sphericalElevationUsable(v0, v1, v2, v3, primitiveFrontNormal(p), x, modes)) return false;
     if (quadIsRectangle(p)) return sphericalSolidAngleUsable(omega0 + omega1, modes);
     return sphericalSolidAngleUsable(omega0, modes) && sphericalSolidAngleUsable(omega1, modes);
+}
+
+// Where the ray x + t w (t > 0) meets the plane through v with normal n (any length).
+bool planePoint(vec3 x, vec3 w, vec3 v, vec3 n, out vec3 y) {
+    float t = dot(n, v - x) / dot(n, w);
+    y = x + t * w;
+    return t > 0.0 && !isinf(t);
 }
 
 // A point on quad p whose direction from x is uniform in the quad's solid angle
@@ -145,12 +155,7 @@ bool sampleQuadSolidAngle(Primitive p, vec3 x, vec2 u, float uChoice, float omeg
     vec3 a = v0, b = first ? v1 : v2, c = first ? v2 : v3;
     vec3 w;
     if (!sampleSphericalTriangle(a, b, c, x, first ? omega0 : omega1, u, w)) return false;
-    // Where the direction meets the quad's plane.
-    vec3 n = cross(p.p1, p.p2);
-    float t = dot(n, p.p0 - x) / dot(n, w);
-    if (!(t > 0.0) || isinf(t)) return false;
-    y = x + t * w;
-    return true;
+    return planePoint(x, w, p.p0, cross(p.p1, p.p2), y);
 }
 
 // Area of a triangle primitive.
@@ -161,11 +166,7 @@ bool sampleTriangleSolidAngle(Primitive p, vec3 x, vec2 u, float omega, out vec3
     y = x;
     vec3 w;
     if (!sampleSphericalTriangle(p.p0, p.p1, p.p2, x, omega, u, w)) return false;
-    vec3 n = cross(p.p1 - p.p0, p.p2 - p.p0);
-    float t = dot(n, p.p0 - x) / dot(n, w);
-    if (!(t > 0.0) || isinf(t)) return false;
-    y = x + t * w;
-    return true;
+    return planePoint(x, w, p.p0, cross(p.p1 - p.p0, p.p2 - p.p0), y);
 }
 
 // sin^2 and 1 - cos of the half-angle of the cone a sphere of radius r subtends at
