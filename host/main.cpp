@@ -92,7 +92,8 @@ int main(int argc, char** argv) {
     // unless the inputs are trusted (README, "glTF file access").
     bool anyPath = false;
     for (CLI::App* cmd : {renderCmd, batchCmd, previewCmd})
-        cmd->add_flag("--allow-any-path", anyPath, "trusted inputs: let scenes and glTF models read files outside their folder");
+        cmd->add_flag("--allow-any-path", anyPath,
+                      "trusted inputs: let scenes and glTF models read files outside their folder");
 
     try {
         app.parse(argc, argv);

@@ -28,21 +28,29 @@ inline std::string base64(const std::vector<uint8_t>& bytes) {
 // Builds a glTF document: binary data goes into one buffer, each array into its own
 // bufferView and accessor.
 struct GltfBuilder {
-    nlohmann::json doc = {{"asset", {{"version", "2.0"}}}, {"scenes", {{{"nodes", nlohmann::json::array()}}}}, {"scene", 0}};
+    nlohmann::json doc = {
+        {"asset", {{"version", "2.0"}}}, {"scenes", {{{"nodes", nlohmann::json::array()}}}}, {"scene", 0}};
     std::vector<uint8_t> bin;
 
-    int addAccessor(const void* data, size_t bytes, int componentType, size_t count, const char* type, size_t stride = 0) {
+    int addAccessor(const void* data, size_t bytes, int componentType, size_t count, const char* type,
+                    size_t stride = 0) {
         while (bin.size() % 4) bin.push_back(0);
         nlohmann::json view = {{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", bytes}};
         if (stride) view["byteStride"] = stride;
         bin.insert(bin.end(), static_cast<const uint8_t*>(data), static_cast<const uint8_t*>(data) + bytes);
         doc["bufferViews"].push_back(view);
-        doc["accessors"].push_back({{"bufferView", doc["bufferViews"].size() - 1}, {"componentType", componentType},
-                                    {"count", count}, {"type", type}});
+        doc["accessors"].push_back({{"bufferView", doc["bufferViews"].size() - 1},
+                                    {"componentType", componentType},
+                                    {"count", count},
+                                    {"type", type}});
         return int(doc["accessors"].size()) - 1;
     }
-    int positions(const std::vector<float>& p) { return addAccessor(p.data(), p.size() * 4, 5126, p.size() / 3, "VEC3"); }
-    int indices(const std::vector<uint32_t>& i) { return addAccessor(i.data(), i.size() * 4, 5125, i.size(), "SCALAR"); }
+    int positions(const std::vector<float>& p) {
+        return addAccessor(p.data(), p.size() * 4, 5126, p.size() / 3, "VEC3");
+    }
+    int indices(const std::vector<uint32_t>& i) {
+        return addAccessor(i.data(), i.size() * 4, 5125, i.size(), "SCALAR");
+    }
 
     // A mesh with one primitive, instanced by a new root node; returns the node index.
     int addMeshNode(nlohmann::json primitive, nlohmann::json node = nlohmann::json::object()) {
@@ -50,7 +58,7 @@ struct GltfBuilder {
         node["mesh"] = doc["meshes"].size() - 1;
         return addNode(node);
     }
-    int addNode(nlohmann::json node, bool root = true) {
+    int addNode(const nlohmann::json& node, bool root = true) {
         doc["nodes"].push_back(node);
         int index = int(doc["nodes"].size()) - 1;
         if (root) doc["scenes"][0]["nodes"].push_back(index);
@@ -58,7 +66,8 @@ struct GltfBuilder {
     }
     // The unit right triangle in the z = 0 plane, counter-clockwise seen from +z.
     nlohmann::json triangle() {
-        return {{"attributes", {{"POSITION", positions({0, 0, 0, 1, 0, 0, 0, 1, 0})}}}, {"indices", indices({0, 1, 2})}};
+        return {{"attributes", {{"POSITION", positions({0, 0, 0, 1, 0, 0, 0, 1, 0})}}},
+                {"indices", indices({0, 1, 2})}};
     }
 
     std::string gltf() const {

@@ -61,9 +61,9 @@ std::vector<gpu::LightTestRecord> LightKernel::run(gpu::LightTestPush push, cons
     return records;
 }
 
-std::vector<gpu::LightTestRecord> LightKernel::sample(uint32_t light, glm::vec3 x, glm::vec3 n,
-                                                      uint32_t sphereSampling, uint32_t seed, uint32_t count,
-                                                      uint32_t quadSampling, uint32_t triangleSampling) {
+std::vector<gpu::LightTestRecord> LightKernel::sample(uint32_t light, glm::vec3 x, glm::vec3 n, uint32_t sphereSampling,
+                                                      uint32_t seed, uint32_t count, uint32_t quadSampling,
+                                                      uint32_t triangleSampling) {
     gpu::LightTestPush push{};
     push.mode = gpu::LIGHT_TEST_MODE_SAMPLE;
     push.x = x;

@@ -430,7 +430,7 @@ TEST(Bvh, NonFiniteRaysMissAndTerminate) {
         for (glm::vec4 d : {glm::vec4(0, 0, -1, 0), glm::vec4(nan, nan, nan, 0), glm::vec4(0, -inf, 0, 0)})
             if (!(o.z == 5 && d.z == -1)) rays.push_back({o, d});
     Random rng(8);
-    for (auto scene : {std::vector<gpu::Primitive>{}, randomScene(rng, 50, 5, 5, 4.0f)}) {
+    for (const auto& scene : {std::vector<gpu::Primitive>{}, randomScene(rng, 50, 5, 5, 4.0f)}) {
         Bvh bvh = buildBvh(scene);
         for (const TraceRay& ray : rays) {
             EXPECT_FALSE(intersectClosest(bvh, vec3(ray.originTMax), vec3(ray.dir), kInf)) << describe(ray);

@@ -1,15 +1,15 @@
 // The command line from the outside, as scripts use it: exit statuses, one-line errors
 // naming file and JSON path, nothing written on failure, deterministic output, merge,
 // compare and devices.
+#include <sys/wait.h>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <regex>
-#include <sys/wait.h>
 
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 #include <vulkan/vulkan.h>
+#include <nlohmann/json.hpp>
 
 #include "gpu_fixture.h"
 #include "image/image.h"

@@ -146,9 +146,9 @@ TEST(DirectClosedForm, QuadLightEveryStrategy) {
     doc["shapes"].push_back({{"type", "quad"}, {"origin", {-0.5, h, -0.5}}, {"edge_u", {1, 0, 0}}, {"edge_v", {0, 0, 1}},
                              {"emission", {Le, Le, Le}}, {"material", "black"}});
     std::vector<glm::dvec3> quad = {{-0.5, h, -0.5}, {0.5, h, -0.5}, {0.5, h, 0.5}, {-0.5, h, 0.5}};
-    expectAreaLightMatches(doc, allStrategies({{"quad_sampling", "area"}}), [&](glm::dvec3 x) {
-        return kAlbedo / M_PI * polygonIrradiance(quad, x, Le);
-    }, "quad");
+    expectAreaLightMatches(
+        doc, allStrategies({{"quad_sampling", "area"}}),
+        [&](glm::dvec3 x) { return kAlbedo / M_PI * polygonIrradiance(quad, x, Le); }, "quad");
 }
 
 TEST(DirectClosedForm, QuadLightsInSolidAngleEveryStrategy) {
@@ -164,16 +164,19 @@ TEST(DirectClosedForm, QuadLightsInSolidAngleEveryStrategy) {
     for (const Quad& q : quads) {
         json doc = planeScene(256, direct("light"));
         // edge_u x edge_v must face down (-y) toward the plane: u = x, v = z gives -y.
-        doc["shapes"].push_back({{"type", "quad"}, {"origin", {q.origin.x, q.origin.y, q.origin.z}},
-                                 {"edge_u", {q.u.x, q.u.y, q.u.z}}, {"edge_v", {q.v.x, q.v.y, q.v.z}},
-                                 {"emission", {Le, Le, Le}}, {"material", "black"}});
+        doc["shapes"].push_back({{"type", "quad"},
+                                 {"origin", {q.origin.x, q.origin.y, q.origin.z}},
+                                 {"edge_u", {q.u.x, q.u.y, q.u.z}},
+                                 {"edge_v", {q.v.x, q.v.y, q.v.z}},
+                                 {"emission", {Le, Le, Le}},
+                                 {"material", "black"}});
         std::vector<glm::dvec3> outline = {q.origin, q.origin + q.u, q.origin + q.u + q.v, q.origin + q.v};
         std::vector<json> integrators = allStrategies({{"quad_sampling", "solid_angle"}});
         if (q.name == "parallelogram")
             for (json& j : allStrategies({{"quad_sampling", "area"}})) integrators.push_back(j);
-        expectAreaLightMatches(doc, integrators, [&](glm::dvec3 x) {
-            return kAlbedo / M_PI * polygonIrradiance(outline, x, Le);
-        }, "quad-solid-angle-" + q.name);
+        expectAreaLightMatches(
+            doc, integrators, [&](glm::dvec3 x) { return kAlbedo / M_PI * polygonIrradiance(outline, x, Le); },
+            "quad-solid-angle-" + q.name);
     }
 }
 
@@ -227,18 +230,21 @@ TEST(DirectClosedForm, MeshLightTrianglesInSolidAngleEveryStrategy) {
     // The fan of MeshLightIsSumOfItsTriangles, lower (large solid angles), each triangle
     // sampled in its spherical triangle.
     const double Le = 5.0, h = 0.6;
-    std::vector<glm::dvec3> outline = {{0.9, h, 0.0}, {0.3, h, 0.7}, {-0.4, h, 0.5},
+    std::vector<glm::dvec3> outline = {{0.9, h, 0.0},  {0.3, h, 0.7},   {-0.4, h, 0.5},
                                        {-0.8, h, 0.0}, {-0.3, h, -0.9}, {0.5, h, -0.6}};
     json positions = json::array({0.0, h, 0.0});
     for (auto& v : outline) positions.insert(positions.end(), {v.x, v.y, v.z});
     json indices = json::array();
     for (int i = 0; i < 6; ++i) indices.insert(indices.end(), {0, 1 + i, 1 + (i + 1) % 6});
     json doc = planeScene(256, direct("light"));
-    doc["shapes"].push_back({{"type", "mesh"}, {"positions", positions}, {"indices", indices},
-                             {"emission", {Le, Le, Le}}, {"material", "black"}});
-    expectAreaLightMatches(doc, allStrategies({{"triangle_sampling", "solid_angle"}}), [&](glm::dvec3 x) {
-        return kAlbedo / M_PI * polygonIrradiance(outline, x, Le);
-    }, "mesh-solid-angle");
+    doc["shapes"].push_back({{"type", "mesh"},
+                             {"positions", positions},
+                             {"indices", indices},
+                             {"emission", {Le, Le, Le}},
+                             {"material", "black"}});
+    expectAreaLightMatches(
+        doc, allStrategies({{"triangle_sampling", "solid_angle"}}),
+        [&](glm::dvec3 x) { return kAlbedo / M_PI * polygonIrradiance(outline, x, Le); }, "mesh-solid-angle");
 }
 
 TEST(DirectClosedForm, IrradianceIsIndependentOfSphereRadius) {
@@ -294,12 +300,16 @@ TEST(DirectVariance, QuadSolidAngleBelowAreaCloseUp) {
         json doc = planeScene(16, direct("light", {{"quad_sampling", samplings[i]}}));
         doc["sampler"]["type"] = "independent";
         doc["camera"] = test::topDownCamera(1.0, 0.0, 1.0);
-        doc["shapes"].push_back({{"type", "quad"}, {"origin", {-2, h, -1}}, {"edge_u", {2, 0, 0}}, {"edge_v", {0, 0, 2}},
-                                 {"emission", {Le, Le, Le}}, {"material", "black"}});
+        doc["shapes"].push_back({{"type", "quad"},
+                                 {"origin", {-2, h, -1}},
+                                 {"edge_u", {2, 0, 0}},
+                                 {"edge_v", {0, 0, 2}},
+                                 {"emission", {Le, Le, Le}},
+                                 {"material", "black"}});
         Scene scene = test::sceneFromJson(doc, std::string("quad-order-") + samplings[i]);
         mse[i] = test::meanSquaredError(test::renderScene(scene), test::expectedTopDown(scene, [&](glm::dvec3 x) {
-            return kAlbedo / M_PI * polygonIrradiance(quad, x, Le);
-        }));
+                                            return kAlbedo / M_PI * polygonIrradiance(quad, x, Le);
+                                        }));
     }
     // Each MSE averages 1024 pixels' squared errors of 16 independent samples.
     std::printf("[ quad sampling ] MSE solid_angle %.4g area %.4g: ratio area / solid_angle %.3g\n", mse[0], mse[1],

@@ -26,7 +26,8 @@ void expectGpuError(F&& f, std::initializer_list<std::string> needles) {
         f();
         ADD_FAILURE() << "no GpuError";
     } catch (const gpu::GpuError& e) {
-        for (const std::string& needle : needles) EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+        for (const std::string& needle : needles)
+            EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
     }
 }
 
@@ -44,8 +45,9 @@ TEST(GpuLimits, BufferSizeCheckNamesTheLimitAndTheBuffer) {
     EXPECT_NO_THROW(gpu::checkBufferSize("staging", 5000, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, limits, 0));
     expectGpuError([&] { gpu::checkBufferSize("staging", 5000, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, limits, 4096); },
                    {"maxMemoryAllocationSize (4096 bytes)"});
-    expectGpuError([&] { gpu::checkBufferSize("render parameters", 128, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, limits, 0); },
-                   {"maxUniformBufferRange"});
+    expectGpuError(
+        [&] { gpu::checkBufferSize("render parameters", 128, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, limits, 0); },
+        {"maxUniformBufferRange"});
     expectGpuError([&] { gpu::checkBufferSize("", uint64_t(3) << 30, storage, limits, 0); },
                    {"3072.0 MiB, 3221225472 bytes"});
 }
@@ -73,10 +75,10 @@ TEST(GpuLimits, AFilmBeyondTheStorageLimitFailsWithExitOneNamingIt) {
     std::ofstream(dir / "huge.json") << scene.dump();
     fs::remove(dir / "huge.exr");
     std::string err;
-    EXPECT_EQ(test::runPenumbra("render '" + (dir / "huge.json").string() + "' --quiet -o '" +
-                                    (dir / "huge.exr").string() + "'",
-                                &err),
-              1)
+    EXPECT_EQ(
+        test::runPenumbra(
+            "render '" + (dir / "huge.json").string() + "' --quiet -o '" + (dir / "huge.exr").string() + "'", &err),
+        1)
         << err;
     EXPECT_NE(err.find("accumulation buffer"), std::string::npos) << err;
     EXPECT_NE(err.find("maxStorageBufferRange"), std::string::npos) << err;

@@ -92,12 +92,14 @@ TEST(InputRules, DeeplyNestedSceneAndSetValueAreRefused) {
 TEST(InputRules, DeeplyNestedJobFilesAreRefusedBeforeAnythingRecurses) {
     // Both crashed (stack overflow dumping the value) before the depth limit.
     auto dir = freshTempDir();
-    auto set = writeFile(dir / "set.json", R"({"jobs": [{"scene": "a.json", "output": "a.exr", "set": {"camera.eye": )" +
-                                               nestedArrays(50000) + "}}]}");
+    auto set = writeFile(
+        dir / "set.json",
+        R"({"jobs": [{"scene": "a.json", "output": "a.exr", "set": {"camera.eye": )" + nestedArrays(50000) + "}}]}");
     EXPECT_TRUE(contains(jobError(set), set.string() + ": line 1, column ")) << jobError(set);
     EXPECT_TRUE(contains(jobError(set), ": nested deeper than 256 levels"));
     auto sweep = writeFile(dir / "sweep.json", R"([{"scene": "a.json", "output": "a{i}.exr",
-        "sweep": {"path": "camera.eye", "values": [)" + nestedObjects(50000) + "]}}]");
+        "sweep": {"path": "camera.eye", "values": [)" +
+                                                   nestedObjects(50000) + "]}}]");
     EXPECT_TRUE(contains(jobError(sweep), ": nested deeper than 256 levels")) << jobError(sweep);
 }
 
@@ -151,7 +153,8 @@ TEST(InputRules, DuplicateKeysAreRefusedWithTheirPath) {
     EXPECT_EQ(loadError(plain, {Override{"camera", R"({"fov_y": 30, "fov_y": 40})"}}),
               "--set camera: duplicate key \"fov_y\"");
 
-    auto jobs = writeFile(dir / "jobs.json", R"({"jobs": [{"scene": "a.json", "output": "a.exr", "output": "b.exr"}]})");
+    auto jobs =
+        writeFile(dir / "jobs.json", R"({"jobs": [{"scene": "a.json", "output": "a.exr", "output": "b.exr"}]})");
     EXPECT_EQ(jobError(jobs), jobs.string() + ": jobs[0]: duplicate key \"output\"");
 
     GltfBuilder b;
@@ -194,7 +197,8 @@ TEST(InputRules, NonIntegralGltfIndicesAreRefusedNotTruncated) {
                                                                 {{"type", "point"}, {"intensity", 2}}};
     light.addNode({{"extensions", {{"KHR_lights_punctual", {{"light", 0.5}}}}}});
     auto half = writeFile(dir / "light.gltf", light.gltf());
-    EXPECT_EQ(loadError(half), half.string() + ": nodes[1].extensions.KHR_lights_punctual.light: expected an integer, got 0.5");
+    EXPECT_EQ(loadError(half),
+              half.string() + ": nodes[1].extensions.KHR_lights_punctual.light: expected an integer, got 0.5");
 
     GltfBuilder mesh;
     mesh.addMeshNode(mesh.triangle());
@@ -206,7 +210,8 @@ TEST(InputRules, NonIntegralGltfIndicesAreRefusedNotTruncated) {
     attribute.addMeshNode(attribute.triangle());
     attribute.doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = 0.25;
     auto accessor = writeFile(dir / "attribute.gltf", attribute.gltf());
-    EXPECT_EQ(loadError(accessor), accessor.string() + ": meshes[0].primitives[0].attributes.POSITION: expected an integer, got 0.25");
+    EXPECT_EQ(loadError(accessor),
+              accessor.string() + ": meshes[0].primitives[0].attributes.POSITION: expected an integer, got 0.25");
 
     // Integral values written as floats are integers; extras are the author's own.
     GltfBuilder fine;
@@ -238,9 +243,11 @@ TEST(InputRules, ReadErrorsAndSymlinkLoopsSayWhatHappened) {
     auto dir = freshTempDir();
     fs::create_symlink(dir / "b.json", dir / "a.json");
     fs::create_symlink(dir / "a.json", dir / "b.json");
-    EXPECT_EQ(loadError(dir / "a.json"), (dir / "a.json").string() + ": cannot open file (too many levels of symbolic links)");
+    EXPECT_EQ(loadError(dir / "a.json"),
+              (dir / "a.json").string() + ": cannot open file (too many levels of symbolic links)");
     fs::create_symlink(dir / "loop.glb", dir / "loop.glb");
-    EXPECT_EQ(loadError(dir / "loop.glb"), (dir / "loop.glb").string() + ": cannot open file (too many levels of symbolic links)");
+    EXPECT_EQ(loadError(dir / "loop.glb"),
+              (dir / "loop.glb").string() + ": cannot open file (too many levels of symbolic links)");
 }
 
 // --- ranges -----------------------------------------------------------------------------
@@ -251,8 +258,9 @@ TEST(InputRules, RangesAreCheckedAtTheirLimits) {
         return writeFile(dir / "range.json", "{\"shapes\": " + shapes + ", \"lights\": " + lights + "}");
     };
     // Just inside: loads.
-    EXPECT_NO_THROW(loadScene(scene(R"([{"type": "sphere", "center": [1e8, -1e8, 0], "radius": 1e8, "emission": 1e20}])",
-                                    R"([{"type": "point", "position": [0, 1e8, 0], "intensity": 1e20},
+    EXPECT_NO_THROW(
+        loadScene(scene(R"([{"type": "sphere", "center": [1e8, -1e8, 0], "radius": 1e8, "emission": 1e20}])",
+                        R"([{"type": "point", "position": [0, 1e8, 0], "intensity": 1e20},
                                         {"type": "directional", "direction": [0, -1, 0], "irradiance": 1e20},
                                         {"type": "environment", "radiance": 1e20}])")));
     // Just outside (the next floats above 1e8 and 1e20): refused with the path.
@@ -281,7 +289,8 @@ TEST(InputRules, RangesAreCheckedAtTheirLimits) {
               "lights[0].position[2]: must be within [-1e8, 1e8]"},
              {"[]", R"([{"type": "directional", "direction": [0, -1, 0], "irradiance": 1.000001e20}])",
               "lights[0].irradiance: irradiance exceeds 1e20"},
-             {"[]", R"([{"type": "environment", "radiance": 1.000001e20}])", "lights[0].radiance: radiance exceeds 1e20"},
+             {"[]", R"([{"type": "environment", "radiance": 1.000001e20}])",
+              "lights[0].radiance: radiance exceeds 1e20"},
          }) {
         auto file = scene(c.shapes, c.lights);
         EXPECT_EQ(loadError(file), file.string() + ": " + c.expected + " (README: ranges)") << c.shapes << c.lights;
@@ -292,8 +301,9 @@ TEST(InputRules, RangesAreCheckedAtTheirLimits) {
     GltfBuilder far;
     far.addMeshNode(far.triangle(), {{"translation", {0, 2e8, 0}}});
     auto model = writeFile(dir / "far.gltf", far.gltf());
-    EXPECT_EQ(loadError(model), model.string() +
-                                    ": meshes[0].primitives[0].attributes.POSITION: vertex 0 is not within [-1e8, 1e8] (README: ranges)");
+    EXPECT_EQ(loadError(model),
+              model.string() +
+                  ": meshes[0].primitives[0].attributes.POSITION: vertex 0 is not within [-1e8, 1e8] (README: ranges)");
 }
 
 // A sphere of the largest radius, seen from the far end of the range, emitting the largest
@@ -307,7 +317,8 @@ TEST(InputRules, SphereOfMaximumRadiusAndRadianceRendersExactly) {
         {"sampler", {{"spp", 16}}},
         // Black, so that what the camera sees is the emission alone.
         {"materials", {{"black", {{"albedo", 0}}}}},
-        {"shapes", {{{"type", "sphere"}, {"center", {0, 0, -1e8}}, {"radius", 1e8}, {"emission", 1e20}, {"material", "black"}}}},
+        {"shapes",
+         {{{"type", "sphere"}, {"center", {0, 0, -1e8}}, {"radius", 1e8}, {"emission", 1e20}, {"material", "black"}}}},
     };
     Image image = test::renderJson(scene, "input_rules_max_sphere");
     ASSERT_EQ(image.width * image.height, 64u);
@@ -338,7 +349,8 @@ TEST(InputRules, GltfReadsOnlyFilesInsideTheModelFolder) {
 
     EXPECT_NO_THROW(loadScene(withBuffer("inside.gltf", "data/inside.bin")));
     EXPECT_NO_THROW(loadScene(withBuffer("dotted.gltf", "data/../data/inside.bin")));
-    for (const std::string& uri : {std::string("../outside.bin"), (dir / "outside.bin").string(), std::string("link.bin")}) {
+    for (const std::string& uri :
+         {std::string("../outside.bin"), (dir / "outside.bin").string(), std::string("link.bin")}) {
         auto file = withBuffer("refused.gltf", uri);
         EXPECT_EQ(loadError(file), file.string() + ": refusing to read \"" + uri +
                                        "\": it is outside the model's folder (--allow-any-path reads it)");
@@ -348,13 +360,16 @@ TEST(InputRules, GltfReadsOnlyFilesInsideTheModelFolder) {
     image["buffers"] = {{{"byteLength", b.bin.size()}, {"uri", "data/inside.bin"}}};
     image["images"] = {{{"uri", "../../../../../../../etc/passwd"}}};
     auto withImage = writeFile(dir / "model" / "image.gltf", image.dump());
-    EXPECT_TRUE(contains(loadError(withImage), ": refusing to read \"../../../../../../../etc/passwd\"")) << loadError(withImage);
+    EXPECT_TRUE(contains(loadError(withImage), ": refusing to read \"../../../../../../../etc/passwd\""))
+        << loadError(withImage);
 
     // A scene may name models only inside its own folder too.
-    auto scene = writeFile(dir / "model" / "data" / "scene.json", R"({"shapes": [{"type": "gltf", "file": "../inside.gltf"}]})");
-    EXPECT_EQ(loadError(scene), scene.string() +
-                                    ": shapes[0].file: refusing to read \"../inside.gltf\": it is outside the scene's folder "
-                                    "(--allow-any-path reads it)");
+    auto scene =
+        writeFile(dir / "model" / "data" / "scene.json", R"({"shapes": [{"type": "gltf", "file": "../inside.gltf"}]})");
+    EXPECT_EQ(loadError(scene),
+              scene.string() +
+                  ": shapes[0].file: refusing to read \"../inside.gltf\": it is outside the scene's folder "
+                  "(--allow-any-path reads it)");
 
     AllowAnyPath allow;
     EXPECT_NO_THROW(loadScene(withBuffer("outside.gltf", "../outside.bin")));
@@ -365,8 +380,9 @@ TEST(InputRules, ErrorMessagesDoNotEchoFileContents) {
     auto dir = freshTempDir();
     // nlohmann's message quoted the string it was reading: "last read: '\"SECRET-PASSWORD'".
     auto scene = writeFile(dir / "secret.json", "{\"film\": \"SECRET-PASSWORD");
-    EXPECT_EQ(loadError(scene), scene.string() + ": line 1, column 26: syntax error while parsing value - "
-                                                 "invalid string: missing closing quote");
+    EXPECT_EQ(loadError(scene), scene.string() +
+                                    ": line 1, column 26: syntax error while parsing value - "
+                                    "invalid string: missing closing quote");
     auto model = writeFile(dir / "secret.gltf", "{\"asset\": \"SECRET-PASSWORD");
     EXPECT_FALSE(contains(loadError(model), "SECRET")) << loadError(model);
     auto jobs = writeFile(dir / "jobs.json", "[{\"scene\": \"SECRET-PASSWORD");
@@ -384,7 +400,8 @@ TEST(InputRules, JsonPathsAreBuiltOnlyForMessages) {
     const size_t lights = 200000;
     std::string text = "{\"lights\": [";
     for (size_t i = 0; i < lights; ++i)
-        text += std::string(i ? "," : "") + "{\"type\": \"point\", \"position\": [" + std::to_string(i % 7) + ", 1, 2], \"power\": 1}";
+        text += std::string(i ? "," : "") + "{\"type\": \"point\", \"position\": [" + std::to_string(i % 7) +
+                ", 1, 2], \"power\": 1}";
     auto dir = freshTempDir();
     auto good = writeFile(dir / "lights.json", text + "]}");
     size_t before = jsonPathTextCount();
@@ -429,7 +446,8 @@ TEST(InputRules, CommandLineRefusesBadInputsWithExitTwo) {
     doc["nodes"][0].erase("extras");
     doc["buffers"] = {{{"byteLength", b.bin.size()}, {"uri", "../outside.bin"}}};
     auto outsider = writeFile(dir / "model" / "outsider.gltf", doc.dump());
-    std::string args = "render '" + outsider.string() + "' -o '" + out.string() + "' --quiet --width 4 --height 4 --spp 1";
+    std::string args = "render '" + outsider.string() + "' -o '" + out.string() +
+                       "' --quiet --width 4 --height 4 --spp 1";
     expectRefused(args, "refusing to read \"../outside.bin\"");
     EXPECT_FALSE(fs::exists(out));
     std::string err;

@@ -885,7 +885,8 @@ struct QuadGeometry {
         const dvec3 o(origin), a = o + dvec3(u), b = a + dvec3(v), c = o + dvec3(v);
         const double rectangle = std::abs(glm::dot(u, v)) <= 1e-5 * glm::length(u) * glm::length(v);
         if (!sphericalUsed({o, a, b, c}, solidAngle(x), x)) return false;
-        return rectangle || (triangleSolidAngle(o, a, b, x) >= kMinSpherical && triangleSolidAngle(o, b, c, x) >= kMinSpherical);
+        return rectangle ||
+               (triangleSolidAngle(o, a, b, x) >= kMinSpherical && triangleSolidAngle(o, b, c, x) >= kMinSpherical);
     }
 };
 
@@ -917,7 +918,8 @@ void checkQuadSolidAngle(test::LightKernel& kernel, const QuadGeometry& q, const
     lc.quadSampling = gpu::QUAD_SOLID_ANGLE;
     lc.numTests = kPolygonChi2Tests;
     const auto samples = kernel.sample(0, x, lc.n, gpu::SPHERE_SOLID_ANGLE, seed, kSamples, gpu::QUAD_SOLID_ANGLE);
-    checkConsistency(name, samples, nearChartEdge(chart, x, kSphericalEdgeBand), bandBound(4.0 * kSphericalEdgeBand, kSamples));
+    checkConsistency(name, samples, nearChartEdge(chart, x, kSphericalEdgeBand),
+                     bandBound(4.0 * kSphericalEdgeBand, kSamples));
     std::printf("[ %s ] solid angle %.6g sr: %s\n", name.c_str(), q.solidAngle(dvec3(x)),
                 q.spherical(dvec3(x)) ? "spherical" : "area (fallback)");
     // Area sampling's pdf d^2 / (A cos(theta_y)) takes cos(theta_y) >= h / (farthest vertex)
@@ -940,7 +942,8 @@ TEST(LightSampling, QuadSolidAngleRectangleAndParallelogram) {
         for (const auto& [point, x] : quadPoints(*q)) checkQuadSolidAngle(kernel, *q, shape + "_" + point, x, seed++);
     }
     // Two-sided, from behind: the spherical triangles of the other orientation.
-    auto arrays = buildSceneArrays(sceneWithShape(quadShape(kParallelogram.origin, kParallelogram.u, kParallelogram.v, true)));
+    auto arrays =
+        buildSceneArrays(sceneWithShape(quadShape(kParallelogram.origin, kParallelogram.u, kParallelogram.v, true)));
     test::LightKernel kernel(arrays);
     checkQuadSolidAngle(kernel, kParallelogram, "parallelogram_two_sided_behind",
                         vec3(kParallelogram.centre() - 0.7 * kParallelogram.normal()), seed++);
@@ -955,7 +958,8 @@ TEST(LightSampling, QuadSolidAngleSamplerPdfIsTheUniformDensity) {
         for (const auto& [point, x] : quadPoints(*q)) {
             const double omega = q->solidAngle(dvec3(x));
             if (!q->spherical(dvec3(x))) continue;
-            const auto samples = kernel.sample(0, x, vec3(0, 0, 1), gpu::SPHERE_SOLID_ANGLE, 750, 4096, gpu::QUAD_SOLID_ANGLE);
+            const auto samples =
+                kernel.sample(0, x, vec3(0, 0, 1), gpu::SPHERE_SOLID_ANGLE, 750, 4096, gpu::QUAD_SOLID_ANGLE);
             size_t bad = 0;
             for (const auto& r : samples)
                 if (accepted(r) && std::abs(r.pdf * omega - 1.0) > 1e-4) ++bad;
@@ -1015,7 +1019,8 @@ TEST(LightSampling, QuadFallbackThresholdsPassOnBothSides) {
             for (int i = 0; i < 100; ++i) {
                 const double mid = 0.5 * (lo + hi);
                 const dvec3 p = along + mid * q.normal();
-                const double farthest = std::max({glm::length(o - p), glm::length(a - p), glm::length(b - p), glm::length(c - p)});
+                const double farthest =
+                    std::max({glm::length(o - p), glm::length(a - p), glm::length(b - p), glm::length(c - p)});
                 (mid / farthest < sine ? lo : hi) = mid;
             }
             x = vec3(along + hi * q.normal());
@@ -1024,14 +1029,15 @@ TEST(LightSampling, QuadFallbackThresholdsPassOnBothSides) {
         checkQuadSolidAngle(kernel, q, side.name, x, seed++);
         // The spherical sampler's pdf is the same number for every sample (1 / Omega from x);
         // area sampling's, d^2 / (cos A), differs from sample to sample.
-        const auto samples = kernel.sample(0, x, vec3(0, 0, 1), gpu::SPHERE_SOLID_ANGLE, seed++, 4096, gpu::QUAD_SOLID_ANGLE);
+        const auto samples =
+            kernel.sample(0, x, vec3(0, 0, 1), gpu::SPHERE_SOLID_ANGLE, seed++, 4096, gpu::QUAD_SOLID_ANGLE);
         std::vector<float> pdfs;
         for (const auto& r : samples)
             if (accepted(r)) pdfs.push_back(r.pdf);
         ASSERT_FALSE(pdfs.empty());
         const bool constant = std::all_of(pdfs.begin(), pdfs.end(), [&](float p) { return p == pdfs[0]; });
-        EXPECT_EQ(constant, side.spherical) << side.name << (side.spherical ? ": expected the spherical sampler"
-                                                                             : ": expected the area fallback");
+        EXPECT_EQ(constant, side.spherical)
+            << side.name << (side.spherical ? ": expected the spherical sampler" : ": expected the area fallback");
     }
 }
 
@@ -1082,18 +1088,22 @@ TEST(LightSampling, MeshTrianglesInSolidAngle) {
         double total = 0.0;
         for (int k = 0; k < chart.parts(); ++k) total += chart.area(k);
         for (int k = 0; k < chart.parts(); ++k)
-            std::printf("[ %s ] triangle %d: area %.4g, solid angle %.4g sr, %s\n", name.c_str(), k, chart.area(k),
-                        triangleSolidAngle(m.triangles[k][0], m.triangles[k][1], m.triangles[k][2], dvec3(0.0)),
-                        sphericalUsed({m.triangles[k][0], m.triangles[k][1], m.triangles[k][2]},
-                                      triangleSolidAngle(m.triangles[k][0], m.triangles[k][1], m.triangles[k][2], dvec3(0.0)),
-                                      dvec3(0.0)) ? "spherical" : "area (fallback)");
-        LightCase lc{name, 0, vec3(0.0f), vec3(0, 0, 1), gpu::SPHERE_SOLID_ANGLE,
-                     twoSided ? 1.0 : 1.0 - chart.area(1) / total};
+            std::printf(
+                "[ %s ] triangle %d: area %.4g, solid angle %.4g sr, %s\n", name.c_str(), k, chart.area(k),
+                triangleSolidAngle(m.triangles[k][0], m.triangles[k][1], m.triangles[k][2], dvec3(0.0)),
+                sphericalUsed({m.triangles[k][0], m.triangles[k][1], m.triangles[k][2]},
+                              triangleSolidAngle(m.triangles[k][0], m.triangles[k][1], m.triangles[k][2], dvec3(0.0)),
+                              dvec3(0.0))
+                    ? "spherical"
+                    : "area (fallback)");
+        LightCase lc{
+            name, 0, vec3(0.0f), vec3(0, 0, 1), gpu::SPHERE_SOLID_ANGLE, twoSided ? 1.0 : 1.0 - chart.area(1) / total};
         lc.triangleSampling = gpu::TRIANGLE_SOLID_ANGLE;
         lc.numTests = kPolygonChi2Tests;
         const auto samples = kernel.sample(0, lc.x, lc.n, lc.sphereSampling, seed++, kSamples, gpu::QUAD_AREA,
                                            gpu::TRIANGLE_SOLID_ANGLE);
-        checkConsistency(name, samples, nearTriangleEdge(chart, kSphericalEdgeBand), bandBound(6.0 * kSphericalEdgeBand, kSamples));
+        checkConsistency(name, samples, nearTriangleEdge(chart, kSphericalEdgeBand),
+                         bandBound(6.0 * kSphericalEdgeBand, kSamples));
         checkChart(kernel, lc, chart, samples);
 
         // The triangle each sample came from, against A_k / A; and the sample's pdf against
@@ -1136,7 +1146,8 @@ TEST(LightSamplingChi2, RejectsAreaPdfForSolidAngleSamples) {
         const QuadChart chart(q.origin, q.u, q.v);
         LightCase lc{"expected_failure_quad_area_pdf_vs_solid_angle", 0, quadPoints(q)[0].second};
         lc.numTests = kPolygonChi2Tests;  // pdf evaluated in area mode (quadSampling stays QUAD_AREA)
-        const auto samples = kernel.sample(0, lc.x, lc.n, gpu::SPHERE_SOLID_ANGLE, 900, kSamples, gpu::QUAD_SOLID_ANGLE);
+        const auto samples =
+            kernel.sample(0, lc.x, lc.n, gpu::SPHERE_SOLID_ANGLE, 900, kSamples, gpu::QUAD_SOLID_ANGLE);
         const auto r = chartChi2(kernel, lc, chart, samples, gpu::SPHERE_SOLID_ANGLE, lc.name);
         EXPECT_FALSE(r.passed) << r.message;
         EXPECT_LT(r.pValue, r.threshold) << r.message;
@@ -1164,8 +1175,8 @@ TEST(LightSamplingChi2, RejectsAreaPdfForSolidAngleSamples) {
 // from 1e-7 sr to nearly 2 pi; prints the chi-square p-value and the pdf's integral. Not a
 // pass/fail test: where the warps break is what it reports (README, "Quad and triangle sampling").
 TEST(LightSamplingMeasure, DISABLED_SphericalWarpsAcrossSolidAngles) {
-    const double omegas[] = {1e-1, 1e-2, 1e-3, 3e-4, 1e-4, 3e-5, 1e-5, 1e-6, 1e-7,
-                             5.5,  6.0,  6.1,  6.2,  6.25, 6.27, 6.28};
+    const double omegas[] = {1e-1, 1e-2, 1e-3, 3e-4, 1e-4, 3e-5, 1e-5, 1e-6,
+                             1e-7, 5.5,  6.0,  6.1,  6.2,  6.25, 6.27, 6.28};
     const double s3 = std::sqrt(3.0) / 2.0;
     std::array<dvec3, 3> tri = {dvec3(vec3(0.3f, 1.0f, -0.2f)), dvec3(vec3(1.3f, 1.1f, -0.2f)),
                                 dvec3(vec3(0.3f + 0.5f, 1.0f + float(s3), 0.1f))};
@@ -1201,8 +1212,8 @@ TEST(LightSamplingMeasure, DISABLED_SphericalWarpsAcrossSolidAngles) {
         const double elevations[] = {-30.0, -10.0, -3.0, -1.0, -0.3, -0.1};
         std::vector<double> cases(std::begin(omegas), std::end(omegas));
         cases.insert(cases.end(), std::begin(elevations), std::end(elevations));
-        const dvec3 side = glm::normalize(shape < 2 ? dvec3((shape == 0 ? kRectangle : kParallelogram).u)
-                                                    : tri[1] - tri[0]);
+        const dvec3 side =
+            glm::normalize(shape < 2 ? dvec3((shape == 0 ? kRectangle : kParallelogram).u) : tri[1] - tri[0]);
         for (double omega : cases) {
             double lo = 1e-7, hi = 1e7;
             for (int i = 0; i < 200; ++i) {
@@ -1214,21 +1225,25 @@ TEST(LightSamplingMeasure, DISABLED_SphericalWarpsAcrossSolidAngles) {
                 const double e = -omega * kPi / 180.0;
                 x = vec3(centre + 2.0 * std::cos(e) * side + 2.0 * std::sin(e) * normal);
             }
-            const std::string name = std::string(shape == 0 ? "rectangle" : shape == 1 ? "parallelogram" : "triangle") +
+            const std::string name = std::string(shape == 0   ? "rectangle"
+                                                 : shape == 1 ? "parallelogram"
+                                                              : "triangle") +
                                      "_omega_" + std::to_string(omega);
             LightCase lc{name, 0, x};
             lc.quadSampling = gpu::QUAD_SOLID_ANGLE;
             lc.triangleSampling = gpu::TRIANGLE_SOLID_ANGLE;
             lc.numTests = 1;
-            const auto samples = kernel.sample(0, x, lc.n, gpu::SPHERE_SOLID_ANGLE, 1000, kSamples, gpu::QUAD_SOLID_ANGLE,
-                                               gpu::TRIANGLE_SOLID_ANGLE);
+            const auto samples = kernel.sample(0, x, lc.n, gpu::SPHERE_SOLID_ANGLE, 1000, kSamples,
+                                               gpu::QUAD_SOLID_ANGLE, gpu::TRIANGLE_SOLID_ANGLE);
             const auto r = chartChi2(kernel, lc, *chart, samples, gpu::SPHERE_SOLID_ANGLE, name);
-            std::printf("[ measure ] %-14s %s %-8.3g (float x: Omega %.6g) p-value %.3g, integral - 1 = %.2e "
-                        "(quadrature tolerance %.1e), declined %zu\n",
-                        shape == 0 ? "rectangle" : shape == 1 ? "parallelogram" : "triangle",
-                        omega < 0.0 ? "elevation" : "Omega", std::abs(omega),
-                        solidAngle(dvec3(x)), r.pValue, r.pdfIntegral - 1.0, r.integralTolerance,
-                        countDeclined(samples));
+            std::printf(
+                "[ measure ] %-14s %s %-8.3g (float x: Omega %.6g) p-value %.3g, integral - 1 = %.2e "
+                "(quadrature tolerance %.1e), declined %zu\n",
+                shape == 0   ? "rectangle"
+                : shape == 1 ? "parallelogram"
+                             : "triangle",
+                omega < 0.0 ? "elevation" : "Omega", std::abs(omega), solidAngle(dvec3(x)), r.pValue,
+                r.pdfIntegral - 1.0, r.integralTolerance, countDeclined(samples));
         }
     }
 }

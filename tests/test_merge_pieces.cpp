@@ -58,8 +58,8 @@ TEST(MergePieces, FormatAndParseRoundTripAndRefuseMalformedText) {
     const std::vector<SamplePiece> pieces{{0, 0, 4}, {0, 8, 12}, {7, 0, 16}};
     EXPECT_EQ(formatSamplePieces(pieces), "0:0-4,0:8-12,7:0-16");
     EXPECT_EQ(parseSamplePieces("0:0-4,0:8-12,7:0-16"), pieces);
-    for (const char* bad : {"", "0:0-4,", "0:4-4", "0:5-4", "a:0-4", "0:0-4;1:0-4", "0:0-8,0:4-12", "-1:0-4",
-                            "0:0-99999999999"})
+    for (const char* bad :
+         {"", "0:0-4,", "0:4-4", "0:5-4", "a:0-4", "0:0-4;1:0-4", "0:0-8,0:4-12", "-1:0-4", "0:0-99999999999"})
         EXPECT_THROW(parseSamplePieces(bad), std::invalid_argument) << bad;
     EXPECT_EQ(normalizeSamplePieces({{0, 8, 12}, {1, 0, 4}, {0, 4, 8}, {0, 0, 4}}),
               (std::vector<SamplePiece>{{0, 0, 12}, {1, 0, 4}}));
@@ -118,7 +118,10 @@ TEST(MergePieces, HeaderRoundTripAndOldFilesReadAsOnePiece) {
     float rgb[3] = {1, 1, 1};
     Imf::FrameBuffer frame;
     for (int c = 0; c < 3; ++c)
-        frame.insert(c == 0 ? "R" : c == 1 ? "G" : "B", Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(rgb + c), 12, 12));
+        frame.insert(c == 0   ? "R"
+                     : c == 1 ? "G"
+                              : "B",
+                     Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(rgb + c), 12, 12));
     {
         Imf::OutputFile file((dir / "bad.exr").c_str(), header);
         file.setFrameBuffer(frame);
@@ -153,12 +156,16 @@ TEST(MergePieces, CommandLineMergeOfMergesEqualsTheFullRender) {
                   0)
             << err;
     ASSERT_EQ(test::runPenumbra("render " + q(dir / "scene.json") + " --quiet --spp 12 -o " + q(dir / "full.exr")), 0);
-    ASSERT_EQ(test::runPenumbra("merge " + q(dir / "a0.exr") + " " + q(dir / "a8.exr") + " -o " + q(dir / "m.exr"), &err), 0)
+    ASSERT_EQ(
+        test::runPenumbra("merge " + q(dir / "a0.exr") + " " + q(dir / "a8.exr") + " -o " + q(dir / "m.exr"), &err), 0)
         << err;
-    EXPECT_EQ(test::runPenumbra("merge " + q(dir / "m.exr") + " " + q(dir / "a8.exr") + " -o " + q(dir / "twice.exr"), &err), 2);
+    EXPECT_EQ(
+        test::runPenumbra("merge " + q(dir / "m.exr") + " " + q(dir / "a8.exr") + " -o " + q(dir / "twice.exr"), &err),
+        2);
     EXPECT_NE(err.find("overlap with"), std::string::npos) << err;
     EXPECT_FALSE(fs::exists(dir / "twice.exr"));
-    ASSERT_EQ(test::runPenumbra("merge " + q(dir / "m.exr") + " " + q(dir / "a4.exr") + " -o " + q(dir / "all.exr"), &err), 0)
+    ASSERT_EQ(
+        test::runPenumbra("merge " + q(dir / "m.exr") + " " + q(dir / "a4.exr") + " -o " + q(dir / "all.exr"), &err), 0)
         << err;
     const Image all = readExr(dir / "all.exr"), full = readExr(dir / "full.exr");
     EXPECT_EQ(all.meta.spp, 12);

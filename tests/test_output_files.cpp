@@ -82,8 +82,9 @@ TEST(OutputFiles, IdentityComparesResolvedFilesNotSpellings) {
     fs::create_hard_link(dir / "real" / "exists.json", dir / "hard.json");
     const fs::path cwdRelative = fs::relative(dir / "real" / "new.exr", fs::current_path());
     // A file still to be created, spelled five ways.
-    for (const fs::path& p : {dir / "real" / "." / "new.exr", dir / "link" / "new.exr", dir / "real" / ".." / "real" / "new.exr",
-                              cwdRelative, fs::path(dir.string() + "//real/new.exr")})
+    for (const fs::path& p :
+         {dir / "real" / "." / "new.exr", dir / "link" / "new.exr", dir / "real" / ".." / "real" / "new.exr",
+          cwdRelative, fs::path(dir.string() + "//real/new.exr")})
         EXPECT_EQ(fileIdentity(p), fileIdentity(dir / "real" / "new.exr")) << p;
     // An existing file, through a symlinked folder and a hard link.
     EXPECT_EQ(fileIdentity(dir / "link" / "exists.json"), fileIdentity(dir / "real" / "exists.json"));
@@ -107,7 +108,8 @@ TEST(OutputFiles, RenderRefusesAnOutputThatIsTheSceneOrAnotherOutput) {
 
     // -o X --png X: both would land in one file; spelled two ways too.
     expectRefused(r + "-o " + q(dir / "x.exr") + " --png " + q(dir / "x.exr"), 2, "is the same file as -o");
-    expectRefused(r + "-o " + q(dir / "x.exr") + " --png " + q(dir / "." / "x.exr"), 2, "every output must be a file of its own");
+    expectRefused(r + "-o " + q(dir / "x.exr") + " --png " + q(dir / "." / "x.exr"), 2,
+                  "every output must be a file of its own");
     EXPECT_FALSE(fs::exists(dir / "x.exr"));
     EXPECT_FALSE(fs::exists(dir / "fine.exr"));
 }
@@ -206,7 +208,9 @@ TEST(OutputFiles, MergeRefusesToOverwriteAnInput) {
     ASSERT_EQ(test::runPenumbra(r + "--set sampler.sample_offset=2 -o " + q(dir / "b.exr")), 0);
     const std::string before = readBytes(dir / "a.exr");
     std::string err;
-    EXPECT_EQ(test::runPenumbra("merge " + q(dir / "a.exr") + " " + q(dir / "b.exr") + " -o " + q(dir / "." / "a.exr"), &err), 2);
+    EXPECT_EQ(
+        test::runPenumbra("merge " + q(dir / "a.exr") + " " + q(dir / "b.exr") + " -o " + q(dir / "." / "a.exr"), &err),
+        2);
     EXPECT_NE(err.find("is the same file as input"), std::string::npos) << err;
     EXPECT_EQ(readBytes(dir / "a.exr"), before);
 }
@@ -235,7 +239,7 @@ TEST(OutputFiles, BatchCatchesOneFileSpelledTwoWays) {
     const std::vector<Case> cases = {
         {{job("a.exr"), job((dir / "a.exr").string())}, "jobs[1].output"},  // relative vs absolute
         {{job("./b.exr"), job("b.exr")}, "jobs[1].output"},
-        {{job("real/c.exr"), job("link/c.exr")}, "jobs[1].output"},           // a symlinked folder
+        {{job("real/c.exr"), job("link/c.exr")}, "jobs[1].output"},  // a symlinked folder
         {{{{"scene", "scene.json"}, {"output", "d.exr"}, {"png", "d.png"}},
           {{"scene", "scene.json"}, {"output", "e.exr"}, {"png", "./d.png"}}},
          "jobs[1].png"},
@@ -278,8 +282,9 @@ TEST(OutputFiles, BatchCatchesOneFileSpelledTwoWays) {
     std::ofstream(file) << json{{"jobs", {job("f.exr"), job("scene-link.exr")}}}.dump();
     std::string err;
     EXPECT_EQ(test::runPenumbra("batch " + q(file), &err), 2) << err;
-    EXPECT_NE(err.find("jobs[1].output \"" + (dir / "scene-link.exr").string() + "\" is the same file as jobs[0].scene"),
-              std::string::npos)
+    EXPECT_NE(
+        err.find("jobs[1].output \"" + (dir / "scene-link.exr").string() + "\" is the same file as jobs[0].scene"),
+        std::string::npos)
         << err;
     EXPECT_EQ(readBytes(dir / "scene.json"), before);
     EXPECT_FALSE(fs::exists(dir / "f.exr")) << "nothing runs when the job file is bad";

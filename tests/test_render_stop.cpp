@@ -38,7 +38,11 @@ json litScene(uint32_t width, uint32_t height) {
         {"integrator", {{"type", "direct"}}},
         {"materials", {{"floor", {{"type", "diffuse"}, {"albedo", {0.5, 0.5, 0.5}}}}}},
         {"shapes",
-         {{{"type", "quad"}, {"origin", {-2, 0, -2}}, {"edge_u", {0, 0, 4}}, {"edge_v", {4, 0, 0}}, {"material", "floor"}},
+         {{{"type", "quad"},
+           {"origin", {-2, 0, -2}},
+           {"edge_u", {0, 0, 4}},
+           {"edge_v", {4, 0, 0}},
+           {"material", "floor"}},
           {{"type", "sphere"}, {"center", {0, 0.5, 0}}, {"radius", 0.5}},
           {{"type", "sphere"}, {"center", {1, 2, 1}}, {"radius", 0.3}, {"emission", {5, 5, 5}}}}},
         {"lights", {{{"type", "point"}, {"position", {-1, 2, 1}}, {"power", {20, 20, 20}}}}},
@@ -126,7 +130,8 @@ json heavyScene() {
 TEST(PassBands, EveryPixelGetsEverySampleOnceInOrder) {
     std::mt19937 rng(11);
     std::uniform_real_distribution<double> seconds(0.0, 0.6);
-    for (auto [width, height, spp] : {std::tuple{21u, 10u, 5u}, {8u, 3u, 4u}, {5u, 7u, 3u}, {64u, 9u, 2u}, {1u, 1u, 6u}}) {
+    for (auto [width, height, spp] :
+         {std::tuple{21u, 10u, 5u}, {8u, 3u, 4u}, {5u, 7u, 3u}, {64u, 9u, 2u}, {1u, 1u, 6u}}) {
         std::vector<uint32_t> next(size_t(width) * height, 0);  // the sample index each pixel expects
         PassBands bands(width, height, spp);
         int submissions = 0;
@@ -193,7 +198,9 @@ TEST(PassBands, ABudgetLearntOnCheapPixelsIsNotSpentOnCostlyOnes) {
     EXPECT_LT(simulate(128, 96, 2, [](uint32_t y) { return y >= 56 ? 1e-7 : 0.02; }), 1.0);
     // A cheap film soon renders whole passes, many per submission.
     int submissions = 0;
-    EXPECT_LT(simulate(64, 48, 4096, [](uint32_t) { return 1e-7; }, &submissions), 0.6);
+    EXPECT_LT(simulate(
+                  64, 48, 4096, [](uint32_t) { return 1e-7; }, &submissions),
+              0.6);
     EXPECT_LT(submissions, 100);
 }
 

@@ -178,7 +178,8 @@ int main(int argc, char** argv) {
             size_t prims = triangleCount(scene);
             std::printf("%-28s %10zu %9.3f %9.2f %9.3f %9.3f %10.3f %10.2f %9.3f %9.2f %9.1f\n", name.c_str(), prims,
                         bvhSeconds, arrays.bvh.sahCost, upload, first, median, samples / median * 1e-6, rays,
-                        samples * rays / median * 1e-6, double(geometryBytes(arrays)) / double(std::max<size_t>(prims, 1)));
+                        samples * rays / median * 1e-6,
+                        double(geometryBytes(arrays)) / double(std::max<size_t>(prims, 1)));
             std::fflush(stdout);
         }
     } catch (const std::exception& e) {

@@ -37,7 +37,8 @@ namespace fs = std::filesystem;
 namespace {
 
 const char* kUsage =
-    "usage: penumbra_figure SCENE --vary strategy|sphere_sampling|quad_sampling|triangle_sampling|heuristic [--values a,b,c] [--spp N] "
+    "usage: penumbra_figure SCENE --vary strategy|sphere_sampling|quad_sampling|triangle_sampling|heuristic [--values "
+    "a,b,c] [--spp N] "
     "[--reference-spp M] [--width W] [--height H] [--set PATH=VALUE]... [--columns C] [--exposure E] "
     "[--exr-prefix P] [--device N] [--quiet] -o FIGURE.png";
 
@@ -122,7 +123,8 @@ Options parseArguments(int argc, char** argv) {
     if (o.output.empty()) throw InputError("missing -o FIGURE.png");
     auto known = kVaryValues.find(o.vary);
     if (known == kVaryValues.end())
-        throw InputError("--vary: unknown option \"" + o.vary + "\" (strategy, sphere_sampling, quad_sampling, triangle_sampling or heuristic)");
+        throw InputError("--vary: unknown option \"" + o.vary +
+                         "\" (strategy, sphere_sampling, quad_sampling, triangle_sampling or heuristic)");
     if (o.values.empty()) o.values = known->second;
     for (const std::string& v : o.values) {
         bool ok = false;

@@ -63,7 +63,8 @@ struct Task {
 class Builder {
 public:
     Builder(const std::vector<gpu::Primitive>& primitives, const BvhOptions& options)
-        : m_maxLeaf(std::clamp(options.maxLeafSize, 1u, gpu::BVH_MAX_LEAF_SIZE)), m_binCount(std::clamp(options.binCount, 2u, 256u)) {
+        : m_maxLeaf(std::clamp(options.maxLeafSize, 1u, gpu::BVH_MAX_LEAF_SIZE)),
+          m_binCount(std::clamp(options.binCount, 2u, 256u)) {
         size_t n = primitives.size();
         m_bounds.resize(n);
         m_centroids.resize(n);

@@ -17,8 +17,7 @@ std::string byteText(VkDeviceSize bytes) {
     if (bytes >= (VkDeviceSize(1) << 20))
         std::snprintf(text, sizeof text, "%.1f MiB, %llu bytes", double(bytes) / double(1 << 20),
                       static_cast<unsigned long long>(bytes));
-    else
-        std::snprintf(text, sizeof text, "%llu bytes", static_cast<unsigned long long>(bytes));
+    else std::snprintf(text, sizeof text, "%llu bytes", static_cast<unsigned long long>(bytes));
     return text;
 }
 
@@ -38,8 +37,8 @@ void checkBufferSize(std::string_view name, VkDeviceSize size, VkBufferUsageFlag
     if (maxAllocation > 0 && size > maxAllocation) refuse("maxMemoryAllocationSize", maxAllocation);
 }
 
-Buffer::Buffer(const Context& context, VkDeviceSize size, VkBufferUsageFlags usage,
-               VkMemoryPropertyFlags required, VkMemoryPropertyFlags preferred, std::string_view name)
+Buffer::Buffer(const Context& context, VkDeviceSize size, VkBufferUsageFlags usage, VkMemoryPropertyFlags required,
+               VkMemoryPropertyFlags preferred, std::string_view name)
     : m_context(&context), m_size(std::max<VkDeviceSize>(size, 16)) {
     // Before anything is created: beyond these limits Vulkan's behaviour is undefined
     // (lavapipe would bind a truncated range and render a silently wrong image).

@@ -28,9 +28,8 @@ public:
     // `size` is rounded up to at least 16 bytes so that empty arrays can still be bound.
     // Throws GpuError, naming the buffer by `name`, when the device cannot hold it in one
     // allocation or bind it whole (checkBufferSize).
-    Buffer(const Context& context, VkDeviceSize size, VkBufferUsageFlags usage,
-           VkMemoryPropertyFlags required = 0, VkMemoryPropertyFlags preferred = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT,
-           std::string_view name = {});
+    Buffer(const Context& context, VkDeviceSize size, VkBufferUsageFlags usage, VkMemoryPropertyFlags required = 0,
+           VkMemoryPropertyFlags preferred = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, std::string_view name = {});
     ~Buffer();
     Buffer(Buffer&& other) noexcept;
     Buffer& operator=(Buffer&& other) noexcept;

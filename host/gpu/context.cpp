@@ -167,11 +167,12 @@ Context::Context(const ContextOptions& options) {
     if (options.createSurface) m_surface = options.createSurface(m_instance);
     auto devices = physicalDevices(m_instance);
     if (devices.empty())
-        throw GpuError("no Vulkan device found; install a Vulkan driver, e.g. Debian's mesa-vulkan-drivers for lavapipe");
+        throw GpuError(
+            "no Vulkan device found; install a Vulkan driver, e.g. Debian's mesa-vulkan-drivers for lavapipe");
     int index = options.deviceIndex >= 0 ? options.deviceIndex : deviceFromEnvironment();
     if (index >= int(devices.size()))
-        throw GpuError("Vulkan device " + std::to_string(index) + " does not exist (" +
-                       std::to_string(devices.size()) + " found; see 'penumbra devices')");
+        throw GpuError("Vulkan device " + std::to_string(index) + " does not exist (" + std::to_string(devices.size()) +
+                       " found; see 'penumbra devices')");
     if (index < 0) index = automaticChoice(devices, m_surface);
     if (index < 0)
         throw GpuError(m_surface ? "no Vulkan device can both compute and present to the window"

@@ -51,7 +51,7 @@ int openStream(const fs::path& target) {
     // O_NONBLOCK: opening a FIFO without a reader fails (ENXIO) instead of waiting forever.
     int fd = ::open(target.c_str(), O_WRONLY | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
     if (fd < 0) return -1;
-    struct stat st{};
+    struct stat st {};
     if (::fstat(fd, &st) != 0 || !(S_ISCHR(st.st_mode) || S_ISFIFO(st.st_mode))) {
         ::close(fd);
         errno = 0;
@@ -81,8 +81,7 @@ bool isStreamOutput(const fs::path& path) {
     return !ec && (s.type() == fs::file_type::character || s.type() == fs::file_type::fifo);
 }
 
-void writeFileAtomically(const fs::path& requested,
-                         const std::function<void(const fs::path& tmp)>& write) {
+void writeFileAtomically(const fs::path& requested, const std::function<void(const fs::path& tmp)>& write) {
     static std::atomic<unsigned> counter{0};
     const std::string prefix = "failed to write " + requested.string() + ": ";
     fs::path target;

@@ -20,12 +20,12 @@ std::filesystem::path finalTarget(const std::filesystem::path& path);
 // outputs are opened and written in place, since renaming over them would replace them.
 bool isStreamOutput(const std::filesystem::path& path);
 
-// Calls `write(tmp)` with a fresh temporary path beside finalTarget(target) (same
+// Calls `write(tmp)` with a fresh temporary path beside finalTarget(requested) (same
 // directory, so the rename cannot cross file systems), then renames it over that file:
 // a symlink keeps pointing at the new file, and a replaced file keeps its permissions.
 // On any failure the temporary is removed and std::runtime_error("failed to write
-// TARGET: why") thrown. An existing target that is not a regular file is refused.
-void writeFileAtomically(const std::filesystem::path& target,
+// REQUESTED: why") thrown. An existing target that is not a regular file is refused.
+void writeFileAtomically(const std::filesystem::path& requested,
                          const std::function<void(const std::filesystem::path& tmp)>& write);
 
 // Writes `bytes` to `target`: atomically as above, or straight into a character device or

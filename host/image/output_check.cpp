@@ -24,7 +24,7 @@ namespace {
 class IdentityCache {
 public:
     std::string identity(const fs::path& path) {
-        struct stat st{};
+        struct stat st {};
         if (::stat(path.c_str(), &st) == 0)
             return "inode " + std::to_string(uint64_t(st.st_dev)) + ":" + std::to_string(uint64_t(st.st_ino));
         // A file still to be created: a dangling symlink creates the file it names.

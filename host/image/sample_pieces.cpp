@@ -15,7 +15,8 @@ namespace {
 int64_t readNumber(const std::string& text, size_t& pos) {
     size_t start = pos;
     while (pos < text.size() && std::isdigit(static_cast<unsigned char>(text[pos])) && pos - start < 11) ++pos;
-    if (pos == start || pos - start > 10) throw std::invalid_argument("expected a number at character " + std::to_string(start + 1));
+    if (pos == start || pos - start > 10)
+        throw std::invalid_argument("expected a number at character " + std::to_string(start + 1));
     return std::stoll(text.substr(start, pos - start));
 }
 
@@ -77,8 +78,7 @@ std::vector<SamplePiece> normalizeSamplePieces(std::vector<SamplePiece> pieces) 
     for (const SamplePiece& p : pieces) {
         if (!joined.empty() && joined.back().seed == p.seed && joined.back().end >= p.first)
             joined.back().end = std::max(joined.back().end, p.end);
-        else
-            joined.push_back(p);
+        else joined.push_back(p);
     }
     return joined;
 }

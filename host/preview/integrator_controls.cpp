@@ -60,15 +60,16 @@ bool applyIntegratorAction(IntegratorSettings& settings, Action action) {
             settings.json["sphere_sampling"] = sphereName(settings.sphereSampling);
             return true;
         case Action::ToggleQuadSampling:
-            settings.quadSampling =
-                settings.quadSampling == QuadSampling::Area ? QuadSampling::SolidAngle : QuadSampling::Area;
+            settings.quadSampling = settings.quadSampling == QuadSampling::Area ? QuadSampling::SolidAngle
+                                                                                : QuadSampling::Area;
             settings.json["quad_sampling"] = settings.quadSampling == QuadSampling::Area ? "area" : "solid_angle";
             return true;
         case Action::ToggleTriangleSampling:
-            settings.triangleSampling = settings.triangleSampling == TriangleSampling::Area ? TriangleSampling::SolidAngle
-                                                                                            : TriangleSampling::Area;
-            settings.json["triangle_sampling"] =
-                settings.triangleSampling == TriangleSampling::Area ? "area" : "solid_angle";
+            settings.triangleSampling = settings.triangleSampling == TriangleSampling::Area
+                                            ? TriangleSampling::SolidAngle
+                                            : TriangleSampling::Area;
+            settings.json["triangle_sampling"] = settings.triangleSampling == TriangleSampling::Area ? "area"
+                                                                                                     : "solid_angle";
             return true;
         default: return false;
     }

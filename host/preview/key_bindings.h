@@ -14,13 +14,13 @@ enum class Action {
     StrategyBsdf,
     StrategyMis,
     StrategyMixture,
-    ToggleHeuristic,      // balance <-> power
-    CycleSphereSampling,  // area -> cap -> solid_angle -> area
+    ToggleHeuristic,         // balance <-> power
+    CycleSphereSampling,     // area -> cap -> solid_angle -> area
     ToggleQuadSampling,      // quad lights: area <-> solid_angle
     ToggleTriangleSampling,  // mesh-light triangles: area <-> solid_angle
-    ExposureUp,           // +0.5 stop
-    ExposureDown,         // -0.5 stop
-    Save,                 // EXR + PNG of the current accumulation
+    ExposureUp,              // +0.5 stop
+    ExposureDown,            // -0.5 stop
+    Save,                    // EXR + PNG of the current accumulation
     ResetCamera,
     Quit,
 };

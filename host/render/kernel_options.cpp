@@ -44,8 +44,8 @@ KernelOptions makeKernelOptions(const Scene& scene, const SceneArrays& arrays) {
                            : in.sphereSampling == SphereSampling::Cap ? gpu::SPHERE_CAP
                                                                       : gpu::SPHERE_SOLID_ANGLE;
         o.quadSampling = in.quadSampling == QuadSampling::Area ? gpu::QUAD_AREA : gpu::QUAD_SOLID_ANGLE;
-        o.triangleSampling =
-            in.triangleSampling == TriangleSampling::Area ? gpu::TRIANGLE_AREA : gpu::TRIANGLE_SOLID_ANGLE;
+        o.triangleSampling = in.triangleSampling == TriangleSampling::Area ? gpu::TRIANGLE_AREA
+                                                                           : gpu::TRIANGLE_SOLID_ANGLE;
     }
     o.sceneFeatures = sceneFeatures(arrays);
     o.sampler = scene.sampler.type == SamplerType::Sobol ? gpu::SAMPLER_SOBOL : gpu::SAMPLER_INDEPENDENT;

@@ -24,16 +24,18 @@ PassBands::PassBands(uint32_t width, uint32_t height, uint32_t spp, uint64_t max
 PassBand PassBands::next(double target) {
     if (finished()) throw std::logic_error("pass bands: the render is finished");
     const uint64_t pass = uint64_t(m_width) * m_height;
-    const bool passStart = std::all_of(m_strips.begin(), m_strips.end(), [](const Strip& s) {
-        return s.row == 0 && s.column == 0;
-    });
+    const bool passStart =
+        std::all_of(m_strips.begin(), m_strips.end(), [](const Strip& s) { return s.row == 0 && s.column == 0; });
     // Whole passes, once one is known to take at most half the target.
     if (passStart && m_passCost >= 0.0 && m_passCost <= target / 2 &&
         (m_maxPixelSamples == 0 || m_maxPixelSamples >= pass)) {
         double passes = m_passCost > 0.0 ? target / m_passCost : double(kMaxPassesPerBand);
-        passes = std::min({passes, 2.0 * std::max<uint32_t>(m_lastPasses, 1), double(kMaxPassesPerBand),
-                           double(m_spp - m_sample)});
-        if (m_maxPixelSamples > 0) passes = std::min(passes, double(m_maxPixelSamples / pass));
+        passes = std::min(
+            {passes, 2.0 * std::max<uint32_t>(m_lastPasses, 1), double(kMaxPassesPerBand), double(m_spp - m_sample)});
+        // Whole passes that fit in the per-pixel sample budget (integer division: a
+        // partial pass does not count).
+        const uint32_t passesThatFit = m_maxPixelSamples / pass;
+        if (m_maxPixelSamples > 0) passes = std::min(passes, double(passesThatFit));
         const uint32_t count = std::max<uint32_t>(1, uint32_t(passes));
         PassBand band{m_sample, count, 0, m_height, 0, m_width};
         m_sample += count;

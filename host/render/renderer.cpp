@@ -47,8 +47,8 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
     // primitives also as a storage buffer by shading and light sampling.
     const VkBufferUsageFlags texels = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
     m_nodes = Buffer::fromVector(context, m_arrays.bvh.childPairs, "BVH child pairs", texels);
-    m_primitives = Buffer::fromVector(context, m_arrays.bvh.primitives, "primitives",
-                                      texels | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    m_primitives =
+        Buffer::fromVector(context, m_arrays.bvh.primitives, "primitives", texels | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     m_normals = Buffer::fromVector(context, m_arrays.normals, "triangle normals");
     m_materials = Buffer::fromVector(context, m_arrays.materials, "materials", texels);
     m_lights = Buffer::fromVector(context, m_arrays.lights, "lights");
@@ -129,8 +129,8 @@ void Renderer::compileKernel() const {
     m_kernel->run(1, 1, 1, &pass);
 }
 
-void Renderer::recordPasses(VkCommandBuffer cmd, uint32_t first, uint32_t count, uint32_t firstRow,
-                            uint32_t rowCount, uint32_t firstColumn, uint32_t columnCount) const {
+void Renderer::recordPasses(VkCommandBuffer cmd, uint32_t first, uint32_t count, uint32_t firstRow, uint32_t rowCount,
+                            uint32_t firstColumn, uint32_t columnCount) const {
     rowCount = std::min(rowCount, m_params.height - std::min(firstRow, m_params.height));
     columnCount = std::min(columnCount, m_params.width - std::min(firstColumn, m_params.width));
     if (rowCount == 0 || columnCount == 0) return;
@@ -168,7 +168,8 @@ void Renderer::renderAll(const std::function<void(const RenderProgress&)>& progr
         });
         const double device = timer.seconds();
         bands.measured(device >= 0.0 ? device : std::chrono::duration<double>(Clock::now() - t0).count());
-        if (progress) progress({bands.samplesDone(), total, std::chrono::duration<double>(Clock::now() - start).count()});
+        if (progress)
+            progress({bands.samplesDone(), total, std::chrono::duration<double>(Clock::now() - start).count()});
     }
 }
 

@@ -26,11 +26,13 @@ namespace {
 enum class Integers { No, Numbers, Members };
 
 Integers integersOf(const std::string& key) {
-    static const char* names[] = {"scene", "nodes", "children", "mesh", "camera", "skin", "buffer", "bufferView",
-                                  "byteOffset", "byteLength", "byteStride", "count", "componentType", "indices",
-                                  "material", "mode", "source", "sampler", "index", "texCoord", "light",
-                                  "magFilter", "minFilter", "wrapS", "wrapT", "input", "output", "node", "joints",
-                                  "inverseBindMatrices", "skeleton"};
+    static const char* names[] = {"scene",      "nodes",     "children",      "mesh",       "camera",
+                                  "skin",       "buffer",    "bufferView",    "byteOffset", "byteLength",
+                                  "byteStride", "count",     "componentType", "indices",    "material",
+                                  "mode",       "source",    "sampler",       "index",      "texCoord",
+                                  "light",      "magFilter", "minFilter",     "wrapS",      "wrapT",
+                                  "input",      "output",    "node",          "joints",     "inverseBindMatrices",
+                                  "skeleton"};
     if (key == "attributes" || key == "targets") return Integers::Members;
     bool listed = std::any_of(std::begin(names), std::end(names), [&](const char* n) { return key == n; });
     return listed ? Integers::Numbers : Integers::No;
@@ -41,14 +43,17 @@ Integers integersOf(const std::string& key) {
 void checkIntegers(const nlohmann::json& value, const std::string& path, Integers mode, const std::string& label) {
     if (value.is_number_float()) {
         double x = value.get<double>();
-        if (mode != Integers::No && x != std::floor(x)) throwInputError(label, path, "expected an integer, got " + value.dump());
+        if (mode != Integers::No && x != std::floor(x))
+            throwInputError(label, path, "expected an integer, got " + value.dump());
     } else if (value.is_array()) {
-        for (size_t i = 0; i < value.size(); ++i) checkIntegers(value[i], path + "[" + std::to_string(i) + "]", mode, label);
+        for (size_t i = 0; i < value.size(); ++i)
+            checkIntegers(value[i], path + "[" + std::to_string(i) + "]", mode, label);
     } else if (value.is_object()) {
         for (const auto& item : value.items()) {
             if (item.key() == "extras") continue;
             std::string child = path.empty() ? item.key() : path + "." + item.key();
-            checkIntegers(item.value(), child, mode == Integers::Members ? Integers::Numbers : integersOf(item.key()), label);
+            checkIntegers(item.value(), child, mode == Integers::Members ? Integers::Numbers : integersOf(item.key()),
+                          label);
         }
     }
 }
@@ -106,7 +111,9 @@ std::string_view glbJsonChunk(const std::string& bytes, const std::string& label
         return value;
     };
     if (bytes.size() < 20) throwInputError(label, "", "GLB file too short for its header");
-    if (word(4) != 2) throwInputError(label, "", "GLB container version " + std::to_string(word(4)) + " is not supported (glTF 2.0 only)");
+    if (word(4) != 2)
+        throwInputError(label, "",
+                        "GLB container version " + std::to_string(word(4)) + " is not supported (glTF 2.0 only)");
     uint32_t length = word(12);
     if (word(16) != 0x4E4F534Au) throwInputError(label, "", "GLB file does not start with a JSON chunk");
     if (length > bytes.size() - 20) throwInputError(label, "", "GLB JSON chunk runs past the end of the file");
@@ -122,9 +129,11 @@ void checkGltfDocument(std::string_view json, const std::string& label) {
     auto asset = doc.find("asset");
     if (asset == doc.end() || !asset->is_object()) throwInputError(label, "asset", "missing (glTF 2.0 requires it)");
     auto version = asset->find("version");
-    if (version == asset->end() || !version->is_string()) throwInputError(label, "asset.version", "expected a string such as \"2.0\"");
+    if (version == asset->end() || !version->is_string())
+        throwInputError(label, "asset.version", "expected a string such as \"2.0\"");
     std::string v = version->get<std::string>();
-    if (v.substr(0, 2) != "2.") throwInputError(label, "asset.version", "\"" + v + "\" is not supported (glTF 2.x only)");
+    if (v.substr(0, 2) != "2.")
+        throwInputError(label, "asset.version", "\"" + v + "\" is not supported (glTF 2.x only)");
     checkIntegers(doc, "", Integers::No, label);
     // tinygltf joins every URI to a folder, so an absolute one would read as "not found":
     // say why it is refused instead (the relative ones are checked as they are opened).
@@ -136,7 +145,9 @@ void checkGltfDocument(std::string_view json, const std::string& label) {
             if (uri == item.end() || !uri->is_string()) continue;
             std::string text = uri->get<std::string>();
             if (!text.empty() && text[0] == '/' && !allowAnyPath())
-                throwInputError(label, "", "refusing to read \"" + text + "\": it is outside the model's folder (--allow-any-path reads it)");
+                throwInputError(
+                    label, "",
+                    "refusing to read \"" + text + "\": it is outside the model's folder (--allow-any-path reads it)");
         }
     }
 }

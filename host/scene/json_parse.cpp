@@ -58,7 +58,8 @@ public:
         if (e.id == 406) {
             // A number literal beyond double range (1e999): name the value's path.
             size_t at = what.find("] ");
-            throwInputError(m_label, path(true), "number is not finite (" + what.substr(at == std::string::npos ? 0 : at + 2) + ")");
+            throwInputError(m_label, path(true),
+                            "number is not finite (" + what.substr(at == std::string::npos ? 0 : at + 2) + ")");
         }
         // "[json.exception.parse_error.101] parse error at line 3, column 5: syntax error ..."
         size_t at = what.find("line ");
@@ -69,10 +70,10 @@ public:
 
 private:
     struct Frame {
-        json* value;            // the array or object being filled
+        json* value;  // the array or object being filled
         bool isArray;
-        std::string key;        // objects: the key of the member being read
-        json* slot = nullptr;   // objects: where that member goes
+        std::string key;       // objects: the key of the member being read
+        json* slot = nullptr;  // objects: where that member goes
     };
 
     json* place(json&& value) {
@@ -110,10 +111,8 @@ private:
             const Frame& f = m_frames[i];
             bool innermost = i + 1 == m_frames.size();
             if (innermost && !pending) break;
-            if (f.isArray)
-                result = indexPath(result, innermost ? f.value->size() : f.value->size() - 1);
-            else
-                result = joinPath(result, f.key);
+            if (f.isArray) result = indexPath(result, innermost ? f.value->size() : f.value->size() - 1);
+            else result = joinPath(result, f.key);
         }
         return result;
     }
@@ -142,8 +141,9 @@ void checkJsonDepth(std::string_view text, const std::string& label) {
             inString = true;
         } else if (c == '[' || c == '{') {
             if (++depth > kMaxJsonDepth)
-                throwInputError(label, "", "line " + std::to_string(line) + ", column " + std::to_string(column) +
-                                               ": nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
+                throwInputError(label, "",
+                                "line " + std::to_string(line) + ", column " + std::to_string(column) +
+                                    ": nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
         } else if ((c == ']' || c == '}') && depth > 0) {
             --depth;
         }

@@ -242,9 +242,13 @@ void Importer::loadMaterials() {
                 fail(path + ".extensions.KHR_materials_emissive_strength.emissiveStrength", "expected a number");
             emission *= strength.GetNumberAsDouble();
         }
-        auto bad = [](glm::dvec3 c) { return !(c.x >= 0 && c.y >= 0 && c.z >= 0) || !std::isfinite(c.x + c.y + c.z) || std::max({c.x, c.y, c.z}) > double(float(kMaxRadiometric)); };
+        auto bad = [](glm::dvec3 c) {
+            return !(c.x >= 0 && c.y >= 0 && c.z >= 0) || !std::isfinite(c.x + c.y + c.z) ||
+                   std::max({c.x, c.y, c.z}) > double(float(kMaxRadiometric));
+        };
         if (bad(albedo)) fail(path + ".pbrMetallicRoughness.baseColorFactor", "negative or non-finite");
-        if (bad(emission)) fail(path + ".emissiveFactor", "negative, non-finite or above 1e20 emission (README: ranges)");
+        if (bad(emission))
+            fail(path + ".emissiveFactor", "negative, non-finite or above 1e20 emission (README: ranges)");
         Material m;
         m.name = m_label + ":" + (mat.name.empty() ? path : mat.name);
         m.kd = glm::clamp(glm::vec3(albedo), 0.0f, 1.0f);
@@ -269,8 +273,10 @@ void Importer::addPrimitive(const tinygltf::Primitive& prim, const glm::dmat4& w
     shape.positions.resize(pos.count);
     for (size_t i = 0; i < pos.count; ++i) {
         glm::dvec3 p = glm::dvec3(world * glm::dvec4(pos.vec3(i), 1.0));
-        if (!std::isfinite(p.x + p.y + p.z) || std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)}) > kMaxCoordinate)
-            fail(path + ".attributes.POSITION", "vertex " + std::to_string(i) + " is not within [-1e8, 1e8] (README: ranges)");
+        if (!std::isfinite(p.x + p.y + p.z) ||
+            std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)}) > kMaxCoordinate)
+            fail(path + ".attributes.POSITION",
+                 "vertex " + std::to_string(i) + " is not within [-1e8, 1e8] (README: ranges)");
         shape.positions[i] = glm::vec3(p);
     }
     if (auto normal = prim.attributes.find("NORMAL"); normal != prim.attributes.end()) {
@@ -368,7 +374,8 @@ void Importer::addLight(const tinygltf::Node& node, const glm::dmat4& world, con
     if (src.type == "point") {
         light.type = LightType::Point;
         glm::dvec3 p = glm::dvec3(world * glm::dvec4(0, 0, 0, 1));
-        if (!std::isfinite(p.x + p.y + p.z) || std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)}) > kMaxCoordinate)
+        if (!std::isfinite(p.x + p.y + p.z) ||
+            std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)}) > kMaxCoordinate)
             fail(path, "light position not within [-1e8, 1e8] (README: ranges)");
         light.position = glm::vec3(p);
     } else if (src.type == "directional") {
@@ -483,17 +490,16 @@ GltfImport importGltf(const fs::path& file, const std::string& label) {
     bool ok = false;
     try {
         const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
-        if (binary)
-            ok = loader.LoadBinaryFromMemory(&model, &err, &warn, data, unsigned(bytes.size()), baseDir);
-        else
-            ok = loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(), unsigned(bytes.size()), baseDir);
+        if (binary) ok = loader.LoadBinaryFromMemory(&model, &err, &warn, data, unsigned(bytes.size()), baseDir);
+        else ok = loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(), unsigned(bytes.size()), baseDir);
     } catch (const std::exception& e) {
         throwInputError(label, "", firstLine(e.what()));
     }
     // A refused or failed read is reported even where tinygltf only warns (images).
     if (!access.refused.empty())
-        throwInputError(label, "", "refusing to read \"" + access.refused +
-                                       "\": it is outside the model's folder (--allow-any-path reads it)");
+        throwInputError(label, "",
+                        "refusing to read \"" + access.refused +
+                            "\": it is outside the model's folder (--allow-any-path reads it)");
     if (!access.failed.empty()) throwInputError(label, "", access.failed);
     if (!ok) throwInputError(label, "", err.empty() ? "not a valid glTF file" : firstLine(err));
     return Importer(model, label).run();

@@ -34,7 +34,8 @@ glm::vec3 coordinates(const JsonReader& r) {
 // names it in the message.
 glm::vec3 radiometric(const JsonReader& r, glm::vec3 value, const char* what) {
     // Compared as floats: 1e20 itself rounds up to the float 1.00000002e20.
-    if (std::max({value.x, value.y, value.z}) > float(kMaxRadiometric)) r.fail(std::string(what) + " exceeds 1e20 (README: ranges)");
+    if (std::max({value.x, value.y, value.z}) > float(kMaxRadiometric))
+        r.fail(std::string(what) + " exceeds 1e20 (README: ranges)");
     return value;
 }
 
@@ -102,8 +103,10 @@ private:
                 if (!(s.aoMaxDistance > 0.0f)) v->fail("must be > 0");
             }
         } else {
-            if (r) r->expectKeys({"type", "strategy", "heuristic", "light_samples", "bsdf_samples", "sphere_sampling",
-                                  "quad_sampling", "triangle_sampling", "light_selection"}, "the direct integrator");
+            if (r)
+                r->expectKeys({"type", "strategy", "heuristic", "light_samples", "bsdf_samples", "sphere_sampling",
+                               "quad_sampling", "triangle_sampling", "light_selection"},
+                              "the direct integrator");
             s.type = IntegratorType::Direct;
             s.json = {{"type", "direct"},       {"strategy", "mis"},    {"heuristic", "power"},
                       {"light_samples", 1},     {"bsdf_samples", 1},    {"sphere_sampling", "solid_angle"},
@@ -129,10 +132,11 @@ private:
             s.sphereSampling = x == "area" ? SphereSampling::Area : x == "cap" ? SphereSampling::Cap : SphereSampling::SolidAngle;
         }
         if (auto v = r.find("quad_sampling"))
-            s.quadSampling = v->choice({"area", "solid_angle"}) == "area" ? QuadSampling::Area : QuadSampling::SolidAngle;
+            s.quadSampling = v->choice({"area", "solid_angle"}) == "area" ? QuadSampling::Area
+                                                                          : QuadSampling::SolidAngle;
         if (auto v = r.find("triangle_sampling"))
-            s.triangleSampling =
-                v->choice({"area", "solid_angle"}) == "area" ? TriangleSampling::Area : TriangleSampling::SolidAngle;
+            s.triangleSampling = v->choice({"area", "solid_angle"}) == "area" ? TriangleSampling::Area
+                                                                              : TriangleSampling::SolidAngle;
         if (auto v = r.find("light_selection"))
             s.lightSelection = v->choice({"uniform", "power"}) == "uniform" ? LightSelection::Uniform : LightSelection::Power;
         // A strategy with no samples of its own would render only what the camera sees directly.
@@ -240,7 +244,8 @@ private:
         if (p.size() % 3 != 0) positions.fail("length " + std::to_string(p.size()) + " is not a multiple of 3");
         size_t vertices = p.size() / 3;
         for (size_t i = 0; i < p.size(); ++i)
-            if (std::fabs(p[i]) > float(kMaxCoordinate)) positions[i].fail("must be within [-1e8, 1e8] (README: ranges)");
+            if (std::fabs(p[i]) > float(kMaxCoordinate))
+                positions[i].fail("must be within [-1e8, 1e8] (README: ranges)");
         for (size_t v = 0; v < vertices; ++v) s.positions.emplace_back(p[3 * v], p[3 * v + 1], p[3 * v + 2]);
 
         size_t n = indices.size();
@@ -277,7 +282,8 @@ private:
     void readGltfShape(const JsonReader& r, const Shape& settings) {
         JsonReader fileField = r.at("file");
         fs::path file = m_baseDir / fileField.string();
-        if (auto problem = openProblem(file)) fileField.fail("cannot open \"" + file.string() + "\" (" + *problem + ")");
+        if (auto problem = openProblem(file))
+            fileField.fail("cannot open \"" + file.string() + "\" (" + *problem + ")");
         // A model given on the command line is the user's own choice; one that a scene
         // names must lie in the scene's folder (README, "glTF file access").
         if (!m_direct && !allowAnyPath() && !isInsideFolder(file, m_baseDir))
@@ -289,7 +295,8 @@ private:
         uint32_t firstMaterial = uint32_t(m_scene.materials.size());
         bool ownMaterial = r.has("material");
         if (!ownMaterial) m_scene.materials.insert(m_scene.materials.end(), model.materials.begin(), model.materials.end());
-        glm::vec3 emission = r.has("emission") ? radiometric(r.at("emission"), r.at("emission").color(), "radiance") : glm::vec3(0.0f);
+        glm::vec3 emission = r.has("emission") ? radiometric(r.at("emission"), r.at("emission").color(), "radiance")
+                                               : glm::vec3(0.0f);
         if (auto p = r.find("power")) {
             // As for a mesh: the power spreads over the total area of all primitives.
             float area = 0.0f;
@@ -321,7 +328,8 @@ private:
             if (r.has("power") == r.has("intensity")) r.fail("give exactly one of \"power\" (W) and \"intensity\" (W/sr)");
             // Isotropic point light: I = P / (4 pi) W/sr.
             JsonReader given = r.at(r.has("power") ? "power" : "intensity");
-            light.intensity = radiometric(given, r.has("power") ? given.color() / (4.0f * kPi) : given.color(), "intensity");
+            light.intensity =
+                radiometric(given, r.has("power") ? given.color() / (4.0f * kPi) : given.color(), "intensity");
         } else if (type == "directional") {
             r.expectKeys({"type", "direction", "irradiance"}, "a directional light");
             light.type = LightType::Directional;
@@ -334,7 +342,8 @@ private:
         } else {
             r.expectKeys({"type", "radiance"}, "an environment light");
             light.type = LightType::Environment;
-            light.intensity = r.has("radiance") ? radiometric(r.at("radiance"), r.at("radiance").color(), "radiance") : glm::vec3(1.0f);
+            light.intensity = r.has("radiance") ? radiometric(r.at("radiance"), r.at("radiance").color(), "radiance")
+                                                : glm::vec3(1.0f);
             bool second = std::any_of(m_scene.lights.begin(), m_scene.lights.end(),
                                       [](const Light& l) { return l.type == LightType::Environment; });
             if (second) r.fail("only one environment light is allowed");

@@ -38,8 +38,9 @@ std::string readOne(const uint8_t* data, size_t size) {
     if (size == 0) return "";
     const char kind = char(data[0]);
     std::string body(reinterpret_cast<const char*>(data + 1), size - 1);
-    const char* name = kind == 'j' ? "jobs.json" : kind == 'g' ? (body.rfind("glTF", 0) == 0 ? "model.glb" : "model.gltf")
-                                                               : "scene.json";
+    const char* name = kind == 'j'   ? "jobs.json"
+                       : kind == 'g' ? (body.rfind("glTF", 0) == 0 ? "model.glb" : "model.gltf")
+                                     : "scene.json";
     fs::path file = folder() / name;
     std::ofstream(file, std::ios::binary | std::ios::trunc) << body;
     try {

@@ -4,7 +4,9 @@
 // what the traversal stack costs (local array, workgroup memory, short stack, restart
 // trail). Kernels: tools/microbenchmarks/shaders; run everything with tools/microbench.
 #include <algorithm>
+#include <bit>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -167,7 +169,8 @@ public:
         VkDescriptorBufferInfo resultInfo{results.buffer(), 0, VK_WHOLE_SIZE};
         VkDescriptorBufferInfo nodeInfo{nodes.buffer(), 0, VK_WHOLE_SIZE};
         VkBufferView view = nodes.view();
-        VkWriteDescriptorSet writes[2] = {{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}, {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}};
+        VkWriteDescriptorSet writes[2] = {{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET},
+                                          {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}};
         writes[0].dstSet = m_set;
         writes[0].dstBinding = 0;
         writes[0].descriptorCount = 1;
@@ -179,8 +182,7 @@ public:
         writes[1].descriptorType = nodeType;
         if (nodeType == VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER || nodeType == VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER)
             writes[1].pTexelBufferView = &view;
-        else
-            writes[1].pBufferInfo = &nodeInfo;
+        else writes[1].pBufferInfo = &nodeInfo;
         vkUpdateDescriptorSets(device, 2, writes, 0, nullptr);
     }
     ~Bench() {
@@ -220,9 +222,9 @@ private:
 
 // The node tables of one size, in every layout the kernels read.
 struct Tables {
-    std::vector<float> nodes32;      // per node: min.xyz, next; max.xyz, 0
-    std::vector<uint32_t> nodes16;   // per node: next, unorm8 (min.xyz, max.x), unorm8 (max.yz), 0
-    std::vector<uint32_t> nodes8;    // per node: next, six 5-bit planes
+    std::vector<float> nodes32;     // per node: min.xyz, next; max.xyz, 0
+    std::vector<uint32_t> nodes16;  // per node: next, unorm8 (min.xyz, max.x), unorm8 (max.yz), 0
+    std::vector<uint32_t> nodes8;   // per node: next, six 5-bit planes
 };
 
 // Boxes in [0, 1.5)^3, quantized against the origin 0 and scale 1.5 (the packed kernels'
@@ -234,8 +236,8 @@ Tables makeTables(uint32_t count, uint32_t seed) {
     t.nodes32.resize(size_t(count) * 8);
     t.nodes16.resize(size_t(count) * 4);
     t.nodes8.resize(size_t(count) * 2);
-    auto q8 = [](float v) { return uint32_t(std::clamp(v / 1.5f, 0.0f, 1.0f) * 255.0f + 0.5f); };
-    auto q5 = [](float v) { return uint32_t(std::clamp(v / 1.5f, 0.0f, 1.0f) * 31.0f + 0.5f); };
+    auto q8 = [](float v) { return uint32_t(std::lround(std::clamp(v / 1.5f, 0.0f, 1.0f) * 255.0f)); };
+    auto q5 = [](float v) { return uint32_t(std::lround(std::clamp(v / 1.5f, 0.0f, 1.0f) * 31.0f)); };
     for (uint32_t i = 0; i < count; ++i) {
         float lo[3], hi[3];
         for (int k = 0; k < 3; ++k) {
@@ -275,13 +277,13 @@ std::string loadAverage() {
 
 // One row of a table: a kernel variant with its data, timed in alternation with the others.
 struct Case {
-    std::string table;   // "small" / "large"
-    std::string label;   // the row's name
-    std::string group;   // rows whose results must agree exactly ("32", "16", "8", "stack")
+    std::string table;     // "small" / "large"
+    std::string label;     // the row's name
+    std::string group;     // rows whose results must agree exactly ("32", "16", "8", "stack")
     std::string baseline;  // label of the row this one is compared with (same table)
     std::unique_ptr<Bench> bench;
     const HostBuffer* results = nullptr;
-    double work = 0;     // node fetches (fetch kernels) or traversals (stack kernels) per run
+    double work = 0;           // node fetches (fetch kernels) or traversals (stack kernels) per run
     double createSeconds = 0;  // vkCreateComputePipelines and the rest of Bench's set-up
     double firstSeconds = 0;
     std::vector<double> seconds;
@@ -325,8 +327,7 @@ int main(int argc, char** argv) {
         }
     }
     if (runs < 1 || invocations < kWorkgroup || invocations % kWorkgroup || stackInvocations < kWorkgroup ||
-        stackInvocations % kWorkgroup || steps < 1 ||
-        (!only.empty() && only != "fetch" && only != "stack"))
+        stackInvocations % kWorkgroup || steps < 1 || (!only.empty() && only != "fetch" && only != "stack"))
         return usage();
 
     try {
@@ -348,8 +349,8 @@ int main(int argc, char** argv) {
 
         auto addCase = [&](const std::string& table, const std::string& label, const std::string& group,
                            const std::string& baseline, const std::string& kernel, uint32_t specSteps,
-                           VkDescriptorType type, const void* data, VkDeviceSize bytes, VkFormat format,
-                           Push p, double work, uint32_t threads) {
+                           VkDescriptorType type, const void* data, VkDeviceSize bytes, VkFormat format, Push p,
+                           double work, uint32_t threads) {
             VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
             if (type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER) usage = VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT;
             if (type == VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER) usage = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
@@ -357,7 +358,8 @@ int main(int argc, char** argv) {
             bool bda = label.find("device address") != std::string::npos;
             if (bda) {
                 if (!context.hasBufferDeviceAddress()) {
-                    std::printf("(skipped %s, %s: no bufferDeviceAddress on this device)\n", table.c_str(), label.c_str());
+                    std::printf("(skipped %s, %s: no bufferDeviceAddress on this device)\n", table.c_str(),
+                                label.c_str());
                     return;
                 }
                 usage |= VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
@@ -401,7 +403,9 @@ int main(int argc, char** argv) {
                 const void *d32 = t.nodes32.data(), *d16 = t.nodes16.data(), *d8 = t.nodes8.data();
                 bool small = table == "small";
                 addCase(table, base, "32", base, "fetch_ssbo", steps, SSBO, d32, b32, NONE, p, work, invocations);
-                if (small) addCase(table, "(b) uniform buffer", "32", base, "fetch_ubo", steps, UBO, d32, b32, NONE, p, work, invocations);
+                if (small)
+                    addCase(table, "(b) uniform buffer", "32", base, "fetch_ubo", steps, UBO, d32, b32, NONE, p, work,
+                            invocations);
                 if (2ull * count <= limits.maxTexelBufferElements) {
                     addCase(table, "(c) texel buffer RGBA32F, texelFetch", "32", base, "fetch_texel", steps, TEXEL, d32,
                             b32, F32, p, work, invocations);
@@ -411,7 +415,8 @@ int main(int argc, char** argv) {
                 if (small && b32 <= limits.maxComputeSharedMemorySize)
                     addCase(table, "(d) shared memory, copied in per workgroup of 64", "32", base, "fetch_shared",
                             steps, SSBO, d32, b32, NONE, p, work, invocations);
-                addCase(table, "(e) buffer device address", "32", base, "fetch_bda", steps, SSBO, d32, b32, NONE, p, work, invocations);
+                addCase(table, "(e) buffer device address", "32", base, "fetch_bda", steps, SSBO, d32, b32, NONE, p,
+                        work, invocations);
                 addCase(table, "(f) 16-byte node (8-bit planes), storage buffer", "16", base, "fetch_packed16_ssbo",
                         steps, SSBO, d16, b16, NONE, p, work, invocations);
                 if (small)
@@ -419,8 +424,8 @@ int main(int argc, char** argv) {
                             d16, b16, NONE, p, work, invocations);
                 addCase(table, "(f) 16-byte node, texel buffer RGBA32UI", "16", base, "fetch_packed16_texel", steps,
                         TEXEL, d16, b16, U32, p, work, invocations);
-                addCase(table, "(f) 8-byte node (5-bit planes), storage buffer", "8", base, "fetch_packed8_ssbo",
-                        steps, SSBO, d8, b8, NONE, p, work, invocations);
+                addCase(table, "(f) 8-byte node (5-bit planes), storage buffer", "8", base, "fetch_packed8_ssbo", steps,
+                        SSBO, d8, b8, NONE, p, work, invocations);
                 addCase(table, "(f) 8-byte node, texel buffer RG32UI", "8", base, "fetch_packed8_texel", steps, TEXEL,
                         d8, b8, U32x2, p, work, invocations);
             }
@@ -470,7 +475,7 @@ int main(int argc, char** argv) {
             const auto& ref = it->second->output;
             bool same = true;
             for (size_t i = 0; i < ref.size(); i += (c.group == "stack" ? 2 : 1))
-                if (std::memcmp(&ref[i], &c.output[i], sizeof(float)) != 0) same = false;
+                if (std::bit_cast<uint32_t>(ref[i]) != std::bit_cast<uint32_t>(c.output[i])) same = false;  // bit-identical
             if (!same) {
                 std::printf("MISMATCH: %s, %s computed other results than %s\n", c.table.c_str(), c.label.c_str(),
                             it->second->label.c_str());
@@ -494,16 +499,20 @@ int main(int argc, char** argv) {
             }
             double rate = c.work / median(c.seconds);
             std::printf("| %s (%s nodes) | %s | %.0f | %.2f | %.3f |\n", c.table.c_str(),
-                        c.table == "small" ? "1,024" : "1,048,576", c.label.c_str(), rate / 1e6,
-                        rate / baselineRate(c), c.createSeconds + std::max(0.0, c.firstSeconds - median(c.seconds)));
+                        c.table == "small" ? "1,024" : "1,048,576", c.label.c_str(), rate / 1e6, rate / baselineRate(c),
+                        c.createSeconds + std::max(0.0, c.firstSeconds - median(c.seconds)));
         }
         header = false;
         for (const auto& c : cases) {
             if (c.group != "stack") continue;
             if (!header) {
-                std::printf("\nTraversal stack: %u traversals of a binary tree, nodes from a storage buffer, median of %d runs\n\n",
-                            stackInvocations, runs);
-                std::printf("| tree | stack | M traversals/s | nodes fetched per traversal | M node fetches/s | vs local array | compile s |\n|---|---|---|---|---|---|---|\n");
+                std::printf(
+                    "\nTraversal stack: %u traversals of a binary tree, nodes from a storage buffer, median of %d "
+                    "runs\n\n",
+                    stackInvocations, runs);
+                std::printf(
+                    "| tree | stack | M traversals/s | nodes fetched per traversal | M node fetches/s | vs local array "
+                    "| compile s |\n|---|---|---|---|---|---|---|\n");
                 header = true;
             }
             double fetches = 0;
@@ -512,7 +521,8 @@ int main(int argc, char** argv) {
             double rate = c.work / seconds;
             std::printf("| %s (depth %s) | %s | %.2f | %.1f | %.0f | %.2f | %.3f |\n", c.table.c_str(),
                         c.table == "small tree" ? "9" : "19", c.label.c_str(), rate / 1e6, fetches / c.work,
-                        fetches / seconds / 1e6, rate / baselineRate(c), c.createSeconds + std::max(0.0, c.firstSeconds - seconds));
+                        fetches / seconds / 1e6, rate / baselineRate(c),
+                        c.createSeconds + std::max(0.0, c.firstSeconds - seconds));
         }
         std::printf("\nLoad average at the end: %s. Results agree across variants: %s\n", loadAverage().c_str(),
                     allAgree ? "yes" : "NO");
