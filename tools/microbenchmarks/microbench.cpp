@@ -475,7 +475,8 @@ int main(int argc, char** argv) {
             const auto& ref = it->second->output;
             bool same = true;
             for (size_t i = 0; i < ref.size(); i += (c.group == "stack" ? 2 : 1))
-                if (std::bit_cast<uint32_t>(ref[i]) != std::bit_cast<uint32_t>(c.output[i])) same = false;  // bit-identical
+                if (std::bit_cast<uint32_t>(ref[i]) != std::bit_cast<uint32_t>(c.output[i]))
+                    same = false;  // bit-identical
             if (!same) {
                 std::printf("MISMATCH: %s, %s computed other results than %s\n", c.table.c_str(), c.label.c_str(),
                             it->second->label.c_str());
