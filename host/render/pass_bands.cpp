@@ -6,8 +6,12 @@
 
 namespace penumbra {
 
-PassBands::PassBands(uint32_t width, uint32_t height, uint32_t spp, uint64_t maxPixelSamples)
-    : m_width(width), m_height(height), m_spp(spp), m_maxPixelSamples(maxPixelSamples) {
+PassBands::PassBands(uint32_t width, uint32_t height, uint32_t spp, uint64_t maxPixelSamples, uint64_t firstBandPixels)
+    : m_width(width),
+      m_height(height),
+      m_spp(spp),
+      m_maxPixelSamples(maxPixelSamples),
+      m_firstBandPixels(std::max<uint64_t>(firstBandPixels, kTile)) {
     if (width == 0 || height == 0) throw std::invalid_argument("pass bands: the film has no pixels");
     const uint32_t count = std::min<uint32_t>(8, height);
     for (uint32_t i = 0; i < count; ++i) {
@@ -47,7 +51,7 @@ PassBand PassBands::next(double target) {
     // Sized by the costliest strip's last measured cost per pixel sample, growing at most x2
     // per band: a part of the film costlier than any measured takes at most twice the last
     // band's pixels.
-    double pixels = double(kTile);
+    double pixels = double(m_firstBandPixels);
     if (m_lastPixels > 0) pixels = 2.0 * double(m_lastPixels);
     if (maxCost() > 0.0) pixels = std::min(pixels, target / maxCost());
     pixels = std::max(pixels, double(kTile));

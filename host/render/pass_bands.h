@@ -40,7 +40,10 @@ public:
     static constexpr uint32_t kMaxPassesPerBand = 1024;
 
     // `maxPixelSamples` > 0 caps every band (tests use it to force small bands).
-    PassBands(uint32_t width, uint32_t height, uint32_t spp, uint64_t maxPixelSamples = 0);
+    // `firstBandPixels`: the pixel samples of the first band, before anything is measured
+    // (Renderer derives it from the rays a pixel sample traces; a tile by default).
+    PassBands(uint32_t width, uint32_t height, uint32_t spp, uint64_t maxPixelSamples = 0,
+              uint64_t firstBandPixels = kTile);
 
     // The next band, meant to take about `targetSeconds`. Advances the schedule.
     PassBand next(double targetSeconds);
@@ -63,6 +66,7 @@ private:
 
     uint32_t m_width, m_height, m_spp;
     uint64_t m_maxPixelSamples;
+    uint64_t m_firstBandPixels;
     uint32_t m_sample = 0;
     std::vector<Strip> m_strips;
     std::vector<uint32_t> m_order;  // strip visiting order

@@ -155,7 +155,16 @@ void Renderer::renderAll(const std::function<void(const RenderProgress&)>& progr
     // Each submission is sized to take about pacing.targetSeconds (render/pass_bands.h), by
     // the device's time for it: the wall time also holds a fixed cost per submission that
     // does not grow with the work (gpu/gpu_timer.h).
-    PassBands bands(m_params.width, m_params.height, total, pacing.maxPixelSamples);
+    // The first band, before anything is measured, is sized from the rays a pixel sample
+    // may trace (the bound countRays uses) at a throughput below any measured on lavapipe
+    // (0.2 Mrays/s, the 1M-triangle scene under heavy load): ordinary settings start with
+    // thousands of pixels instead of one tile, which saves lavapipe's fixed cost of ~20
+    // submissions on small renders, while heavy ones (thousands of samples per pixel)
+    // still start with a single tile.
+    constexpr double kSlowestRaysPerSecond = 2e5;
+    const double raysPerPixelSample = 1.0 + 2.0 * double(m_options.lightSamples + m_options.bsdfSamples);
+    const auto firstBandPixels = uint64_t(pacing.targetSeconds * kSlowestRaysPerSecond / raysPerPixelSample);
+    PassBands bands(m_params.width, m_params.height, total, pacing.maxPixelSamples, firstBandPixels);
     const gpu::GpuTimer timer(m_context);
     while (!bands.finished()) {
         if (cancel && cancel->load()) throw std::runtime_error("render interrupted");
