@@ -15,4 +15,10 @@ gpu::Context& gpuContext();
 // build/test-output/<name>, with the directory created.
 std::filesystem::path outputPath(const std::string& name);
 
+// build/test-output/<group>/<name>, emptied and created.
+std::filesystem::path freshOutputDir(const std::string& group, const std::string& name);
+
+// `path` in single quotes for a shell command line (test paths hold no quotes).
+std::string shellQuoted(const std::filesystem::path& path);
+
 }  // namespace penumbra::test

@@ -25,20 +25,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path freshDir(const std::string& name) {
-    fs::path dir = test::outputPath("pieces") / name;
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
+fs::path freshDir(const std::string& name) { return test::freshOutputDir("pieces", name); }
 
-// Shell-quoted (test paths hold no quotes).
-std::string q(const fs::path& p) {
-    std::string quoted = p.string();
-    quoted.insert(quoted.begin(), '\'');
-    quoted.push_back('\'');
-    return quoted;
-}
+std::string q(const fs::path& p) { return test::shellQuoted(p); }
 
 // A 1x1 render of `spp` samples of seed 0 from `offset` on, whose value is `value`.
 Image partial(int offset, int spp, float value) {

@@ -36,20 +36,9 @@ json tinyScene() {
     };
 }
 
-fs::path freshDir(const std::string& name) {
-    fs::path dir = test::outputPath("outputs") / name;
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
+fs::path freshDir(const std::string& name) { return test::freshOutputDir("outputs", name); }
 
-// Shell-quoted (test paths hold no quotes).
-std::string q(const fs::path& p) {
-    std::string quoted = p.string();
-    quoted.insert(quoted.begin(), '\'');
-    quoted.push_back('\'');
-    return quoted;
-}
+std::string q(const fs::path& p) { return test::shellQuoted(p); }
 
 std::string readBytes(const fs::path& path) {
     std::ifstream in(path, std::ios::binary);
