@@ -88,14 +88,14 @@ vec3 incidentEmission(Shading s, vec3 wi, float selectionScale, out float pLight
     Hit hit;
     if (!traceClosest(s.origin, wi, FLOAT_MAX, hit)) {
         if (params.environmentLight == NO_LIGHT) return vec3(0.0);
-        Light env = lights[params.environmentLight];
+        Light env = loadLight(params.environmentLight);
         pLight = env.selectionProb * selectionScale *
                  lightPdf(params.environmentLight, s.origin, s.ns, wi, vec3(0.0), vec3(0.0), 0.0, NO_HIT, lightModes());
         return env.emission;
     }
     SurfacePoint y = surfaceAt(hit, s.origin, wi);
     if (y.light == NO_LIGHT) return vec3(0.0);
-    Light light = lights[y.light];
+    Light light = loadLight(y.light);
     vec3 Le = emittedRadiance(light, y.geometricNormal, wi);
     if (Le == vec3(0.0)) return Le;
     pLight = light.selectionProb * selectionScale *
@@ -180,11 +180,11 @@ void main() {
     cameraRay(pixel, rand2(rng), origin, dir);
     Hit hit;
     if (!traceClosest(origin, dir, FLOAT_MAX, hit)) {
-        accumulate(pixel, params.environmentLight == NO_LIGHT ? vec3(0.0) : lights[params.environmentLight].emission);
+        accumulate(pixel, params.environmentLight == NO_LIGHT ? vec3(0.0) : loadLight(params.environmentLight).emission);
         return;
     }
     SurfacePoint sp = surfaceAt(hit, origin, dir);
-    vec3 L = sp.light == NO_LIGHT ? vec3(0.0) : emittedRadiance(lights[sp.light], sp.geometricNormal, dir);
+    vec3 L = sp.light == NO_LIGHT ? vec3(0.0) : emittedRadiance(loadLight(sp.light), sp.geometricNormal, dir);
 
     Shading s;
     s.x = sp.position;

@@ -16,18 +16,16 @@
 #include "sampling/spherical_rectangle.glsl"
 #include "sampling/spherical_triangle.glsl"
 #include "geometry/bvh.glsl"
+#include "lights/light_data.glsl"
 
-layout(std430, binding = BINDING_LIGHTS) readonly restrict buffer Lights { Light lights[]; };
-layout(std430, binding = BINDING_LIGHT_TABLE) readonly restrict buffer LightTable { AliasEntry lightTable[]; };
-layout(std430, binding = BINDING_MESH_TABLE) readonly restrict buffer MeshTable { AliasEntry meshTable[]; };
 
 // Walker's alias method over lightTable/meshTable entries [offset, offset + count) with one
 // uniform number: its integer part picks the slot, its fraction flips the slot's coin.
 AliasEntry aliasEntry(uint index, bool mesh) {
-    // Two separate reads rather than `mesh ? meshTable[i] : lightTable[i]`: the two buffer
-    // blocks have distinct struct types in SPIR-V, which a select of whole structs violates.
-    if (mesh) return meshTable[index];
-    return lightTable[index];
+    // Two separate reads rather than a select of whole structs: the two buffer blocks have
+    // distinct struct types in SPIR-V, which such a select violates.
+    if (mesh) return loadMeshAlias(index);
+    return loadLightAlias(index);
 }
 
 AliasEntry sampleAlias(uint offset, uint count, float u, bool mesh) {
@@ -201,7 +199,7 @@ float spherePdf(vec3 x, vec3 center, float r, vec3 y, vec3 ny, float d, uint sph
 // x inside a sphere light, ...).
 bool sampleLight(uint index, vec3 x, vec3 n, vec3 u, LightSamplingModes modes, out LightSample ls) {
     uint sphereSampling = modes.sphere;
-    Light light = lights[index];
+    Light light = loadLight(index);
     ls.isDelta = false;
     ls.pdf = 0.0;
     ls.radiance = vec3(0.0);
@@ -239,7 +237,7 @@ bool sampleLight(uint index, vec3 x, vec3 n, vec3 u, LightSamplingModes modes, o
     // mesh triangle included), which then replaces the area-to-solid-angle conversion below.
     float solidAnglePdf = 0.0;
     if (lightIs(light, LIGHT_SPHERE)) {
-        Primitive p = primitives[light.first];
+        Primitive p = loadLightPrimitive(light.first);
         vec3 center = p.p0;
         float r = p.p1.x;
         vec3 axis = x - center;
@@ -276,7 +274,7 @@ bool sampleLight(uint index, vec3 x, vec3 n, vec3 u, LightSamplingModes modes, o
         }
         y = center + r * ny;
     } else if (lightIs(light, LIGHT_QUAD)) {
-        Primitive p = primitives[light.first];
+        Primitive p = loadLightPrimitive(light.first);
         ny = primitiveFrontNormal(p);
         float omega0, omega1;
         if (modes.quad == QUAD_SOLID_ANGLE && quadSolidAngles(p, x, modes, omega0, omega1)) {
@@ -287,7 +285,7 @@ bool sampleLight(uint index, vec3 x, vec3 n, vec3 u, LightSamplingModes modes, o
         }
     } else if (lightIs(light, LIGHT_MESH)) {  // a triangle with probability area / total, then a point on it
         AliasEntry e = sampleAlias(light.first, light.count, u.z, true);
-        Primitive p = primitives[e.item];
+        Primitive p = loadLightPrimitive(e.item);
         ny = primitiveFrontNormal(p);
         float omega;
         if (modes.triangle == TRIANGLE_SOLID_ANGLE && triangleSolidAngle(p, x, modes, omega)) {
@@ -310,7 +308,7 @@ bool sampleLight(uint index, vec3 x, vec3 n, vec3 u, LightSamplingModes modes, o
     float cosY = dot(-ls.wi, ny);
     if (lightIs(light, LIGHT_SPHERE)) {
         if (cosY <= 0.0) return false;  // back of the sphere: hidden by the sphere itself
-        ls.pdf = spherePdf(x, primitives[light.first].p0, primitives[light.first].p1.x, y, ny, ls.dist, sphereSampling);
+        ls.pdf = spherePdf(x, loadLightPrimitive(light.first).p0, loadLightPrimitive(light.first).p1.x, y, ny, ls.dist, sphereSampling);
     } else {
         if (cosY <= 0.0 && (light.flags & LIGHT_TWO_SIDED) == 0u) return false;  // back of a one-sided light
         // p_A = 1 / area (mesh: lecture, p_A = 1 / sum A(k)), unless sampled in solid angle.
@@ -325,11 +323,11 @@ bool sampleLight(uint index, vec3 x, vec3 n, vec3 u, LightSamplingModes modes, o
 // on primitive `primitive`; for the environment, y, ny, d and primitive are ignored.
 float lightPdf(uint index, vec3 x, vec3 n, vec3 wi, vec3 y, vec3 ny, float d, uint primitive, LightSamplingModes modes) {
     uint sphereSampling = modes.sphere;
-    Light light = lights[index];
+    Light light = loadLight(index);
     if (lightIs(light, LIGHT_ENVIRONMENT)) return max(dot(wi, n), 0.0) * INV_PI;
     if (lightIs(light, LIGHT_POINT) || lightIs(light, LIGHT_DIRECTIONAL)) return 0.0;
     if (lightIs(light, LIGHT_SPHERE)) {
-        Primitive p = primitives[light.first];
+        Primitive p = loadLightPrimitive(light.first);
         return spherePdf(x, p.p0, p.p1.x, y, ny, d, sphereSampling);
     }
     // Quad and mesh: sampleLight declines points on the back of a one-sided light, so the
@@ -339,11 +337,11 @@ float lightPdf(uint index, vec3 x, vec3 n, vec3 wi, vec3 y, vec3 ny, float d, ui
     // Sampled in solid angle from x (the same decision as sampleLight's): uniform there.
     if (lightIs(light, LIGHT_QUAD) && modes.quad == QUAD_SOLID_ANGLE) {
         float omega0, omega1;
-        if (quadSolidAngles(primitives[light.first], x, modes, omega0, omega1)) return 1.0 / (omega0 + omega1);
+        if (quadSolidAngles(loadLightPrimitive(light.first), x, modes, omega0, omega1)) return 1.0 / (omega0 + omega1);
     }
     if (lightIs(light, LIGHT_MESH) && modes.triangle == TRIANGLE_SOLID_ANGLE) {
         // The hit triangle k: pmf_k / Omega_k, pmf_k = A_k / A the alias table's probability.
-        Primitive p = primitives[primitive];
+        Primitive p = loadLightPrimitive(primitive);
         float omega;
         if (triangleSolidAngle(p, x, modes, omega)) return triangleArea(p) / (light.area * omega);
     }

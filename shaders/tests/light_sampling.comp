@@ -33,7 +33,7 @@ float tracedLightPdf(uint index, vec3 x, vec3 n, vec3 wi, out float t, out uint 
     t = 0.0;
     primitive = NO_HIT;
     hitLight = false;
-    uint type = lights[index].type;
+    uint type = loadLight(index).type;
     if (type == LIGHT_POINT || type == LIGHT_DIRECTIONAL)
         return lightPdf(index, x, n, wi, vec3(0.0), vec3(0.0), 0.0, NO_HIT, modes);
     Hit hit;
