@@ -2,6 +2,7 @@
 // JSON values with a plain-string fallback) and the errors of malformed or impossible paths.
 #include <gtest/gtest.h>
 
+#include "scene/integrator_json.h"
 #include "scene/load.h"
 #include "scene_test_util.h"
 
@@ -90,7 +91,7 @@ TEST(Overrides, AppliedBeforeValidation) {
     Scene s = loadScene(file, {parseOverride("integrator.strategy=bsdf"), parseOverride("sampler.spp=3"),
                                parseOverride("lights[0]={\"type\":\"point\",\"position\":[0,1,0],\"intensity\":2}")});
     EXPECT_EQ(s.integrator.strategy, Strategy::Bsdf);
-    EXPECT_EQ(s.integrator.json["strategy"], "bsdf");
+    EXPECT_EQ(integratorJson(s.integrator)["strategy"], "bsdf");
     EXPECT_EQ(s.sampler.spp, 3u);
     ASSERT_EQ(s.lights.size(), 1u);
     EXPECT_FLOAT_EQ(s.lights[0].intensity.y, 2.0f);

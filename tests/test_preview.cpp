@@ -30,6 +30,7 @@
 #include "preview/integrator_controls.h"
 #include "preview/key_bindings.h"
 #include "preview/pass_scheduler.h"
+#include "scene/integrator_json.h"
 #include "shared/types.h"
 
 #include "png_reader.h"
@@ -227,21 +228,20 @@ TEST(PreviewKeys, HelpListsEveryScriptKey) {
 
 TEST(PreviewIntegratorKeys, ChangeTheOptionsAndTheJsonThatSavesRecord) {
     IntegratorSettings settings;  // direct, mis, power, solid_angle
-    settings.json = {{"type", "direct"}};
     EXPECT_EQ(integratorLabel(settings), "mis power, spheres solid_angle");
     EXPECT_FALSE(applyIntegratorAction(settings, Action::StrategyMis));  // already mis: no restart
     EXPECT_TRUE(applyIntegratorAction(settings, Action::StrategyBsdf));
     EXPECT_EQ(settings.strategy, Strategy::Bsdf);
-    EXPECT_EQ(settings.json["strategy"], "bsdf");
+    EXPECT_EQ(integratorJson(settings)["strategy"], "bsdf");
     EXPECT_TRUE(applyIntegratorAction(settings, Action::ToggleHeuristic));
     EXPECT_EQ(settings.heuristic, Heuristic::Balance);
-    EXPECT_EQ(settings.json["heuristic"], "balance");
+    EXPECT_EQ(integratorJson(settings)["heuristic"], "balance");
     const SphereSampling cycle[] = {SphereSampling::Area, SphereSampling::Cap, SphereSampling::SolidAngle};
     const char* names[] = {"area", "cap", "solid_angle"};
     for (int i = 0; i < 3; ++i) {
         EXPECT_TRUE(applyIntegratorAction(settings, Action::CycleSphereSampling));
         EXPECT_EQ(settings.sphereSampling, cycle[i]);
-        EXPECT_EQ(settings.json["sphere_sampling"], names[i]);
+        EXPECT_EQ(integratorJson(settings)["sphere_sampling"], names[i]);
     }
     EXPECT_EQ(integratorLabel(settings), "bsdf, spheres solid_angle");
     EXPECT_FALSE(applyIntegratorAction(settings, Action::ExposureUp));
@@ -525,16 +525,15 @@ TEST(PreviewIntegratorKeys, TAndMToggleQuadAndTriangleSampling) {
     EXPECT_NE(keyHelp().find("\n  T "), std::string::npos) << keyHelp();
     EXPECT_NE(keyHelp().find("\n  M "), std::string::npos) << keyHelp();
     IntegratorSettings settings;  // quad solid_angle, triangle area
-    settings.json = {{"type", "direct"}};
     EXPECT_TRUE(applyIntegratorAction(settings, Action::ToggleQuadSampling));
     EXPECT_EQ(settings.quadSampling, QuadSampling::Area);
-    EXPECT_EQ(settings.json["quad_sampling"], "area");
+    EXPECT_EQ(integratorJson(settings)["quad_sampling"], "area");
     EXPECT_TRUE(applyIntegratorAction(settings, Action::ToggleQuadSampling));
     EXPECT_EQ(settings.quadSampling, QuadSampling::SolidAngle);
-    EXPECT_EQ(settings.json["quad_sampling"], "solid_angle");
+    EXPECT_EQ(integratorJson(settings)["quad_sampling"], "solid_angle");
     EXPECT_TRUE(applyIntegratorAction(settings, Action::ToggleTriangleSampling));
     EXPECT_EQ(settings.triangleSampling, TriangleSampling::SolidAngle);
-    EXPECT_EQ(settings.json["triangle_sampling"], "solid_angle");
+    EXPECT_EQ(integratorJson(settings)["triangle_sampling"], "solid_angle");
     EXPECT_TRUE(isIntegratorAction(Action::ToggleQuadSampling));
     EXPECT_TRUE(isIntegratorAction(Action::ToggleTriangleSampling));
 }

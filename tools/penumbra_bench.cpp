@@ -79,7 +79,6 @@ Scene proceduralScene(int triangles) {
     scene.film = {512, 384};
     scene.sampler.spp = 16;
     scene.integrator.type = IntegratorType::AmbientOcclusion;
-    scene.integrator.json = {{"type", "ao"}, {"sampling", "cosine"}, {"max_distance", 1e30}};
     scene.materials.push_back({"default", MaterialType::Diffuse, glm::vec3(0.8f), glm::vec3(0.0f), 0.0f});
     Shape mesh = displacedSphere(triangles);
     scene.shapes.push_back(std::move(mesh));

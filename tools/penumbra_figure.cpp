@@ -29,6 +29,7 @@
 #include "image/figure.h"
 #include "image/image.h"
 #include "render/renderer.h"
+#include "scene/enum_names.h"
 #include "scene/load.h"
 
 using namespace penumbra;
@@ -44,12 +45,15 @@ const char* kUsage =
 
 // The options that can be varied, their values in figure order (the defaults of --values),
 // and the reference's value of each (the estimator with the lowest variance).
+template <class E>
+std::vector<std::string> valuesOf() {
+    std::vector<const char*> names = allNames<E>();
+    return {names.begin(), names.end()};
+}
 const std::map<std::string, std::vector<std::string>> kVaryValues = {
-    {"strategy", {"light", "bsdf", "mis", "mixture"}},
-    {"sphere_sampling", {"area", "cap", "solid_angle"}},
-    {"quad_sampling", {"area", "solid_angle"}},
-    {"triangle_sampling", {"area", "solid_angle"}},
-    {"heuristic", {"balance", "power"}},
+    {"strategy", valuesOf<Strategy>()},          {"sphere_sampling", valuesOf<SphereSampling>()},
+    {"quad_sampling", valuesOf<QuadSampling>()}, {"triangle_sampling", valuesOf<TriangleSampling>()},
+    {"heuristic", valuesOf<Heuristic>()},
 };
 
 struct Options {
@@ -171,10 +175,10 @@ int run(const Options& o) {
     }
     const SamplerSettings& sampler = scenes[0].sampler;
     std::vector<Override> refOverrides = o.overrides;
-    refOverrides.push_back({"integrator.strategy", "mis"});
-    refOverrides.push_back({"integrator.sphere_sampling", "solid_angle"});
-    refOverrides.push_back({"integrator.quad_sampling", "solid_angle"});
-    refOverrides.push_back({"integrator.triangle_sampling", "solid_angle"});
+    refOverrides.push_back({"integrator.strategy", toName(Strategy::Mis)});
+    refOverrides.push_back({"integrator.sphere_sampling", toName(SphereSampling::SolidAngle)});
+    refOverrides.push_back({"integrator.quad_sampling", toName(QuadSampling::SolidAngle)});
+    refOverrides.push_back({"integrator.triangle_sampling", toName(TriangleSampling::SolidAngle)});
     refOverrides.push_back(
         {"sampler.spp", std::to_string(o.referenceSpp > 0 ? uint64_t(o.referenceSpp) : 64ull * sampler.spp)});
     refOverrides.push_back({"sampler.seed", std::to_string(uint64_t(sampler.seed) + 1)});

@@ -20,6 +20,8 @@
 #include "image/image.h"
 #include "image/output_check.h"
 #include "render/renderer.h"
+#include "scene/enum_names.h"
+#include "scene/integrator_json.h"
 
 namespace penumbra {
 namespace {
@@ -63,9 +65,9 @@ std::string incompleteReason(const fs::path& output, const Scene& scene) {
     const int64_t first = scene.sampler.sampleOffset;
     if (m.pieces && *m.pieces != std::vector<SamplePiece>{{scene.sampler.seed, first, first + scene.sampler.spp}})
         return "other sample pieces";
-    if (m.integrator && *m.integrator != scene.integrator.json.dump()) return "other integrator";
+    if (m.integrator && *m.integrator != integratorJson(scene.integrator).dump()) return "other integrator";
     // Absent: rendered before the sampler option, with independent samples.
-    if (m.sampler.value_or("independent") != samplerTypeName(scene.sampler.type)) return "other sampler";
+    if (m.sampler.value_or("independent") != toName(scene.sampler.type)) return "other sampler";
     return {};
 }
 

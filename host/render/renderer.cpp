@@ -9,6 +9,8 @@
 #include "gpu/gpu_timer.h"
 #include "gpu/vk_check.h"
 #include "render/pass_bands.h"
+#include "scene/enum_names.h"
+#include "scene/integrator_json.h"
 
 namespace penumbra {
 namespace {
@@ -219,9 +221,9 @@ Image Renderer::readback(double renderSeconds) const {
     image.meta.spp = int(m_scene.sampler.spp);
     image.meta.seed = int(m_scene.sampler.seed);
     image.meta.sampleOffset = int(m_scene.sampler.sampleOffset);
-    image.meta.integrator = m_scene.integrator.json.dump();
+    image.meta.integrator = integratorJson(m_scene.integrator).dump();
     image.meta.renderSeconds = renderSeconds;
-    image.meta.sampler = samplerTypeName(m_scene.sampler.type);
+    image.meta.sampler = toName(m_scene.sampler.type);
     return image;
 }
 

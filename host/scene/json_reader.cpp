@@ -134,6 +134,10 @@ std::string JsonReader::string() const {
 }
 
 std::string JsonReader::choice(std::initializer_list<const char*> choices) const {
+    return choice(std::span<const char* const>(choices.begin(), choices.size()));
+}
+
+std::string JsonReader::choice(std::span<const char* const> choices) const {
     std::string value = string();
     std::string list;
     for (const char* c : choices) {

@@ -7,6 +7,7 @@
 #include <initializer_list>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -55,6 +56,7 @@ public:
     std::string string() const;
     // One of `choices`; the message lists them.
     std::string choice(std::initializer_list<const char*> choices) const;
+    std::string choice(std::span<const char* const> choices) const;
 
     // --- vectors ---------------------------------------------------------------------------
     glm::vec3 vec3() const;  // an array of exactly 3 numbers

@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "core/errors.h"
+#include "scene/enum_names.h"
 #include "scene/gltf_import.h"
 #include "scene/input_file.h"
 #include "scene/json_parse.h"
@@ -37,6 +38,12 @@ glm::vec3 radiometric(const JsonReader& r, glm::vec3 value, const char* what) {
     if (std::max({value.x, value.y, value.z}) > float(kMaxRadiometric))
         r.fail(std::string(what) + " exceeds 1e20 (README: ranges)");
     return value;
+}
+
+// The value of enum E that `r` names (enum_names.h); the message lists the names.
+template <class E>
+E choiceOf(const JsonReader& r) {
+    return *fromName<E>(r.choice(allNames<E>()));
 }
 
 // Total area of a triangle mesh; 0 when empty.
@@ -85,19 +92,16 @@ private:
         if (auto spp = r.find("spp")) s.spp = uint32_t(spp->integer(1, INT32_MAX));
         if (auto seed = r.find("seed")) s.seed = uint32_t(seed->integer(0, INT32_MAX));
         if (auto offset = r.find("sample_offset")) s.sampleOffset = uint32_t(offset->integer(0, INT32_MAX));
-        if (auto type = r.find("type"))
-            s.type = type->choice({"sobol", "independent"}) == "sobol" ? SamplerType::Sobol : SamplerType::Independent;
+        if (auto type = r.find("type")) s.type = choiceOf<SamplerType>(*type);
     }
 
     void readIntegrator(const std::optional<JsonReader>& r) {
         IntegratorSettings& s = m_scene.integrator;
-        std::string type = r && r->has("type") ? r->at("type").choice({"ao", "direct"}) : "direct";
-        if (type == "ao") {
+        IntegratorType type = r && r->has("type") ? choiceOf<IntegratorType>(r->at("type")) : IntegratorType::Direct;
+        if (type == IntegratorType::AmbientOcclusion) {
             r->expectKeys({"type", "sampling", "max_distance"}, "the ao integrator");
             s.type = IntegratorType::AmbientOcclusion;
-            s.json = {{"type", "ao"}, {"sampling", "cosine"}, {"max_distance", 1e30}};
-            if (auto v = r->find("sampling"))
-                s.aoSampling = v->choice({"cosine", "uniform"}) == "cosine" ? AoSampling::Cosine : AoSampling::Uniform;
+            if (auto v = r->find("sampling")) s.aoSampling = choiceOf<AoSampling>(*v);
             if (auto v = r->find("max_distance")) {
                 s.aoMaxDistance = v->number();
                 if (!(s.aoMaxDistance > 0.0f)) v->fail("must be > 0");
@@ -108,37 +112,25 @@ private:
                                "quad_sampling", "triangle_sampling", "light_selection"},
                               "the direct integrator");
             s.type = IntegratorType::Direct;
-            s.json = {{"type", "direct"},       {"strategy", "mis"},    {"heuristic", "power"},
-                      {"light_samples", 1},     {"bsdf_samples", 1},    {"sphere_sampling", "solid_angle"},
-                      {"light_selection", "power"}};
             if (r) readDirect(*r, s);
         }
-        // The header attribute shows the options as given, defaults filled in.
-        if (r)
-            for (const auto& item : r->json().items()) s.json[item.key()] = item.value();
     }
 
     static void readDirect(const JsonReader& r, IntegratorSettings& s) {
-        if (auto v = r.find("strategy")) {
-            std::string x = v->choice({"light", "bsdf", "mis", "mixture"});
-            s.strategy = x == "light" ? Strategy::Light : x == "bsdf" ? Strategy::Bsdf : x == "mis" ? Strategy::Mis : Strategy::Mixture;
-        }
-        if (auto v = r.find("heuristic"))
-            s.heuristic = v->choice({"balance", "power"}) == "balance" ? Heuristic::Balance : Heuristic::Power;
+        if (auto v = r.find("strategy")) s.strategy = choiceOf<Strategy>(*v);
+        if (auto v = r.find("heuristic")) s.heuristic = choiceOf<Heuristic>(*v);
         if (auto v = r.find("light_samples")) s.lightSamples = uint32_t(v->integer(0, 1 << 16));
         if (auto v = r.find("bsdf_samples")) s.bsdfSamples = uint32_t(v->integer(0, 1 << 16));
-        if (auto v = r.find("sphere_sampling")) {
-            std::string x = v->choice({"area", "cap", "solid_angle"});
-            s.sphereSampling = x == "area" ? SphereSampling::Area : x == "cap" ? SphereSampling::Cap : SphereSampling::SolidAngle;
+        if (auto v = r.find("sphere_sampling")) s.sphereSampling = choiceOf<SphereSampling>(*v);
+        if (auto v = r.find("quad_sampling")) {
+            s.quadSampling = choiceOf<QuadSampling>(*v);
+            s.quadSamplingGiven = true;
         }
-        if (auto v = r.find("quad_sampling"))
-            s.quadSampling = v->choice({"area", "solid_angle"}) == "area" ? QuadSampling::Area
-                                                                          : QuadSampling::SolidAngle;
-        if (auto v = r.find("triangle_sampling"))
-            s.triangleSampling = v->choice({"area", "solid_angle"}) == "area" ? TriangleSampling::Area
-                                                                              : TriangleSampling::SolidAngle;
-        if (auto v = r.find("light_selection"))
-            s.lightSelection = v->choice({"uniform", "power"}) == "uniform" ? LightSelection::Uniform : LightSelection::Power;
+        if (auto v = r.find("triangle_sampling")) {
+            s.triangleSampling = choiceOf<TriangleSampling>(*v);
+            s.triangleSamplingGiven = true;
+        }
+        if (auto v = r.find("light_selection")) s.lightSelection = choiceOf<LightSelection>(*v);
         // A strategy with no samples of its own would render only what the camera sees directly.
         bool lightUsed = s.strategy != Strategy::Bsdf, bsdfUsed = s.strategy != Strategy::Light;
         uint32_t used = (lightUsed ? s.lightSamples : 0) + (bsdfUsed ? s.bsdfSamples : 0);

@@ -9,7 +9,6 @@
 #include <vector>
 
 #include <glm/glm.hpp>
-#include <nlohmann/json.hpp>
 
 namespace penumbra {
 
@@ -37,11 +36,6 @@ struct SamplerSettings {
     SamplerType type = SamplerType::Sobol;
 };
 
-// The scene-file name of a sampler type ("independent", "sobol").
-inline const char* samplerTypeName(SamplerType type) {
-    return type == SamplerType::Sobol ? "sobol" : "independent";
-}
-
 enum class IntegratorType { AmbientOcclusion, Direct };
 enum class AoSampling { Uniform, Cosine };
 enum class Strategy { Light, Bsdf, Mis, Mixture };
@@ -65,9 +59,10 @@ struct IntegratorSettings {
     QuadSampling quadSampling = QuadSampling::SolidAngle;
     TriangleSampling triangleSampling = TriangleSampling::Area;
     LightSelection lightSelection = LightSelection::Power;
-    // The integrator object as written (after --set overrides), with defaults filled in,
-    // for the EXR header attribute penumbra:integrator.
-    nlohmann::json json;
+    // Whether the scene, --set or the preview set quad_sampling / triangle_sampling: the
+    // header lists them only then (integrator_json.h).
+    bool quadSamplingGiven = false;
+    bool triangleSamplingGiven = false;
 };
 
 enum class MaterialType { Diffuse, Phong };

@@ -1,0 +1,17 @@
+// The integrator object of a scene file, rebuilt from IntegratorSettings' typed fields: the
+// value of the EXR header attribute penumbra:integrator, which batch resume compares with
+// the job's. Names come from enum_names.h.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include "scene/scene.h"
+
+namespace penumbra {
+
+// The options of `settings.type` only, every one written out, except quad_sampling and
+// triangle_sampling where nothing set them (README: "Where the contract was silent"), so
+// that the header of a scene that does not use them stays as it was before those options.
+nlohmann::json integratorJson(const IntegratorSettings& settings);
+
+}  // namespace penumbra
