@@ -3,20 +3,47 @@
 
 namespace penumbra {
 
+// The scene enums number their values as the shaders' constants do, so an option is passed
+// as its enum value.
+static_assert(uint32_t(AoSampling::Uniform) == gpu::AO_UNIFORM && uint32_t(AoSampling::Cosine) == gpu::AO_COSINE);
+static_assert(uint32_t(Strategy::Light) == gpu::STRATEGY_LIGHT && uint32_t(Strategy::Bsdf) == gpu::STRATEGY_BSDF &&
+              uint32_t(Strategy::Mis) == gpu::STRATEGY_MIS && uint32_t(Strategy::Mixture) == gpu::STRATEGY_MIXTURE);
+static_assert(uint32_t(Heuristic::Balance) == gpu::HEURISTIC_BALANCE &&
+              uint32_t(Heuristic::Power) == gpu::HEURISTIC_POWER);
+static_assert(uint32_t(SphereSampling::Area) == gpu::SPHERE_AREA && uint32_t(SphereSampling::Cap) == gpu::SPHERE_CAP &&
+              uint32_t(SphereSampling::SolidAngle) == gpu::SPHERE_SOLID_ANGLE);
+static_assert(uint32_t(QuadSampling::Area) == gpu::QUAD_AREA &&
+              uint32_t(QuadSampling::SolidAngle) == gpu::QUAD_SOLID_ANGLE);
+static_assert(uint32_t(TriangleSampling::Area) == gpu::TRIANGLE_AREA &&
+              uint32_t(TriangleSampling::SolidAngle) == gpu::TRIANGLE_SOLID_ANGLE);
+static_assert(uint32_t(SamplerType::Independent) == gpu::SAMPLER_INDEPENDENT &&
+              uint32_t(SamplerType::Sobol) == gpu::SAMPLER_SOBOL);
+
 std::vector<uint32_t> KernelOptions::specialization() const {
+    // The options of the other integrator type stay at their defaults, so that they do not
+    // split the pipeline cache.
+    const IntegratorSettings defaults;
+    const bool ao = integrator.type == IntegratorType::AmbientOcclusion;
+    const IntegratorSettings& direct = ao ? defaults : integrator;
+    const AoSampling aoSampling = ao ? integrator.aoSampling : defaults.aoSampling;
     std::vector<uint32_t> values(SPEC_COUNT);
     values[SPEC_COUNT_RAYS] = countRays;
-    values[SPEC_STRATEGY] = strategy;
-    values[SPEC_HEURISTIC] = heuristic;
-    values[SPEC_LIGHT_SAMPLES] = lightSamples;
-    values[SPEC_BSDF_SAMPLES] = bsdfSamples;
-    values[SPEC_SPHERE_SAMPLING] = sphereSampling;
-    values[SPEC_AO_SAMPLING] = aoSampling;
+    values[SPEC_STRATEGY] = uint32_t(direct.strategy);
+    values[SPEC_HEURISTIC] = uint32_t(direct.heuristic);
+    values[SPEC_LIGHT_SAMPLES] = direct.lightSamples;
+    values[SPEC_BSDF_SAMPLES] = direct.bsdfSamples;
+    values[SPEC_SPHERE_SAMPLING] = uint32_t(direct.sphereSampling);
+    values[SPEC_AO_SAMPLING] = uint32_t(aoSampling);
     values[SPEC_SCENE_FEATURES] = sceneFeatures;
-    values[SPEC_SAMPLER] = sampler;
-    values[SPEC_QUAD_SAMPLING] = quadSampling;
-    values[SPEC_TRIANGLE_SAMPLING] = triangleSampling;
+    values[SPEC_SAMPLER] = uint32_t(sampler);
+    values[SPEC_QUAD_SAMPLING] = uint32_t(direct.quadSampling);
+    values[SPEC_TRIANGLE_SAMPLING] = uint32_t(direct.triangleSampling);
     return values;
+}
+
+uint32_t KernelOptions::lightAndBsdfSamples() const {
+    const std::vector<uint32_t> values = specialization();
+    return values[SPEC_LIGHT_SAMPLES] + values[SPEC_BSDF_SAMPLES];
 }
 
 uint32_t sceneFeatures(const SceneArrays& arrays) {
@@ -28,27 +55,10 @@ uint32_t sceneFeatures(const SceneArrays& arrays) {
 }
 
 KernelOptions makeKernelOptions(const Scene& scene, const SceneArrays& arrays) {
-    const IntegratorSettings& in = scene.integrator;
     KernelOptions o;
-    if (in.type == IntegratorType::AmbientOcclusion) {
-        o.aoSampling = in.aoSampling == AoSampling::Cosine ? gpu::AO_COSINE : gpu::AO_UNIFORM;
-    } else {
-        o.strategy = in.strategy == Strategy::Light  ? gpu::STRATEGY_LIGHT
-                     : in.strategy == Strategy::Bsdf ? gpu::STRATEGY_BSDF
-                     : in.strategy == Strategy::Mis  ? gpu::STRATEGY_MIS
-                                                     : gpu::STRATEGY_MIXTURE;
-        o.heuristic = in.heuristic == Heuristic::Power ? gpu::HEURISTIC_POWER : gpu::HEURISTIC_BALANCE;
-        o.lightSamples = in.lightSamples;
-        o.bsdfSamples = in.bsdfSamples;
-        o.sphereSampling = in.sphereSampling == SphereSampling::Area  ? gpu::SPHERE_AREA
-                           : in.sphereSampling == SphereSampling::Cap ? gpu::SPHERE_CAP
-                                                                      : gpu::SPHERE_SOLID_ANGLE;
-        o.quadSampling = in.quadSampling == QuadSampling::Area ? gpu::QUAD_AREA : gpu::QUAD_SOLID_ANGLE;
-        o.triangleSampling = in.triangleSampling == TriangleSampling::Area ? gpu::TRIANGLE_AREA
-                                                                           : gpu::TRIANGLE_SOLID_ANGLE;
-    }
+    o.integrator = scene.integrator;
+    o.sampler = scene.sampler.type;
     o.sceneFeatures = sceneFeatures(arrays);
-    o.sampler = scene.sampler.type == SamplerType::Sobol ? gpu::SAMPLER_SOBOL : gpu::SAMPLER_INDEPENDENT;
     return o;
 }
 

@@ -12,26 +12,20 @@
 namespace penumbra {
 
 struct KernelOptions {
-    uint32_t countRays = 0;
-    uint32_t strategy = gpu::STRATEGY_MIS;
-    uint32_t heuristic = gpu::HEURISTIC_POWER;
-    uint32_t lightSamples = 1;
-    uint32_t bsdfSamples = 1;
-    uint32_t sphereSampling = gpu::SPHERE_SOLID_ANGLE;
-    uint32_t aoSampling = gpu::AO_COSINE;
+    IntegratorSettings integrator;  // only the options of integrator.type reach the kernel
+    SamplerType sampler = SamplerType::Sobol;
     uint32_t sceneFeatures = gpu::FEATURES_ALL;
-    uint32_t sampler = gpu::SAMPLER_SOBOL;
-    uint32_t quadSampling = gpu::QUAD_SOLID_ANGLE;
-    uint32_t triangleSampling = gpu::TRIANGLE_AREA;
+    uint32_t countRays = 0;
 
     // Values in constant_id order, for gpu::Pipeline.
     std::vector<uint32_t> specialization() const;
-    bool operator==(const KernelOptions&) const = default;
+    // N1 + N2 as the kernel takes them (their defaults in an ao kernel).
+    uint32_t lightAndBsdfSamples() const;
+    // Equal when they make the same pipeline.
+    bool operator==(const KernelOptions& other) const { return specialization() == other.specialization(); }
 };
 
-// The options of `scene`'s integrator (those of the other integrator type stay at their
-// defaults, so that they do not split the pipeline cache) and sampler, and the features of
-// `arrays`.
+// The integrator and sampler settings of `scene` and the features of `arrays`.
 KernelOptions makeKernelOptions(const Scene& scene, const SceneArrays& arrays);
 
 // FEATURE_* bits of what `arrays` contains.

@@ -164,7 +164,7 @@ void Renderer::renderAll(const std::function<void(const RenderProgress&)>& progr
     // submissions on small renders, while heavy ones (thousands of samples per pixel)
     // still start with a single tile.
     constexpr double kSlowestRaysPerSecond = 2e5;
-    const double raysPerPixelSample = 1.0 + 2.0 * double(m_options.lightSamples + m_options.bsdfSamples);
+    const double raysPerPixelSample = 1.0 + 2.0 * double(m_options.lightAndBsdfSamples());
     const auto firstBandPixels = uint64_t(pacing.targetSeconds * kSlowestRaysPerSecond / raysPerPixelSample);
     PassBands bands(m_params.width, m_params.height, total, pacing.maxPixelSamples, firstBandPixels);
     const gpu::GpuTimer timer(m_context);
@@ -192,7 +192,7 @@ uint64_t Renderer::countRays(uint32_t passes) {
     uint32_t groupsY = (m_params.height + kTile - 1) / kTile;
     // One pass per submission, counted in 32 bits: at most a camera ray plus, per light or
     // BRDF sample, a traced ray and a shadow ray for a delta light.
-    const uint64_t raysPerPixel = 1 + 2 * uint64_t(m_options.lightSamples + m_options.bsdfSamples);
+    const uint64_t raysPerPixel = 1 + 2 * uint64_t(m_options.lightAndBsdfSamples());
     if (uint64_t(m_params.width) * m_params.height * raysPerPixel > UINT32_MAX)
         throw std::runtime_error("countRays: a pass may trace more than 2^32 rays; use a smaller film");
     uint64_t total = 0;
