@@ -58,8 +58,8 @@ float meshArea(const Shape& s) {
 
 class SceneBuilder {
 public:
-    SceneBuilder(Scene& scene, std::string label, fs::path baseDir, bool directModel)
-        : m_scene(scene), m_label(std::move(label)), m_baseDir(std::move(baseDir)), m_direct(directModel) {}
+    SceneBuilder(Scene& scene, std::string label, fs::path baseDir, bool modelAlone)
+        : m_scene(scene), m_label(std::move(label)), m_baseDir(std::move(baseDir)), m_modelAlone(modelAlone) {}
 
     void build(const json& doc) {
         JsonReader root(doc, m_label);
@@ -73,7 +73,7 @@ public:
         if (auto lights = root.find("lights"))
             for (size_t i = 0; i < lights->size(); ++i) readLight((*lights)[i]);
         readCamera(root.find("camera"));
-        if (m_direct) litModelFallback();
+        if (m_modelAlone) litModelFallback();
     }
 
 private:
@@ -278,7 +278,7 @@ private:
             fileField.fail("cannot open \"" + file.string() + "\" (" + *problem + ")");
         // A model given on the command line is the user's own choice; one that a scene
         // names must lie in the scene's folder (README, "glTF file access").
-        if (!m_direct && !allowAnyPath() && !isInsideFolder(file, m_baseDir))
+        if (!m_modelAlone && !allowAnyPath() && !isInsideFolder(file, m_baseDir))
             fileField.fail("refusing to read \"" + fileField.string() +
                            "\": it is outside the scene's folder (--allow-any-path reads it)");
         GltfImport model = importGltf(file, file.string());
@@ -376,7 +376,7 @@ private:
     }
 
     void readCamera(const std::optional<JsonReader>& r) {
-        Camera c = m_direct ? automaticCamera(r) : Camera{};
+        Camera c = m_modelAlone ? automaticCamera(r) : Camera{};
         if (r) {
             r->expectKeys({"eye", "target", "up", "fov_y"}, "camera");
             if (auto eye = r->find("eye")) c.eye = coordinates(*eye);
@@ -407,7 +407,7 @@ private:
     Scene& m_scene;
     std::string m_label;
     fs::path m_baseDir;
-    bool m_direct;
+    bool m_modelAlone;  // a glTF model given on its own, wrapped in a scene document
     std::map<std::string, uint32_t> m_materialIndex;
     std::optional<Camera> m_modelCamera;
 };
@@ -422,10 +422,11 @@ Scene loadScene(const fs::path& file, const std::vector<Override>& overrides) {
     std::string label = file.string();
     std::string ext = file.extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    bool direct = ext == ".gltf" || ext == ".glb";
+    // A glTF model given on its own (not a scene file that names one).
+    bool modelAlone = ext == ".gltf" || ext == ".glb";
 
     json doc;
-    if (direct) {
+    if (modelAlone) {
         // A model on its own is the scene {"shapes": [{"type": "gltf", "file": ...}]}, so that
         // --set works on it exactly as on a scene file.
         if (auto problem = openProblem(file)) throwInputError(label, "", "cannot open file (" + *problem + ")");
@@ -439,7 +440,7 @@ Scene loadScene(const fs::path& file, const std::vector<Override>& overrides) {
     scene.path = label;
     scene.name = file.stem().string();
     try {
-        SceneBuilder(scene, label, file.parent_path(), direct).build(doc);
+        SceneBuilder(scene, label, file.parent_path(), modelAlone).build(doc);
     } catch (const json::exception& e) {
         // Not expected (JsonReader checks types first); still bad input, never a crash.
         throwInputError(label, "", e.what());

@@ -59,9 +59,14 @@ vec3 reflectance(Shading s, vec3 wi) {
     return bsdfEval(s.m, s.ns, s.wo, wi) * cosI;
 }
 
-// One sample of light `index` drawn with probability `pmf` from a selection table.
-// weighting: 0 = none, 1 = MIS against N2 BRDF samples, 2 = mixture density.
-vec3 lightSampleEstimate(Shading s, uint index, float pmf, int weighting, float nLight, float nBsdf,
+// How a one-sample estimate is weighted against the other technique's samples.
+const uint WEIGHT_NONE = 0u;     // its own density alone
+const uint WEIGHT_MIS = 1u;      // MIS weight against the other technique's samples (nLight, nBsdf)
+const uint WEIGHT_MIXTURE = 2u;  // the mixture density 0.5 p_light + 0.5 p_f (lecture, "Sample from Average PDF")
+
+// One sample of light `index` drawn with probability `pmf` from a selection table,
+// weighted against N2 BRDF samples (WEIGHT_MIS) or by the mixture density.
+vec3 lightSampleEstimate(Shading s, uint index, float pmf, uint weighting, float nLight, float nBsdf,
                          inout Rng rng) {
     vec3 u = vec3(rand2(rng), rand1(rng));
     LightSample ls;
@@ -72,9 +77,9 @@ vec3 lightSampleEstimate(Shading s, uint index, float pmf, int weighting, float 
     float pLight = pmf * ls.pdf;
     float density = pLight;
     float weight = 1.0;
-    if (weighting == 1) {
+    if (weighting == WEIGHT_MIS) {
         weight = misWeight(nLight * pLight, nBsdf * bsdfPdf(s.m, s.ns, s.wo, ls.wi), kHeuristic);
-    } else if (weighting == 2) {
+    } else if (weighting == WEIGHT_MIXTURE) {
         density = 0.5 * pLight + 0.5 * bsdfPdf(s.m, s.ns, s.wo, ls.wi);
     }
     return fc * ls.radiance * weight / density;
@@ -103,9 +108,9 @@ vec3 incidentEmission(Shading s, vec3 wi, float selectionScale, out float pLight
     return Le;
 }
 
-// One BRDF sample. weighting: 0 = none, 1 = MIS against N1 light samples (full table),
-// 2 = mixture density (continuous-light table).
-vec3 bsdfSampleEstimate(Shading s, int weighting, float nLight, float nBsdf, inout Rng rng) {
+// One BRDF sample, weighted against N1 light samples from the full table (WEIGHT_MIS) or
+// by the mixture density with the continuous-light table (WEIGHT_MIXTURE).
+vec3 bsdfSampleEstimate(Shading s, uint weighting, float nLight, float nBsdf, inout Rng rng) {
     vec2 u = rand2(rng);
     float lobe = rand1(rng);
     vec3 wi;
@@ -114,13 +119,13 @@ vec3 bsdfSampleEstimate(Shading s, int weighting, float nLight, float nBsdf, ino
     vec3 fc = reflectance(s, wi);
     if (fc == vec3(0.0)) return vec3(0.0);
     float pLight;
-    float scale = weighting == 2 ? params.continuousScale : 1.0;
+    float scale = weighting == WEIGHT_MIXTURE ? params.continuousScale : 1.0;
     vec3 Le = incidentEmission(s, wi, scale, pLight);
     if (Le == vec3(0.0)) return vec3(0.0);
     float density = pBsdf;
     float weight = 1.0;
-    if (weighting == 1) weight = misWeight(nBsdf * pBsdf, nLight * pLight, kHeuristic);
-    else if (weighting == 2) density = 0.5 * pLight + 0.5 * pBsdf;
+    if (weighting == WEIGHT_MIS) weight = misWeight(nBsdf * pBsdf, nLight * pLight, kHeuristic);
+    else if (weighting == WEIGHT_MIXTURE) density = 0.5 * pLight + 0.5 * pBsdf;
     return fc * Le * weight / density;
 }
 
@@ -130,14 +135,14 @@ vec3 deltaLightEstimate(Shading s, inout Rng rng) {
     if (params.deltaCount == 0u) return vec3(0.0);
     float pmf;
     uint index = selectLight(params.deltaTableOffset, params.deltaCount, rand1(rng), pmf);
-    return lightSampleEstimate(s, index, pmf, 0, 0.0, 0.0, rng);
+    return lightSampleEstimate(s, index, pmf, WEIGHT_NONE, 0.0, 0.0, rng);
 }
 
 vec3 reflectedRadiance(Shading s, inout Rng rng) {
     uint n1 = kLightSamples, n2 = kBsdfSamples;
     vec3 L = vec3(0.0);
     if (kStrategy == STRATEGY_LIGHT || kStrategy == STRATEGY_MIS) {
-        int weighting = kStrategy == STRATEGY_MIS ? 1 : 0;
+        uint weighting = kStrategy == STRATEGY_MIS ? WEIGHT_MIS : WEIGHT_NONE;
         for (uint i = 0u; i < n1; ++i) {
             float pmf;
             uint index = selectLight(0u, params.lightCount, rand1(rng), pmf);
@@ -145,7 +150,7 @@ vec3 reflectedRadiance(Shading s, inout Rng rng) {
         }
     }
     if (kStrategy == STRATEGY_BSDF || kStrategy == STRATEGY_MIS) {
-        int weighting = kStrategy == STRATEGY_MIS ? 1 : 0;
+        uint weighting = kStrategy == STRATEGY_MIS ? WEIGHT_MIS : WEIGHT_NONE;
         float nLight = kStrategy == STRATEGY_MIS ? float(n1) : 0.0;
         for (uint i = 0u; i < n2; ++i) {
             L += bsdfSampleEstimate(s, weighting, nLight, float(n2), rng) / float(n2);
@@ -160,10 +165,10 @@ vec3 reflectedRadiance(Shading s, inout Rng rng) {
                 if (params.continuousCount > 0u) {
                     float pmf;
                     uint index = selectLight(params.continuousTableOffset, params.continuousCount, rand1(rng), pmf);
-                    L += lightSampleEstimate(s, index, pmf, 2, 0.0, 0.0, rng) / float(n);
+                    L += lightSampleEstimate(s, index, pmf, WEIGHT_MIXTURE, 0.0, 0.0, rng) / float(n);
                 }
             } else {
-                L += bsdfSampleEstimate(s, 2, 0.0, 0.0, rng) / float(n);
+                L += bsdfSampleEstimate(s, WEIGHT_MIXTURE, 0.0, 0.0, rng) / float(n);
             }
             L += deltaLightEstimate(s, rng) / float(n);
         }
