@@ -230,10 +230,8 @@ gpu::RenderParams makeRenderParams(const Scene& scene, const SceneArrays& arrays
     p.seed = scene.sampler.seed;
     p.sampleOffset = scene.sampler.sampleOffset;
     const IntegratorSettings& in = scene.integrator;
-    p.integrator = in.type == IntegratorType::AmbientOcclusion ? gpu::INTEGRATOR_AO : gpu::INTEGRATOR_DIRECT;
     p.lightCount = uint32_t(arrays.lights.size());
     p.aoMaxDistance = in.aoMaxDistance;
-    p.nodeCount = uint32_t(arrays.bvh.nodes.size());
     p.deltaTableOffset = arrays.deltaTableOffset;
     p.deltaCount = arrays.deltaCount;
     p.continuousTableOffset = arrays.continuousTableOffset;

@@ -142,9 +142,6 @@ struct AliasEntry {
 };
 
 // ---- Integrator options ---------------------------------------------------------------
-PENUMBRA_CONST uint INTEGRATOR_AO = 0u;
-PENUMBRA_CONST uint INTEGRATOR_DIRECT = 1u;
-
 PENUMBRA_CONST uint AO_UNIFORM = 0u;
 PENUMBRA_CONST uint AO_COSINE = 1u;
 
@@ -218,10 +215,8 @@ struct RenderParams {
     uint height;
     uint seed;
     uint sampleOffset;
-    uint integrator;     // INTEGRATOR_*
     uint lightCount;
     float aoMaxDistance;
-    uint nodeCount;
     // Light selection tables, all in lightTable[]: [0, lightCount) picks any light with
     // probability Light::selectionProb; the delta-only table (points, directionals) and the
     // continuous-only table (area lights, environment) follow, each with its own pmf. The
@@ -233,7 +228,7 @@ struct RenderParams {
     float deltaScale;       // 1 / (sum of selectionProb over delta lights), 0 if none
     float continuousScale;  // 1 / (sum of selectionProb over continuous lights), 0 if none
     uint environmentLight;  // index of the (single, merged) environment light, or NO_LIGHT
-    uint pad0, pad1, pad2;
+    uint pad0, pad1, pad2, pad3, pad4;
 };
 
 // Per-dispatch constants: which sample index this pass adds, to which rows of pixels
