@@ -33,6 +33,24 @@ gpu::Light makeLight(uint32_t type, glm::vec3 emission, glm::vec3 position = glm
     return light;
 }
 
+// The triangles of one emitting mesh (input primitive indices) and their areas: its alias
+// table, once the BVH has fixed the primitives' order.
+struct MeshLightTriangles {
+    uint32_t light;
+    std::vector<uint32_t> prims;
+    std::vector<double> areas;
+};
+
+// The shapes as primitives in input order, and the triangles of each mesh light.
+struct ShapePrimitives {
+    std::vector<gpu::Primitive> prims;
+    std::vector<MeshLightTriangles> meshLights;
+};
+
+ShapePrimitives flattenShapes(const Scene& scene, SceneArrays& out);
+void buildBvhAndMeshTables(ShapePrimitives shapes, const BvhOptions& bvhOptions, SceneArrays& out);
+void setBounds(SceneArrays& out);
+
 }  // namespace
 
 double lightPower(const gpu::Light& light, float sceneRadius) {
@@ -82,97 +100,9 @@ SceneArrays buildSceneArrays(const Scene& scene, const BvhOptions& bvhOptions) {
         out.lights.push_back(makeLight(gpu::LIGHT_ENVIRONMENT, environment));
     }
 
-    std::vector<gpu::Primitive> prims;
-    struct MeshLightTriangles {
-        uint32_t light;
-        std::vector<uint32_t> prims;
-        std::vector<double> areas;
-    };
-    std::vector<MeshLightTriangles> meshLights;
-    for (const Shape& shape : scene.shapes) {
-        uint32_t lightIndex = shape.isEmitter() ? uint32_t(out.lights.size()) : gpu::NO_LIGHT;
-        uint32_t flags = shape.twoSided ? gpu::LIGHT_TWO_SIDED : 0u;
-        switch (shape.type) {
-            case ShapeType::Sphere: {
-                if (lightIndex != gpu::NO_LIGHT) {
-                    gpu::Light light = makeLight(gpu::LIGHT_SPHERE, shape.emission, shape.center);
-                    light.first = uint32_t(prims.size());
-                    light.area = 4.0f * kPi * shape.radius * shape.radius;
-                    out.lights.push_back(light);
-                }
-                prims.push_back(makePrimitive(gpu::PRIM_SPHERE, shape.center, glm::vec3(shape.radius, 0, 0),
-                                              glm::vec3(0.0f), shape.material, lightIndex));
-                break;
-            }
-            case ShapeType::Quad: {
-                if (lightIndex != gpu::NO_LIGHT) {
-                    gpu::Light light = makeLight(gpu::LIGHT_QUAD, shape.emission, shape.origin);
-                    light.first = uint32_t(prims.size());
-                    light.flags = flags;
-                    light.area = glm::length(glm::cross(shape.edgeU, shape.edgeV));
-                    out.lights.push_back(light);
-                }
-                prims.push_back(makePrimitive(gpu::PRIM_QUAD, shape.origin, shape.edgeU, shape.edgeV, shape.material,
-                                              lightIndex));
-                break;
-            }
-            case ShapeType::Mesh: {
-                MeshLightTriangles mesh{lightIndex, {}, {}};
-                bool hasNormals = !shape.normals.empty();
-                for (size_t t = 0; t + 2 < shape.indices.size(); t += 3) {
-                    uint32_t i0 = shape.indices[t], i1 = shape.indices[t + 1], i2 = shape.indices[t + 2];
-                    glm::vec3 a = shape.positions[i0], b = shape.positions[i1], c = shape.positions[i2];
-                    uint32_t normalsPlusOne = 0;
-                    if (hasNormals) {
-                        out.normals.push_back({glm::vec4(shape.normals[i0], 0.0f), glm::vec4(shape.normals[i1], 0.0f),
-                                               glm::vec4(shape.normals[i2], 0.0f)});
-                        normalsPlusOne = uint32_t(out.normals.size());
-                    }
-                    if (lightIndex != gpu::NO_LIGHT) {
-                        mesh.prims.push_back(uint32_t(prims.size()));
-                        mesh.areas.push_back(triangleArea(a, b, c));
-                    }
-                    prims.push_back(makePrimitive(gpu::PRIM_TRIANGLE, a, b, c, shape.material, lightIndex, normalsPlusOne));
-                }
-                if (lightIndex != gpu::NO_LIGHT) {
-                    gpu::Light light = makeLight(gpu::LIGHT_MESH, shape.emission);
-                    light.flags = flags;
-                    double area = 0.0;
-                    for (double a : mesh.areas) area += a;
-                    light.area = float(area);
-                    out.lights.push_back(light);
-                    meshLights.push_back(std::move(mesh));
-                }
-                break;
-            }
-        }
-    }
-
-    out.bvh = buildBvh(std::move(prims), bvhOptions);
-
-    // Input primitive index -> leaf-order index, for the lights' references.
-    std::vector<uint32_t> leafIndex(out.bvh.originalIndex.size());
-    for (uint32_t i = 0; i < out.bvh.originalIndex.size(); ++i) leafIndex[out.bvh.originalIndex[i]] = i;
-    for (gpu::Light& light : out.lights)
-        if (light.type == gpu::LIGHT_SPHERE || light.type == gpu::LIGHT_QUAD) light.first = leafIndex[light.first];
-    for (MeshLightTriangles& mesh : meshLights) {
-        gpu::Light& light = out.lights[mesh.light];
-        for (uint32_t& p : mesh.prims) p = leafIndex[p];
-        auto table = buildAliasTable(mesh.areas, mesh.prims);
-        light.first = uint32_t(out.meshTable.size());
-        light.count = uint32_t(table.size());
-        out.meshTable.insert(out.meshTable.end(), table.begin(), table.end());
-    }
-
-    // Bounding sphere of the geometry (for the power of lights at infinity).
-    const gpu::BvhNode& root = out.bvh.nodes.front();
-    if (out.bvh.primitives.empty()) {
-        out.boundsCenter = glm::vec3(0.0f);
-        out.boundsRadius = 1.0f;
-    } else {
-        out.boundsCenter = 0.5f * (root.boundsMin + root.boundsMax);
-        out.boundsRadius = std::max(0.5f * glm::length(root.boundsMax - root.boundsMin), 1e-6f);
-    }
+    ShapePrimitives shapes = flattenShapes(scene, out);
+    buildBvhAndMeshTables(std::move(shapes), bvhOptions, out);
+    setBounds(out);
 
     // Light selection: the full table, then the delta-only and continuous-only sub-tables
     // built from the same weights (see RenderParams in shaders/shared/types.h).
@@ -181,8 +111,9 @@ SceneArrays buildSceneArrays(const Scene& scene, const BvhOptions& bvhOptions) {
     std::vector<double> deltaWeights, continuousWeights;
     std::vector<uint32_t> deltaItems, continuousItems;
     for (uint32_t i = 0; i < out.lights.size(); ++i) {
-        double w = scene.integrator.lightSelection == LightSelection::Power ? lightPower(out.lights[i], out.boundsRadius)
-                                                                            : 1.0;
+        double w = scene.integrator.lightSelection == LightSelection::Power
+                       ? lightPower(out.lights[i], out.boundsRadius)
+                       : 1.0;
         weights.push_back(w);
         items.push_back(i);
         bool delta = out.lights[i].type == gpu::LIGHT_POINT || out.lights[i].type == gpu::LIGHT_DIRECTIONAL;
@@ -241,5 +172,108 @@ gpu::RenderParams makeRenderParams(const Scene& scene, const SceneArrays& arrays
     p.environmentLight = arrays.environmentLight;
     return p;
 }
+
+namespace {
+
+// Shapes -> primitives, triangle normals (out.normals) and one light per emitting shape
+// (appended to out.lights). Area lights record their primitive's *input* index for now.
+ShapePrimitives flattenShapes(const Scene& scene, SceneArrays& out) {
+    ShapePrimitives shapes;
+    std::vector<gpu::Primitive>& prims = shapes.prims;
+    std::vector<MeshLightTriangles>& meshLights = shapes.meshLights;
+    for (const Shape& shape : scene.shapes) {
+        uint32_t lightIndex = shape.isEmitter() ? uint32_t(out.lights.size()) : gpu::NO_LIGHT;
+        uint32_t flags = shape.twoSided ? gpu::LIGHT_TWO_SIDED : 0u;
+        switch (shape.type) {
+            case ShapeType::Sphere: {
+                if (lightIndex != gpu::NO_LIGHT) {
+                    gpu::Light light = makeLight(gpu::LIGHT_SPHERE, shape.emission, shape.center);
+                    light.first = uint32_t(prims.size());
+                    light.area = 4.0f * kPi * shape.radius * shape.radius;
+                    out.lights.push_back(light);
+                }
+                prims.push_back(makePrimitive(gpu::PRIM_SPHERE, shape.center, glm::vec3(shape.radius, 0, 0),
+                                              glm::vec3(0.0f), shape.material, lightIndex));
+                break;
+            }
+            case ShapeType::Quad: {
+                if (lightIndex != gpu::NO_LIGHT) {
+                    gpu::Light light = makeLight(gpu::LIGHT_QUAD, shape.emission, shape.origin);
+                    light.first = uint32_t(prims.size());
+                    light.flags = flags;
+                    light.area = glm::length(glm::cross(shape.edgeU, shape.edgeV));
+                    out.lights.push_back(light);
+                }
+                prims.push_back(makePrimitive(gpu::PRIM_QUAD, shape.origin, shape.edgeU, shape.edgeV, shape.material,
+                                              lightIndex));
+                break;
+            }
+            case ShapeType::Mesh: {
+                MeshLightTriangles mesh{lightIndex, {}, {}};
+                bool hasNormals = !shape.normals.empty();
+                for (size_t t = 0; t + 2 < shape.indices.size(); t += 3) {
+                    uint32_t i0 = shape.indices[t], i1 = shape.indices[t + 1], i2 = shape.indices[t + 2];
+                    glm::vec3 a = shape.positions[i0], b = shape.positions[i1], c = shape.positions[i2];
+                    uint32_t normalsPlusOne = 0;
+                    if (hasNormals) {
+                        out.normals.push_back({glm::vec4(shape.normals[i0], 0.0f), glm::vec4(shape.normals[i1], 0.0f),
+                                               glm::vec4(shape.normals[i2], 0.0f)});
+                        normalsPlusOne = uint32_t(out.normals.size());
+                    }
+                    if (lightIndex != gpu::NO_LIGHT) {
+                        mesh.prims.push_back(uint32_t(prims.size()));
+                        mesh.areas.push_back(triangleArea(a, b, c));
+                    }
+                    prims.push_back(makePrimitive(gpu::PRIM_TRIANGLE, a, b, c, shape.material, lightIndex, normalsPlusOne));
+                }
+                if (lightIndex != gpu::NO_LIGHT) {
+                    gpu::Light light = makeLight(gpu::LIGHT_MESH, shape.emission);
+                    light.flags = flags;
+                    double area = 0.0;
+                    for (double a : mesh.areas) area += a;
+                    light.area = float(area);
+                    out.lights.push_back(light);
+                    meshLights.push_back(std::move(mesh));
+                }
+                break;
+            }
+        }
+    }
+    return shapes;
+}
+
+// The BVH over the primitives; then the lights' primitive references go from input order to
+// leaf order, and each mesh light's triangle alias table is appended to out.meshTable.
+void buildBvhAndMeshTables(ShapePrimitives shapes, const BvhOptions& bvhOptions, SceneArrays& out) {
+    out.bvh = buildBvh(std::move(shapes.prims), bvhOptions);
+
+    // Input primitive index -> leaf-order index, for the lights' references.
+    std::vector<uint32_t> leafIndex(out.bvh.originalIndex.size());
+    for (uint32_t i = 0; i < out.bvh.originalIndex.size(); ++i) leafIndex[out.bvh.originalIndex[i]] = i;
+    for (gpu::Light& light : out.lights)
+        if (light.type == gpu::LIGHT_SPHERE || light.type == gpu::LIGHT_QUAD) light.first = leafIndex[light.first];
+    for (MeshLightTriangles& mesh : shapes.meshLights) {
+        gpu::Light& light = out.lights[mesh.light];
+        for (uint32_t& p : mesh.prims) p = leafIndex[p];
+        auto table = buildAliasTable(mesh.areas, mesh.prims);
+        light.first = uint32_t(out.meshTable.size());
+        light.count = uint32_t(table.size());
+        out.meshTable.insert(out.meshTable.end(), table.begin(), table.end());
+    }
+}
+
+// Bounding sphere of the geometry (for the power of lights at infinity).
+void setBounds(SceneArrays& out) {
+    const gpu::BvhNode& root = out.bvh.nodes.front();
+    if (out.bvh.primitives.empty()) {
+        out.boundsCenter = glm::vec3(0.0f);
+        out.boundsRadius = 1.0f;
+    } else {
+        out.boundsCenter = 0.5f * (root.boundsMin + root.boundsMax);
+        out.boundsRadius = std::max(0.5f * glm::length(root.boundsMax - root.boundsMin), 1e-6f);
+    }
+}
+
+}  // namespace
 
 }  // namespace penumbra
