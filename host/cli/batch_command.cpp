@@ -96,22 +96,148 @@ struct Totals {
     size_t uploads = 0, uploadsReused = 0;
 };
 
+// Task I of N from --task/--tasks (0 of 1 without them); bad input when they don't fit.
+struct TaskShare {
+    size_t task = 0, tasks = 1;
+};
+
+TaskShare taskShare(const BatchOptions& options) {
+    if ((options.task >= 0) != (options.tasks >= 0))
+        throw InputError("--task and --tasks go together (task I of N, 0 <= I < N)");
+    TaskShare share;
+    share.tasks = options.tasks >= 0 ? size_t(options.tasks) : 1;
+    share.task = options.task >= 0 ? size_t(options.task) : 0;
+    if (share.tasks == 0 || share.task >= share.tasks)
+        throw InputError("--task " + std::to_string(share.task) + " --tasks " + std::to_string(share.tasks) +
+                         ": need 0 <= task < tasks");
+    return share;
+}
+
+// The progress ticker on a terminal: one line rewritten in place, blanked before the next
+// line of output.
+class Ticker {
+public:
+    explicit Ticker(bool enabled) : m_enabled(enabled) {}
+    void show(const std::string& tag, const RenderProgress& p, double pixels) {
+        if (!m_enabled) return;
+        double rate = p.seconds > 0 ? p.samplesDone * pixels / p.seconds : 0.0;
+        end();
+        m_width = std::fprintf(stderr, "penumbra: %s: %u/%u spp  %.2f M samples/s", tag.c_str(), p.samplesDone,
+                               p.samplesTotal, rate * 1e-6);
+        std::fflush(stderr);
+    }
+    void end() {
+        if (m_width > 0) std::fprintf(stderr, "\r%*s\r", m_width, "");
+        m_width = 0;
+    }
+
+private:
+    bool m_enabled;
+    int m_width = 0;  // of the ticker line on the terminal
+};
+
+// A job whose output is already complete: its PNG is written from the EXR when missing.
+void skipCompleteJob(const BatchJob& job, const std::string& tag, bool progressLines) {
+    std::error_code ec;
+    bool pngMissing = !job.png.empty() && !fs::exists(job.png, ec);
+    if (pngMissing) writePng(job.png, readExr(job.output));
+    if (progressLines)
+        std::fprintf(stderr, "penumbra: %s: skipped, already complete%s\n", tag.c_str(),
+                     pngMissing ? " (PNG written from it)" : "");
+}
+
+// The device side of a batch, kept across jobs: the context, the pipeline cache and the
+// renderer with the last job's scene uploaded. Declaration order is teardown order in
+// reverse: renderer, then cache, then context.
+struct Device {
+    std::optional<gpu::Context> context;
+    std::optional<gpu::KernelCache> kernels;
+    std::unique_ptr<Renderer> renderer;
+    const BatchJob* uploaded = nullptr;  // the job whose scene the renderer holds
+
+    // Creates the context on first use; throws when there is no device.
+    void open(int deviceIndex) {
+        if (context) return;
+        gpu::ContextOptions contextOptions;
+        contextOptions.deviceIndex = deviceIndex;
+        context.emplace(contextOptions);
+        kernels.emplace(*context);
+    }
+
+    // Makes `scene` the renderer's: retargeted when it shares the uploaded scene, else
+    // uploaded anew. True when the upload was reused.
+    bool prepare(const BatchJob& job, const Scene& scene) {
+        const bool reuse = renderer && uploaded && sharesSceneUpload(*uploaded, job) &&
+                           renderer->scene().integrator.lightSelection == scene.integrator.lightSelection &&
+                           renderer->scene().film.width == scene.film.width &&
+                           renderer->scene().film.height == scene.film.height;
+        uploaded = nullptr;
+        if (reuse) {
+            renderer->retarget(scene);
+        } else {
+            renderer.reset();  // free the previous scene's device memory first
+            renderer = std::make_unique<Renderer>(*context, scene, &*kernels);
+        }
+        uploaded = &job;
+        return reuse;
+    }
+};
+
+struct JobTimes {
+    double seconds;        // from jobStart: with upload and pipeline, as `render` counts
+    double renderSeconds;  // rendering alone
+};
+
+// Renders `scene` into the job's outputs (the renderer must hold it) and counts it in `totals`.
+JobTimes renderJob(Device& device, const BatchJob& job, const Scene& scene, const std::string& tag, Ticker& ticker,
+                   Clock::time_point jobStart, Totals& totals) {
+    const double pixels = double(scene.film.width) * scene.film.height;
+    auto progress = [&](const RenderProgress& p) { ticker.show(tag, p, pixels); };
+    device.renderer->compileKernel();  // start-up, not rendering (as in penumbra render)
+    const auto renderStart = Clock::now();
+    try {
+        device.renderer->renderAll(progress, &g_stop);
+    } catch (...) {
+        device.renderer.reset();  // state unknown after a failed or interrupted render
+        device.uploaded = nullptr;
+        throw;
+    }
+    const double renderSeconds = secondsSince(renderStart);
+    const double seconds = secondsSince(jobStart);
+    Image image = device.renderer->readback(seconds);
+    writeExr(job.output, image);
+    if (!job.png.empty()) writePng(job.png, image);
+    ++totals.rendered;
+    totals.renderSeconds += renderSeconds;
+    totals.samples += pixels * scene.sampler.spp;
+    return {seconds, renderSeconds};
+}
+
+void printSummary(const Totals& totals, size_t jobsOfTask, size_t jobsInFile, const TaskShare& share,
+                  Clock::time_point start, const Device& device) {
+    const size_t failed = totals.failedInput + totals.failedRuntime;
+    char scope[64] = "";
+    if (share.tasks > 1) std::snprintf(scope, sizeof scope, "task %zu of %zu, ", share.task, share.tasks);
+    std::fprintf(stderr,
+                 "penumbra: batch %s: rendered %zu, skipped %zu, failed %zu, not run %zu, of %zu jobs (%s%zu in the "
+                 "file) in %.2f s; %.2f M samples/s while rendering; scene uploads %zu, reused %zu; pipelines "
+                 "created %zu, reused %zu\n",
+                 g_stop ? "interrupted" : "done", totals.rendered, totals.skipped, failed, totals.notRun, jobsOfTask,
+                 scope, jobsInFile, secondsSince(start),
+                 totals.renderSeconds > 0 ? totals.samples / totals.renderSeconds * 1e-6 : 0.0, totals.uploads,
+                 totals.uploadsReused, device.kernels ? device.kernels->pipelinesCreated() : size_t(0),
+                 device.kernels ? device.kernels->pipelinesReused() : size_t(0));
+}
+
 }  // namespace
 
 int batchCommand(const BatchOptions& options) {
     const auto start = Clock::now();
-    if ((options.task >= 0) != (options.tasks >= 0))
-        throw InputError("--task and --tasks go together (task I of N, 0 <= I < N)");
-    const size_t tasks = options.tasks >= 0 ? size_t(options.tasks) : 1;
-    const size_t task = options.task >= 0 ? size_t(options.task) : 0;
-    if (tasks == 0 || task >= tasks)
-        throw InputError("--task " + std::to_string(task) + " --tasks " + std::to_string(tasks) +
-                         ": need 0 <= task < tasks");
-
+    const TaskShare share = taskShare(options);
     const std::vector<BatchJob> all = loadJobFile(options.jobFile);
     checkJobFiles(options.jobFile, all);
     std::vector<size_t> mine;  // this task's share: jobs j with j % tasks == task
-    for (size_t j = task; j < all.size(); j += tasks) mine.push_back(j);
+    for (size_t j = share.task; j < all.size(); j += share.tasks) mine.push_back(j);
 
     if (options.list) {
         for (size_t j : mine)
@@ -120,19 +246,9 @@ int batchCommand(const BatchOptions& options) {
     }
 
     const bool progressLines = !options.quiet;
-    const bool ticker = progressLines && isatty(STDERR_FILENO);
+    Ticker ticker(progressLines && isatty(STDERR_FILENO));
     Totals totals;
-    int tickerWidth = 0;  // of the ticker line on the terminal, to be blanked before the next line
-    auto endTicker = [&] {
-        if (tickerWidth > 0) std::fprintf(stderr, "\r%*s\r", tickerWidth, "");
-        tickerWidth = 0;
-    };
-
-    // Declaration order is teardown order in reverse: renderer, then cache, then context.
-    std::optional<gpu::Context> context;
-    std::optional<gpu::KernelCache> kernels;
-    std::unique_ptr<Renderer> renderer;
-    const BatchJob* uploaded = nullptr;  // the job whose scene the renderer holds
+    Device device;
 
     g_stop = false;
     auto previousInt = std::signal(SIGINT, onStop);
@@ -151,13 +267,8 @@ int batchCommand(const BatchOptions& options) {
             Scene scene = loadScene(job.scene, job.overrides);
             std::string why = incompleteReason(job.output, scene);
             if (why.empty()) {
-                std::error_code ec;
-                bool pngMissing = !job.png.empty() && !fs::exists(job.png, ec);
-                if (pngMissing) writePng(job.png, readExr(job.output));
+                skipCompleteJob(job, tag, progressLines);
                 ++totals.skipped;
-                if (progressLines)
-                    std::fprintf(stderr, "penumbra: %s: skipped, already complete%s\n", tag.c_str(),
-                                 pngMissing ? " (PNG written from it)" : "");
                 continue;
             }
             // Runtime failure (status 1) before any rendering; the directory is created.
@@ -165,102 +276,46 @@ int batchCommand(const BatchOptions& options) {
             if (!job.png.empty()) checkWritable(job.png, true);
             printNotes(scene.notes, options.quiet);
 
-            if (!context) {
-                gpu::ContextOptions contextOptions;
-                contextOptions.deviceIndex = options.device;
-                try {
-                    context.emplace(contextOptions);
-                } catch (const std::exception& e) {
-                    // No device for this job means none for the others: stop here.
-                    std::fprintf(stderr, "penumbra: %s: failed: %s\n", tag.c_str(), oneLine(e.what()).c_str());
-                    ++totals.failedRuntime;
-                    totals.notRun = mine.size() - n - 1;
-                    break;
-                }
-                kernels.emplace(*context);
-            }
-            const bool reuse = renderer && uploaded && sharesSceneUpload(*uploaded, job) &&
-                               renderer->scene().integrator.lightSelection == scene.integrator.lightSelection &&
-                               renderer->scene().film.width == scene.film.width &&
-                               renderer->scene().film.height == scene.film.height;
-            const auto jobStart = Clock::now();
-            uploaded = nullptr;
-            if (reuse) {
-                renderer->retarget(scene);
-                ++totals.uploadsReused;
-            } else {
-                renderer.reset();  // free the previous scene's device memory first
-                renderer = std::make_unique<Renderer>(*context, scene, &*kernels);
-                ++totals.uploads;
-            }
-            uploaded = &job;
-
-            const double pixels = double(scene.film.width) * scene.film.height;
-            auto progress = [&](const RenderProgress& p) {
-                if (!ticker) return;
-                double rate = p.seconds > 0 ? p.samplesDone * pixels / p.seconds : 0.0;
-                endTicker();
-                tickerWidth = std::fprintf(stderr, "penumbra: %s: %u/%u spp  %.2f M samples/s", tag.c_str(),
-                                           p.samplesDone, p.samplesTotal, rate * 1e-6);
-                std::fflush(stderr);
-            };
-            renderer->compileKernel();  // start-up, not rendering (as in penumbra render)
-            const auto renderStart = Clock::now();
             try {
-                renderer->renderAll(progress, &g_stop);
-            } catch (...) {
-                renderer.reset();  // state unknown after a failed or interrupted render
-                uploaded = nullptr;
-                throw;
+                device.open(options.device);
+            } catch (const std::exception& e) {
+                // No device for this job means none for the others: stop here.
+                std::fprintf(stderr, "penumbra: %s: failed: %s\n", tag.c_str(), oneLine(e.what()).c_str());
+                ++totals.failedRuntime;
+                totals.notRun = mine.size() - n - 1;
+                break;
             }
-            const double renderSeconds = secondsSince(renderStart);
-            const double seconds = secondsSince(jobStart);  // with upload and pipeline, as `render` counts
-            Image image = renderer->readback(seconds);
-            writeExr(job.output, image);
-            if (!job.png.empty()) writePng(job.png, image);
-
-            ++totals.rendered;
-            totals.renderSeconds += renderSeconds;
-            totals.samples += pixels * scene.sampler.spp;
-            endTicker();
+            const auto jobStart = Clock::now();
+            const bool reuse = device.prepare(job, scene);
+            ++(reuse ? totals.uploadsReused : totals.uploads);
+            const JobTimes times = renderJob(device, job, scene, tag, ticker, jobStart, totals);
+            ticker.end();
+            const double pixelSamples = double(scene.film.width) * scene.film.height * scene.sampler.spp;
             if (progressLines)
-                std::fprintf(stderr, "penumbra: %s: rendered %u spp in %.2f s (%.2f M samples/s; %s%s)\n",
-                             tag.c_str(), scene.sampler.spp, seconds,
-                             renderSeconds > 0 ? pixels * scene.sampler.spp / renderSeconds * 1e-6 : 0.0,
+                std::fprintf(stderr, "penumbra: %s: rendered %u spp in %.2f s (%.2f M samples/s; %s%s)\n", tag.c_str(),
+                             scene.sampler.spp, times.seconds,
+                             times.renderSeconds > 0 ? pixelSamples / times.renderSeconds * 1e-6 : 0.0,
                              reuse ? "scene upload reused" : "scene uploaded",
                              why == "missing" ? "" : ("; replaced output: " + why).c_str());
         } catch (const InputError& e) {
-            endTicker();
+            ticker.end();
             ++totals.failedInput;
-            std::fprintf(stderr, "penumbra: %s: failed (bad input): %s\n", tag.c_str(),
-                         oneLine(e.what()).c_str());
+            std::fprintf(stderr, "penumbra: %s: failed (bad input): %s\n", tag.c_str(), oneLine(e.what()).c_str());
         } catch (const std::exception& e) {
-            endTicker();
+            ticker.end();
             if (g_stop) {
                 totals.notRun = mine.size() - n;
                 std::fprintf(stderr, "penumbra: %s: interrupted, nothing written\n", tag.c_str());
                 break;
             }
             ++totals.failedRuntime;
-            std::fprintf(stderr, "penumbra: %s: failed: %s\n", tag.c_str(),
-                         oneLine(e.what()).c_str());
+            std::fprintf(stderr, "penumbra: %s: failed: %s\n", tag.c_str(), oneLine(e.what()).c_str());
         }
     }
     std::signal(SIGINT, previousInt);
     std::signal(SIGTERM, previousTerm);
 
-    const size_t failed = totals.failedInput + totals.failedRuntime;
-    char scope[64] = "";
-    if (tasks > 1) std::snprintf(scope, sizeof scope, "task %zu of %zu, ", task, tasks);
-    std::fprintf(stderr,
-                 "penumbra: batch %s: rendered %zu, skipped %zu, failed %zu, not run %zu, of %zu jobs (%s%zu in the "
-                 "file) in %.2f s; %.2f M samples/s while rendering; scene uploads %zu, reused %zu; pipelines "
-                 "created %zu, reused %zu\n",
-                 g_stop ? "interrupted" : "done", totals.rendered, totals.skipped, failed, totals.notRun, mine.size(),
-                 scope, all.size(), secondsSince(start),
-                 totals.renderSeconds > 0 ? totals.samples / totals.renderSeconds * 1e-6 : 0.0, totals.uploads,
-                 totals.uploadsReused, kernels ? kernels->pipelinesCreated() : size_t(0),
-                 kernels ? kernels->pipelinesReused() : size_t(0));
+    printSummary(totals, mine.size(), all.size(), share, start, device);
     if (totals.failedInput > 0) return 2;
     if (totals.failedRuntime > 0 || g_stop) return 1;
     return 0;
