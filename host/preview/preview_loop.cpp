@@ -105,6 +105,10 @@ private:
     // Applies one input event; returns false for quit.
     bool handle(const InputEvent& event);
     void frame(bool render);
+    void fitSwapchain();
+    uint64_t recordPassesAndToneMap(VkCommandBuffer cmd, bool render);
+    void recordPresentation(VkCommandBuffer cmd, VkImage target);
+    double submitAndPresent(VkCommandBuffer cmd, std::optional<uint32_t> image);
     void save();
     void updateTitle(bool force);
     void restart();
@@ -278,8 +282,32 @@ void Preview::restart() {
     updateTitle(true);
 }
 
-// One frame: a slice of passes (if `render`), the tone map, and the blit to the window.
+// One frame: the swapchain fitted to the window, this frame's passes (when `render`), the
+// tone map and, when an image was acquired, its presentation; then the row budget and title.
 void Preview::frame(bool render) {
+    fitSwapchain();
+    std::optional<uint32_t> image = m_swapchain->acquire(m_frame->acquired);
+    if (!image) m_recreateSwapchain = true;  // out of date: render anyway, show the next frame
+
+    VkCommandBuffer cmd = m_frame->cmd;
+    vkCheck(vkResetCommandBuffer(cmd, 0), "reset the preview's command buffer");
+    VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    vkCheck(vkBeginCommandBuffer(cmd, &begin), "begin the preview's command buffer");
+
+    const uint64_t pixelSamples = recordPassesAndToneMap(cmd, render);
+    if (image) recordPresentation(cmd, m_swapchain->image(*image));
+    vkCheck(vkEndCommandBuffer(cmd), "end the preview's command buffer");
+    const double seconds = submitAndPresent(cmd, image);
+
+    if (render && m_settings.rowsPerFrame == 0)
+        m_rowBudget = adaptRowBudget(m_rowBudget, seconds, kTargetFrameSeconds, m_scene.film.height);
+    m_titleSamples += pixelSamples;
+    updateTitle(m_titleDirty || (m_scheduler.finished() && render));
+}
+
+// A swapchain of the window's framebuffer size (and a tone mapper for its format).
+void Preview::fitSwapchain() {
     VkExtent2D framebuffer = m_window->framebufferSize();
     if (m_recreateSwapchain || m_swapchain->extent().width != framebuffer.width ||
         m_swapchain->extent().height != framebuffer.height) {
@@ -291,15 +319,10 @@ void Preview::frame(bool render) {
                                  m_swapchain->isSrgb());
         }
     }
-    std::optional<uint32_t> image = m_swapchain->acquire(m_frame->acquired);
-    if (!image) m_recreateSwapchain = true;  // out of date: render anyway, show the next frame
+}
 
-    VkCommandBuffer cmd = m_frame->cmd;
-    vkCheck(vkResetCommandBuffer(cmd, 0), "reset the preview's command buffer");
-    VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-    begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    vkCheck(vkBeginCommandBuffer(cmd, &begin), "begin the preview's command buffer");
-
+// This frame's passes and the tone map, into `cmd`; returns the pixel samples added.
+uint64_t Preview::recordPassesAndToneMap(VkCommandBuffer cmd, bool render) {
     // The accumulation's clear (transfer) and earlier passes (shader writes, in earlier
     // submissions) -> this frame's passes and tone map.
     VkMemoryBarrier earlier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
@@ -316,46 +339,50 @@ void Preview::frame(bool render) {
         }
     }
     m_toneMapper->record(cmd, m_exposure);
+    return pixelSamples;
+}
 
-    if (image) {
-        VkImage target = m_swapchain->image(*image);
-        VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-        // The presentation engine's reads (done once the acquire semaphore, waited at the
-        // transfer stage, is signalled) -> the clear's writes; old contents are discarded.
-        VkImageMemoryBarrier toClear{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
-        toClear.srcAccessMask = 0;
-        toClear.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-        toClear.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-        toClear.newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
-        toClear.srcQueueFamilyIndex = toClear.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-        toClear.image = target;
-        toClear.subresourceRange = range;
-        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0,
-                             nullptr, 1, &toClear);
-        VkClearColorValue grey{{0.1f, 0.1f, 0.1f, 1.0f}};
-        vkCmdClearColorImage(cmd, target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &grey, 1, &range);
-        // The clear's writes (the letterbox) -> the blit's writes over the film's rectangle.
-        VkImageMemoryBarrier toBlit = toClear;
-        toBlit.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-        toBlit.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-        toBlit.oldLayout = toBlit.newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
-        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0,
-                             nullptr, 1, &toBlit);
-        VkOffset2D offset;
-        VkExtent2D size;
-        fitFilm(m_scene.film.width, m_scene.film.height, m_swapchain->extent(), offset, size);
-        m_toneMapper->recordBlit(cmd, target, offset, size);
-        // The blit's writes -> presentation (made visible by the semaphore that present waits on).
-        VkImageMemoryBarrier toPresent = toClear;
-        toPresent.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-        toPresent.dstAccessMask = 0;
-        toPresent.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
-        toPresent.newLayout = VK_IMAGE_LAYOUT_PRESENT_SRC_KHR;
-        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, 0, 0, nullptr,
-                             0, nullptr, 1, &toPresent);
-    }
-    vkCheck(vkEndCommandBuffer(cmd), "end the preview's command buffer");
+// The film letterboxed into swapchain image `target`, made ready to present.
+void Preview::recordPresentation(VkCommandBuffer cmd, VkImage target) {
+    VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    // The presentation engine's reads (done once the acquire semaphore, waited at the
+    // transfer stage, is signalled) -> the clear's writes; old contents are discarded.
+    VkImageMemoryBarrier toClear{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+    toClear.srcAccessMask = 0;
+    toClear.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    toClear.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    toClear.newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+    toClear.srcQueueFamilyIndex = toClear.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    toClear.image = target;
+    toClear.subresourceRange = range;
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0, nullptr,
+                         1, &toClear);
+    VkClearColorValue grey{{0.1f, 0.1f, 0.1f, 1.0f}};
+    vkCmdClearColorImage(cmd, target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &grey, 1, &range);
+    // The clear's writes (the letterbox) -> the blit's writes over the film's rectangle.
+    VkImageMemoryBarrier toBlit = toClear;
+    toBlit.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    toBlit.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    toBlit.oldLayout = toBlit.newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0, nullptr,
+                         1, &toBlit);
+    VkOffset2D offset;
+    VkExtent2D size;
+    fitFilm(m_scene.film.width, m_scene.film.height, m_swapchain->extent(), offset, size);
+    m_toneMapper->recordBlit(cmd, target, offset, size);
+    // The blit's writes -> presentation (made visible by the semaphore that present waits on).
+    VkImageMemoryBarrier toPresent = toClear;
+    toPresent.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    toPresent.dstAccessMask = 0;
+    toPresent.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+    toPresent.newLayout = VK_IMAGE_LAYOUT_PRESENT_SRC_KHR;
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, 0, 0, nullptr, 0,
+                         nullptr, 1, &toPresent);
+}
 
+// Submits `cmd` and waits for it (waiting on the acquire and signalling the present
+// semaphore when there is an image), then presents; returns the seconds from submission to completion.
+double Preview::submitAndPresent(VkCommandBuffer cmd, std::optional<uint32_t> image) {
     VkPipelineStageFlags waitStage = VK_PIPELINE_STAGE_TRANSFER_BIT;
     VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
     submit.commandBufferCount = 1;
@@ -375,11 +402,7 @@ void Preview::frame(bool render) {
     vkCheck(vkWaitForFences(device, 1, &m_frame->fence, VK_TRUE, UINT64_MAX), "wait for a preview frame");
     const double seconds = secondsSince(start);
     if (image && !m_swapchain->present(*image)) m_recreateSwapchain = true;
-
-    if (render && m_settings.rowsPerFrame == 0)
-        m_rowBudget = adaptRowBudget(m_rowBudget, seconds, kTargetFrameSeconds, m_scene.film.height);
-    m_titleSamples += pixelSamples;
-    updateTitle(m_titleDirty || (m_scheduler.finished() && render));
+    return seconds;
 }
 
 void Preview::save() {
