@@ -23,6 +23,7 @@
 #include "image/image.h"
 #include "render/renderer.h"
 #include "render_helpers.h"
+#include "test_scenes.h"
 
 using namespace penumbra;
 using nlohmann::json;
@@ -33,18 +34,8 @@ namespace {
 // A tiny lit scene: a floor, a sphere, a sphere light and a point light, so that both
 // integrators (and every light-selection mode) produce a non-trivial image.
 json litScene() {
-    return {
-        {"camera", {{"eye", {0, 1, 4}}, {"target", {0, 0.5, 0}}, {"fov_y", 40}}},
-        {"film", {{"width", 16}, {"height", 12}}},
-        {"sampler", {{"spp", 4}}},
-        {"integrator", {{"type", "direct"}}},
-        {"materials", {{"floor", {{"type", "diffuse"}, {"albedo", {0.5, 0.5, 0.5}}}}}},
-        {"shapes",
-         {{{"type", "quad"}, {"origin", {-2, 0, -2}}, {"edge_u", {0, 0, 4}}, {"edge_v", {4, 0, 0}}, {"material", "floor"}},
-          {{"type", "sphere"}, {"center", {0, 0.5, 0}}, {"radius", 0.5}},
-          {{"type", "sphere"}, {"center", {1, 2, 1}}, {"radius", 0.3}, {"emission", {5, 5, 5}}}}},
-        {"lights", {{{"type", "point"}, {"position", {-1, 2, 1}}, {"power", {20, 20, 20}}}}},
-    };
+    return test::floorAndSphereScene(
+        {.width = 16, .height = 12, .spp = 4, .floorMaterial = true, .sphereLight = true, .pointLight = true});
 }
 
 // A fresh directory build/test-output/batch/<name>.

@@ -14,6 +14,7 @@
 #include "gpu_fixture.h"
 #include "image/image.h"
 #include "render_helpers.h"
+#include "test_scenes.h"
 
 using namespace penumbra;
 using nlohmann::json;
@@ -22,16 +23,7 @@ namespace fs = std::filesystem;
 namespace {
 
 json smallScene() {
-    return {
-        {"camera", {{"eye", {0, 1, 4}}, {"target", {0, 0.5, 0}}, {"fov_y", 40}}},
-        {"film", {{"width", 24}, {"height", 16}}},
-        {"sampler", {{"spp", 4}}},
-        {"integrator", {{"type", "ao"}}},
-        {"materials", {{"floor", {{"type", "diffuse"}, {"albedo", {0.5, 0.5, 0.5}}}}}},
-        {"shapes",
-         {{{"type", "quad"}, {"origin", {-2, 0, -2}}, {"edge_u", {0, 0, 4}}, {"edge_v", {4, 0, 0}}, {"material", "floor"}},
-          {{"type", "sphere"}, {"center", {0, 0.5, 0}}, {"radius", 0.5}}}},
-    };
+    return test::floorAndSphereScene({.width = 24, .height = 16, .spp = 4, .integrator = "ao", .floorMaterial = true});
 }
 
 fs::path writeText(const std::string& name, const std::string& text) {

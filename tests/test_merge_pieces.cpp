@@ -18,6 +18,7 @@
 #include "gpu_fixture.h"
 #include "image/image.h"
 #include "render_helpers.h"
+#include "test_scenes.h"
 
 using namespace penumbra;
 using nlohmann::json;
@@ -127,14 +128,7 @@ TEST(MergePieces, HeaderRoundTripAndOldFilesReadAsOnePiece) {
 
 TEST(MergePieces, CommandLineMergeOfMergesEqualsTheFullRender) {
     fs::path dir = freshDir("cli");
-    json scene = {
-        {"camera", {{"eye", {0, 1, 4}}, {"target", {0, 0.5, 0}}}},
-        {"film", {{"width", 12}, {"height", 8}}},
-        {"integrator", {{"type", "ao"}}},
-        {"shapes",
-         {{{"type", "quad"}, {"origin", {-2, 0, -2}}, {"edge_u", {0, 0, 4}}, {"edge_v", {4, 0, 0}}},
-          {{"type", "sphere"}, {"center", {0, 0.5, 0}}, {"radius", 0.5}}}},
-    };
+    json scene = test::floorAndSphereScene({.width = 12, .height = 8, .integrator = "ao"});
     std::ofstream(dir / "scene.json") << scene.dump();
     const std::string r = "render " + q(dir / "scene.json") + " --quiet --spp 4 ";
     std::string err;

@@ -20,6 +20,7 @@
 #include "render/pass_bands.h"
 #include "render/renderer.h"
 #include "render_helpers.h"
+#include "test_scenes.h"
 
 using namespace penumbra;
 using nlohmann::json;
@@ -31,22 +32,8 @@ namespace {
 // A floor, a sphere, a sphere light and a point light. The width is not a multiple of the
 // 8-pixel tile, so runs of columns end at the film's edge too.
 json litScene(uint32_t width, uint32_t height) {
-    return {
-        {"camera", {{"eye", {0, 1, 4}}, {"target", {0, 0.5, 0}}, {"fov_y", 40}}},
-        {"film", {{"width", width}, {"height", height}}},
-        {"sampler", {{"spp", 3}}},
-        {"integrator", {{"type", "direct"}}},
-        {"materials", {{"floor", {{"type", "diffuse"}, {"albedo", {0.5, 0.5, 0.5}}}}}},
-        {"shapes",
-         {{{"type", "quad"},
-           {"origin", {-2, 0, -2}},
-           {"edge_u", {0, 0, 4}},
-           {"edge_v", {4, 0, 0}},
-           {"material", "floor"}},
-          {{"type", "sphere"}, {"center", {0, 0.5, 0}}, {"radius", 0.5}},
-          {{"type", "sphere"}, {"center", {1, 2, 1}}, {"radius", 0.3}, {"emission", {5, 5, 5}}}}},
-        {"lights", {{{"type", "point"}, {"position", {-1, 2, 1}}, {"power", {20, 20, 20}}}}},
-    };
+    return test::floorAndSphereScene(
+        {.width = width, .height = height, .spp = 3, .floorMaterial = true, .sphereLight = true, .pointLight = true});
 }
 
 bool samePixels(const Image& a, const Image& b) {

@@ -26,6 +26,7 @@
 #include "gpu_fixture.h"
 #include "image/image.h"
 #include "render_helpers.h"
+#include "test_scenes.h"
 
 using namespace penumbra;
 using nlohmann::json;
@@ -222,18 +223,7 @@ private:
     std::string m_error;
 };
 
-json tinyScene() {
-    return {
-        {"camera", {{"eye", {0, 1, 4}}, {"target", {0, 0.5, 0}}, {"fov_y", 40}}},
-        {"film", {{"width", 16}, {"height", 12}}},
-        {"sampler", {{"spp", 4}}},
-        {"integrator", {{"type", "direct"}}},
-        {"shapes",
-         {{{"type", "quad"}, {"origin", {-2, 0, -2}}, {"edge_u", {0, 0, 4}}, {"edge_v", {4, 0, 0}}},
-          {{"type", "sphere"}, {"center", {0, 0.5, 0}}, {"radius", 0.5}},
-          {{"type", "sphere"}, {"center", {1, 2, 1}}, {"radius", 0.3}, {"emission", {5, 5, 5}}}}},
-    };
-}
+json tinyScene() { return test::floorAndSphereScene({.width = 16, .height = 12, .spp = 4, .sphereLight = true}); }
 
 std::string q(const fs::path& p) {
     std::string quoted = p.string();
