@@ -1,7 +1,7 @@
 # One static library per folder of host/ ("layer"), so the layering is a build fact.
 # Each layer gets its own include root (build/include-roots/<layer>/<layer> links to
 # host/<layer>) and sees only the roots of the layers it links: scene/ cannot even find
-# gpu/ headers. tests/layering.cmake checks what include roots cannot (system headers).
+# gpu/ headers. cmake/CheckLayers.cmake checks what include roots cannot (system headers).
 include_guard(GLOBAL)
 
 set(PENUMBRA_INCLUDE_ROOTS ${PROJECT_BINARY_DIR}/include-roots)
@@ -39,7 +39,7 @@ function(penumbra_add_layer layer)
   set_property(GLOBAL PROPERTY PENUMBRA_LAYER_USES_${layer} "${uses}")
 endfunction()
 
-# "layer=dep,dep;layer=..." for tests/layering.cmake: each layer and the layers it links.
+# "layer=dep,dep;layer=..." for cmake/CheckLayers.cmake: each layer and the layers it links.
 function(penumbra_layer_graph out)
   get_property(layers GLOBAL PROPERTY PENUMBRA_LAYERS)
   set(graph "")

@@ -1,7 +1,8 @@
 """Penumbra scene JSON -> Mitsuba 3 scene dict, plus the two Penumbra features Mitsuba
 lacks, written as Mitsuba plugins in Python: the normalized Phong BRDF of
-shared/SCENE_FORMAT.md (`penumbra_phong`) and the ambient-occlusion integrator
-(`penumbra_ao`). Used by tools/mitsuba_compare.py; import after mi.set_variant().
+docs/SCENE_FORMAT.md (`penumbra_phong`) and the ambient-occlusion integrator
+(`penumbra_ao`). Used by tools/penumbra_tools/mitsuba_compare/ (run through tools/mitsuba_compare.py);
+import after mi.set_variant().
 
 Mapping (see docs/PERFORMANCE.md, "Scene translation"):
   camera      -> perspective, fov_axis 'y', fov = fov_y, to_world = look_at(eye, target, up)

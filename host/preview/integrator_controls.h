@@ -1,7 +1,7 @@
-// Live integrator changes in the preview: the strategy, heuristic and sphere-sampling keys
-// applied to IntegratorSettings (and to its JSON, which EXR saves record), and the short
-// label the window title shows. Only options of the scene's integrator type change: the
-// kernel and the light tables stay as they were built.
+// Live integrator changes in the preview: the strategy, heuristic and sphere, quad and
+// triangle sampling keys applied to IntegratorSettings (which EXR saves record through
+// scene/integrator_json.h), and the short label the window title shows. Only options of the
+// scene's integrator type change: the kernel and the light tables stay as they were built.
 #pragma once
 
 #include <string>

@@ -1,6 +1,6 @@
 // Internal to host/scene: reads one glTF 2.0 file (.gltf or .glb) into Penumbra shapes,
 // materials and lights with node transforms applied. How the result joins a Scene (the
-// `gltf` shape's material/emission overrides, the camera of a directly rendered model)
+// `gltf` shape's material/emission overrides, the camera of a model rendered on its own)
 // is load_json.cpp's.
 #pragma once
 
@@ -14,8 +14,8 @@
 namespace penumbra {
 
 struct GltfImport {
-    // Mesh shapes, one per triangle primitive; `material` indexes `materials` below, or is
-    // -1 for a primitive without a material (it gets the scene's default material).
+    // Mesh shapes, one per triangle primitive, and for each the index of its material in
+    // `materials` below, or -1 for a primitive without one (it gets the scene's default).
     std::vector<Shape> shapes;
     std::vector<int> shapeMaterials;
     std::vector<Material> materials;  // one diffuse material per glTF material

@@ -1,6 +1,6 @@
 // The in-memory scene: what the loaders (JSON, glTF) produce and the renderer consumes.
 // Plain data with no Vulkan types; every value here has already been validated, so the
-// GPU upload (render/gpu_scene.cpp) never has to check anything again.
+// flattening for the GPU (render/scene_arrays.cpp) never has to check anything again.
 #pragma once
 
 #include <cstdint>

@@ -40,9 +40,8 @@ struct Hit {
 // a leaf, and only then are the leaf's primitives tested. llvmpipe runs eight rays in SIMD
 // lanes and executes every branch under a mask, so a single loop with an "interior or
 // leaf" branch pays for box tests and a primitive test in every iteration of every lane;
-// here the lanes do their box tests together and their primitive tests together
-// (measured 1.09x on the Cornell box, 1.18x on the default AO scene, 1.03x with 300k
-// triangles: docs/PERFORMANCE.md).
+// here the lanes do their box tests together and their primitive tests together (what it
+// bought: docs/PERFORMANCE.md, "What each optimisation bought").
 
 // The loop behind both queries. Stack-based, nearest child first: both child boxes of a
 // pair are tested, the far one is deferred with its entry distance and, for the closest

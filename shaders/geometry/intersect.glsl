@@ -20,7 +20,8 @@
 // lanes that execute every branch, so a scene with triangles and quads paid for both
 // tests on every primitive.
 // Computed without early returns: llvmpipe runs 8 rays in SIMD lanes, and one final test
-// costs far less than a masked exit after each step (measured 2x on a brute-force loop).
+// costs far less than a masked exit after each step (docs/PERFORMANCE.md, "Earlier
+// experiments").
 // A parallel ray or degenerate shape gives det = 0, so u, v, tHit are infinite or NaN and
 // every comparison below fails. uv = (u, v).
 bool intersectFlat(vec3 p0, vec3 e1, vec3 e2, bool parallelogram, vec3 origin, vec3 dir, float tMax, out float t,

@@ -177,10 +177,10 @@ PENUMBRA_CONST uint SAMPLER_SOBOL = 1u;        // padded Owen-scrambled Sobol' (
 // Options that select code rather than data are compiled into the kernel, not read from
 // RenderParams: llvmpipe runs eight invocations in SIMD lanes and executes both sides of
 // every branch under a mask, so a runtime switch pays for all the code it skips. Fixing
-// them per pipeline let the compiler drop the unused strategies, light types, primitive
-// types and materials: 1.3x to 1.45x (options) and a further 1.25x (scene features) on the
-// Cornell box and the MIS scene (docs/PERFORMANCE.md). host/render/kernel_options.cpp fills
-// them; shaders/common/specialization.glsl declares them.
+// them per pipeline lets the compiler drop the unused strategies, light types, primitive
+// types and materials (what it bought: docs/PERFORMANCE.md, "What each optimisation
+// bought"). host/render/kernel_options.cpp fills them; shaders/common/specialization.glsl
+// declares them.
 #define SPEC_COUNT_RAYS 0        // 1: count traced rays into BINDING_RAY_COUNT (benchmarks)
 #define SPEC_STRATEGY 1          // STRATEGY_*
 #define SPEC_HEURISTIC 2         // HEURISTIC_*
