@@ -4,7 +4,6 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
-#include <cstdlib>
 #include <string>
 
 #include "scene/enum_names.h"
@@ -17,9 +16,9 @@ namespace {
 // is integral, as a hand-written `"max_distance": 5` is.
 nlohmann::json decimal(float value) {
     char text[32];
-    auto end = std::to_chars(text, text + sizeof(text) - 1, value).ptr;
-    *end = '\0';
-    const double shortest = std::strtod(text, nullptr);
+    const char* end = std::to_chars(text, text + sizeof(text), value).ptr;
+    double shortest = 0.0;
+    std::from_chars(text, end, shortest);  // locale-independent, like to_chars
     if (std::fabs(shortest) < 9007199254740992.0 && shortest == std::trunc(shortest)) return int64_t(shortest);
     return shortest;
 }
