@@ -24,6 +24,8 @@
 
 #include "bvh/bvh.h"
 #include "gpu/context.h"
+#include "gpu/gpu_timer.h"
+#include "render/pass_bands.h"
 #include "render/renderer.h"
 #include "scene/load.h"
 
@@ -158,6 +160,29 @@ void lowSppBreakdown(const gpu::Context& context, Scene scene, int runs) {
         std::printf("%5u %12.4f %12d %14.4f %14.4f\n", spp, median(all), submissions, median(one), median(empty));
         std::fflush(stdout);
     }
+    // The fixed costs apart from the work: 32 bands of one 8-pixel tile, each in its own
+    // submission (with the device timer renderAll records) or all in one submission.
+    Renderer renderer(context, scene);
+    const gpu::GpuTimer timer(context);
+    std::vector<double> perSubmission, perDispatch;
+    constexpr int kBands = 32;
+    for (int r = 0; r < runs; ++r) {
+        auto t0 = Clock::now();
+        for (int i = 0; i < kBands; ++i)
+            context.submitAndWait([&](VkCommandBuffer cmd) {
+                timer.start(cmd);
+                renderer.recordPasses(cmd, uint32_t(i), 1, 0, 1, 0, PassBands::kTile);
+                timer.stop(cmd);
+            });
+        perSubmission.push_back(secondsSince(t0) / kBands);
+        t0 = Clock::now();
+        context.submitAndWait([&](VkCommandBuffer cmd) {
+            for (int i = 0; i < kBands; ++i) renderer.recordPasses(cmd, uint32_t(i), 1, 0, 1, 0, PassBands::kTile);
+        });
+        perDispatch.push_back(secondsSince(t0) / kBands);
+    }
+    std::printf("one tile (8 pixel samples): %.5f s per submission, %.5f s per dispatch within one submission\n",
+                median(perSubmission), median(perDispatch));
 }
 
 }  // namespace
