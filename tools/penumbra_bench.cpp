@@ -253,7 +253,7 @@ int main(int argc, char** argv) {
             renderer.reset();
             double rays = raysPerSample(renderer, scene);
             size_t prims = triangleCount(scene);
-            std::printf("%-28s %10zu %9.3f %9.2f %9.3f %9.3f %10.3f %10.2f %9.3f %9.2f %9.1f\n", name.c_str(), prims,
+            std::printf("%-28s %10zu %9.3f %9.2f %9.3f %9.3f %10.3f %10.3f %9.3f %9.2f %9.1f\n", name.c_str(), prims,
                         bvhSeconds, arrays.bvh.sahCost, upload, first, median, samples / median * 1e-6, rays,
                         samples * rays / median * 1e-6,
                         double(geometryBytes(arrays)) / double(std::max<size_t>(prims, 1)));
