@@ -134,8 +134,7 @@ double median(std::vector<double> v) {
 void lowSppBreakdown(const gpu::Context& context, Scene scene, int runs) {
     scene.film.width = std::max(1u, scene.film.width / 2);
     scene.film.height = std::max(1u, scene.film.height / 2);
-    std::printf("%s at %ux%u: seconds, median of %d\n", scene.name.c_str(), scene.film.width, scene.film.height,
-                runs);
+    std::printf("%s at %ux%u: seconds, median of %d\n", scene.name.c_str(), scene.film.width, scene.film.height, runs);
     std::printf("%5s %12s %12s %14s %14s\n", "spp", "renderAll", "submissions", "one_submission", "empty_submit");
     for (uint32_t spp : {1u, 2u, 4u, 8u}) {
         scene.sampler.spp = spp;
@@ -151,7 +150,8 @@ void lowSppBreakdown(const gpu::Context& context, Scene scene, int runs) {
             all.push_back(secondsSince(t0));
             renderer.reset();
             t0 = Clock::now();
-            context.submitAndWait([&](VkCommandBuffer cmd) { renderer.recordPasses(cmd, 0, spp, 0, scene.film.height); });
+            context.submitAndWait(
+                [&](VkCommandBuffer cmd) { renderer.recordPasses(cmd, 0, spp, 0, scene.film.height); });
             one.push_back(secondsSince(t0));
             t0 = Clock::now();
             context.submitAndWait([](VkCommandBuffer) {});
