@@ -12,11 +12,13 @@ static_assert(LIGHT_TEST_BINDING_IN >= BINDING_COUNT && LIGHT_TEST_BINDING_OUT >
 
 namespace {
 
-// Storage buffers, except the traversal's texel buffers (geometry/bvh.glsl).
+// Storage buffers, except the texel buffers of the traversal (geometry/bvh.glsl) and of the
+// light data (lights/light_data.glsl).
 std::vector<VkDescriptorType> lightTestBindings() {
     std::vector<VkDescriptorType> types(LIGHT_TEST_BINDING_COUNT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
-    types[BINDING_NODES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
-    types[BINDING_PRIMITIVE_TEXELS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+    for (uint32_t b : {uint32_t(BINDING_NODES), uint32_t(BINDING_PRIMITIVE_TEXELS), uint32_t(BINDING_LIGHTS),
+                       uint32_t(BINDING_LIGHT_TABLE), uint32_t(BINDING_MESH_TABLE)})
+        types[b] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
     return types;
 }
 
@@ -34,9 +36,9 @@ LightKernel::LightKernel(const SceneArrays& arrays)
       m_primitives(gpu::Buffer::fromVector(
           m_ctx, arrays.bvh.primitives, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT)),
       m_normals(gpu::Buffer::fromVector(m_ctx, arrays.normals)),
-      m_lights(gpu::Buffer::fromVector(m_ctx, arrays.lights)),
-      m_lightTable(gpu::Buffer::fromVector(m_ctx, arrays.lightTable)),
-      m_meshTable(gpu::Buffer::fromVector(m_ctx, arrays.meshTable)) {}
+      m_lights(gpu::Buffer::fromVector(m_ctx, arrays.lights, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT)),
+      m_lightTable(gpu::Buffer::fromVector(m_ctx, arrays.lightTable, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT)),
+      m_meshTable(gpu::Buffer::fromVector(m_ctx, arrays.meshTable, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT)) {}
 
 std::vector<gpu::LightTestRecord> LightKernel::run(gpu::LightTestPush push, const gpu::Buffer& in) {
     gpu::Buffer out(m_ctx, VkDeviceSize(push.count) * sizeof(gpu::LightTestRecord),

@@ -9,6 +9,11 @@
 // --count-rays prints only the rays per sample of each scene (no timing), for
 // tools/mitsuba_compare.py. Scenes are files, or "procedural:N" for a displaced sphere of about N triangles on a floor.
 // --write-mesh N FILE writes that sphere's mesh as JSON, for tools/make_bench_scenes.py.
+// --low-spp breaks down where a render of 1, 2, 4 and 8 spp at half the film size (the
+// time-to-error comparison of tools/bench-mitsuba) spends its time: Renderer::renderAll as
+// `penumbra render` times it, its submissions, the same passes in one submission, and an
+// empty submission (the fixed cost of one).
+// --spp N renders every scene at N samples per pixel (throughput does not depend on spp).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -19,6 +24,8 @@
 
 #include "bvh/bvh.h"
 #include "gpu/context.h"
+#include "gpu/gpu_timer.h"
+#include "render/pass_bands.h"
 #include "render/renderer.h"
 #include "scene/load.h"
 
@@ -115,15 +122,80 @@ size_t triangleCount(const Scene& scene) {
     return n;
 }
 
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+}
+
+// --low-spp: per spp, medians over `runs` of: renderAll (what penumbra:render_seconds
+// measures), its submissions, all passes recorded in one submission, and one empty
+// submission. The kernel is compiled before anything is timed, as `penumbra render` does.
+void lowSppBreakdown(const gpu::Context& context, Scene scene, int runs) {
+    scene.film.width = std::max(1u, scene.film.width / 2);
+    scene.film.height = std::max(1u, scene.film.height / 2);
+    std::printf("%s at %ux%u: seconds, median of %d\n", scene.name.c_str(), scene.film.width, scene.film.height, runs);
+    std::printf("%5s %12s %12s %14s %14s\n", "spp", "renderAll", "submissions", "one_submission", "empty_submit");
+    for (uint32_t spp : {1u, 2u, 4u, 8u}) {
+        scene.sampler.spp = spp;
+        Renderer renderer(context, scene);
+        renderer.compileKernel();
+        std::vector<double> all, one, empty;
+        int submissions = 0;
+        for (int r = 0; r < runs; ++r) {
+            renderer.reset();
+            submissions = 0;
+            auto t0 = Clock::now();
+            renderer.renderAll([&](const RenderProgress&) { ++submissions; });
+            all.push_back(secondsSince(t0));
+            renderer.reset();
+            t0 = Clock::now();
+            context.submitAndWait(
+                [&](VkCommandBuffer cmd) { renderer.recordPasses(cmd, 0, spp, 0, scene.film.height); });
+            one.push_back(secondsSince(t0));
+            t0 = Clock::now();
+            context.submitAndWait([](VkCommandBuffer) {});
+            empty.push_back(secondsSince(t0));
+        }
+        std::printf("%5u %12.4f %12d %14.4f %14.4f\n", spp, median(all), submissions, median(one), median(empty));
+        std::fflush(stdout);
+    }
+    // The fixed costs apart from the work: 32 bands of one 8-pixel tile, each in its own
+    // submission (with the device timer renderAll records) or all in one submission.
+    Renderer renderer(context, scene);
+    const gpu::GpuTimer timer(context);
+    std::vector<double> perSubmission, perDispatch;
+    constexpr int kBands = 32;
+    for (int r = 0; r < runs; ++r) {
+        auto t0 = Clock::now();
+        for (int i = 0; i < kBands; ++i)
+            context.submitAndWait([&](VkCommandBuffer cmd) {
+                timer.start(cmd);
+                renderer.recordPasses(cmd, uint32_t(i), 1, 0, 1, 0, PassBands::kTile);
+                timer.stop(cmd);
+            });
+        perSubmission.push_back(secondsSince(t0) / kBands);
+        t0 = Clock::now();
+        context.submitAndWait([&](VkCommandBuffer cmd) {
+            for (int i = 0; i < kBands; ++i) renderer.recordPasses(cmd, uint32_t(i), 1, 0, 1, 0, PassBands::kTile);
+        });
+        perDispatch.push_back(secondsSince(t0) / kBands);
+    }
+    std::printf("one tile (8 pixel samples): %.5f s per submission, %.5f s per dispatch within one submission\n",
+                median(perSubmission), median(perDispatch));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     int runs = 5;
-    bool countOnly = false;
+    bool countOnly = false, lowSpp = false;
+    uint32_t spp = 0;
     std::vector<std::string> scenes;
     for (int i = 1; i < argc; ++i) {
         if (!std::strcmp(argv[i], "--runs") && i + 1 < argc) runs = std::atoi(argv[++i]);
         else if (!std::strcmp(argv[i], "--count-rays")) countOnly = true;
+        else if (!std::strcmp(argv[i], "--low-spp")) lowSpp = true;
+        else if (!std::strcmp(argv[i], "--spp") && i + 1 < argc) spp = uint32_t(std::max(1, std::atoi(argv[++i])));
         else if (!std::strcmp(argv[i], "--write-mesh") && i + 2 < argc)
             return writeMesh(std::atoi(argv[i + 1]), argv[i + 2]);
         else scenes.push_back(argv[i]);
@@ -134,12 +206,16 @@ int main(int argc, char** argv) {
     }
     if (scenes.empty()) {
         std::fprintf(stderr,
-                     "usage: penumbra_bench [--runs N | --count-rays] SCENE|procedural:N ...\n"
+                     "usage: penumbra_bench [--runs N] [--spp N] [--count-rays | --low-spp] SCENE|procedural:N ...\n"
                      "       penumbra_bench --write-mesh N FILE\n");
         return 2;
     }
     try {
         gpu::Context context;
+        if (lowSpp) {
+            for (const std::string& name : scenes) lowSppBreakdown(context, benchScene(name), runs);
+            return 0;
+        }
         if (countOnly) {
             for (const std::string& name : scenes) {
                 Scene scene = benchScene(name);
@@ -153,6 +229,7 @@ int main(int argc, char** argv) {
                     "first_s", "render_s", "Msamples/s", "rays/spl", "Mrays/s", "bytes/prim");
         for (const std::string& name : scenes) {
             Scene scene = benchScene(name);
+            if (spp > 0) scene.sampler.spp = spp;
             auto t0 = Clock::now();
             SceneArrays arrays = buildSceneArrays(scene);
             double bvhSeconds = secondsSince(t0);
@@ -175,7 +252,7 @@ int main(int argc, char** argv) {
             renderer.reset();
             double rays = raysPerSample(renderer, scene);
             size_t prims = triangleCount(scene);
-            std::printf("%-28s %10zu %9.3f %9.2f %9.3f %9.3f %10.3f %10.2f %9.3f %9.2f %9.1f\n", name.c_str(), prims,
+            std::printf("%-28s %10zu %9.3f %9.2f %9.3f %9.3f %10.3f %10.3f %9.3f %9.2f %9.1f\n", name.c_str(), prims,
                         bvhSeconds, arrays.bvh.sahCost, upload, first, median, samples / median * 1e-6, rays,
                         samples * rays / median * 1e-6,
                         double(geometryBytes(arrays)) / double(std::max<size_t>(prims, 1)));

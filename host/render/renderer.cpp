@@ -29,6 +29,9 @@ std::vector<VkDescriptorType> renderBindings() {
     types[BINDING_NODES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
     types[BINDING_PRIMITIVE_TEXELS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
     types[BINDING_MATERIALS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+    types[BINDING_LIGHTS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+    types[BINDING_LIGHT_TABLE] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+    types[BINDING_MESH_TABLE] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
     return types;
 }
 
@@ -45,17 +48,18 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
     uploadParams();
     m_accum = Buffer(context, VkDeviceSize(m_params.width) * m_params.height * sizeof(glm::vec4),
                      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, "accumulation");
-    // Nodes and primitives are read by the traversal as texel buffers (bvh.glsl); the
-    // primitives also as a storage buffer by shading and light sampling.
+    // Nodes, primitives, materials, lights and alias tables are read as texel buffers
+    // (bvh.glsl, materials.glsl, light_data.glsl); the primitives also as a storage buffer
+    // by the traversal tests' kernels.
     const VkBufferUsageFlags texels = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
     m_nodes = Buffer::fromVector(context, m_arrays.bvh.childPairs, "BVH child pairs", texels);
     m_primitives =
         Buffer::fromVector(context, m_arrays.bvh.primitives, "primitives", texels | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     m_normals = Buffer::fromVector(context, m_arrays.normals, "triangle normals");
     m_materials = Buffer::fromVector(context, m_arrays.materials, "materials", texels);
-    m_lights = Buffer::fromVector(context, m_arrays.lights, "lights");
-    m_lightTable = Buffer::fromVector(context, m_arrays.lightTable, "light selection table");
-    m_meshTable = Buffer::fromVector(context, m_arrays.meshTable, "mesh light table");
+    m_lights = Buffer::fromVector(context, m_arrays.lights, "lights", texels);
+    m_lightTable = Buffer::fromVector(context, m_arrays.lightTable, "light selection table", texels);
+    m_meshTable = Buffer::fromVector(context, m_arrays.meshTable, "mesh light table", texels);
     m_rayCount = Buffer(context, sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
 
     m_kernel = createKernel(m_options);

@@ -18,8 +18,9 @@
 // "Round 2: the data the kernels read").
 layout(binding = BINDING_NODES) uniform usamplerBuffer pairTexels;
 layout(binding = BINDING_PRIMITIVE_TEXELS) uniform usamplerBuffer primitiveTexels;
-// Primitives in leaf order: Hit.primitive indexes this array. Shading and light sampling
-// read it once per hit or sample; the traversal reads the same bytes through primitiveTexels.
+// Primitives in leaf order: Hit.primitive indexes this array. The render kernels read them
+// through primitiveTexels only (loadPrimitive: traversal, shading, light sampling); the
+// storage-buffer view is for the traversal test kernels (shaders/tests).
 layout(std430, binding = BINDING_PRIMITIVES) readonly restrict buffer Primitives { Primitive primitives[]; };
 
 Primitive loadPrimitive(uint index) {

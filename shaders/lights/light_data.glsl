@@ -8,19 +8,36 @@
 #include "shared/types.h"
 #include "geometry/bvh.glsl"
 
-layout(std430, binding = BINDING_LIGHTS) readonly restrict buffer Lights { Light lights[]; };
-layout(std430, binding = BINDING_LIGHT_TABLE) readonly restrict buffer LightTable { AliasEntry lightTable[]; };
-layout(std430, binding = BINDING_MESH_TABLE) readonly restrict buffer MeshTable { AliasEntry meshTable[]; };
+// Texel buffers (RGBA32UI views of the same bytes as the structs, host/gpu/kernel.cpp)
+// rather than storage buffers: llvmpipe (Mesa 22.3) turns a storage-buffer load after a
+// branch into a loop over the SIMD lanes with bounds-check branches, a texel fetch into a
+// branch-free gather (the same change for nodes, primitives and materials bought
+// 1.5-1.9x: docs/PERFORMANCE.md, "Round 2"). Light i is texels 3i (type, first, count,
+// flags), 3i + 1 (emission, area), 3i + 2 (position, selectionProb); alias entry i is
+// texel i.
+layout(binding = BINDING_LIGHTS) uniform usamplerBuffer lightTexels;
+layout(binding = BINDING_LIGHT_TABLE) uniform usamplerBuffer lightTableTexels;
+layout(binding = BINDING_MESH_TABLE) uniform usamplerBuffer meshTableTexels;
 
-Light loadLight(uint index) { return lights[index]; }
+Light loadLight(uint index) {
+    uvec4 a = texelFetch(lightTexels, int(LIGHT_TEXELS * index));
+    uvec4 b = texelFetch(lightTexels, int(LIGHT_TEXELS * index + 1u));
+    uvec4 c = texelFetch(lightTexels, int(LIGHT_TEXELS * index + 2u));
+    return Light(a.x, a.y, a.z, a.w, uintBitsToFloat(b.xyz), uintBitsToFloat(b.w), uintBitsToFloat(c.xyz),
+                 uintBitsToFloat(c.w));
+}
+
+AliasEntry aliasEntry(uvec4 texel) {
+    return AliasEntry(uintBitsToFloat(texel.x), texel.y, texel.z, uintBitsToFloat(texel.w));
+}
 
 // Entry `index` of the light-selection table (host/render/alias_table.h).
-AliasEntry loadLightAlias(uint index) { return lightTable[index]; }
+AliasEntry loadLightAlias(uint index) { return aliasEntry(texelFetch(lightTableTexels, int(index))); }
 
 // Entry `index` of the per-mesh triangle tables (area-proportional, lecture "Mesh Lights").
-AliasEntry loadMeshAlias(uint index) { return meshTable[index]; }
+AliasEntry loadMeshAlias(uint index) { return aliasEntry(texelFetch(meshTableTexels, int(index))); }
 
-// The primitive (sphere, quad or triangle) of an area light.
-Primitive loadLightPrimitive(uint index) { return primitives[index]; }
+// The primitive (sphere, quad or triangle) of an area light: the traversal's texel view.
+Primitive loadLightPrimitive(uint index) { return loadPrimitive(index); }
 
 #endif

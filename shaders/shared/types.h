@@ -22,12 +22,12 @@ using uint = std::uint32_t;
 #define BINDING_PARAMS 0       // uniform RenderParams
 #define BINDING_ACCUM 1        // vec4 per pixel: rgb = sum of samples, w = sample count
 #define BINDING_NODES 2        // BvhNode[] in child pairs, as a texel buffer (see below)
-#define BINDING_PRIMITIVES 3   // Primitive[] in BVH leaf order (storage buffer: shading, lights)
+#define BINDING_PRIMITIVES 3   // Primitive[] in BVH leaf order (storage buffer: tests)
 #define BINDING_NORMALS 4      // TriangleNormals[]
 #define BINDING_MATERIALS 5    // Material[] as a texel buffer (MATERIAL_TEXELS texels each)
-#define BINDING_LIGHTS 6       // Light[]
-#define BINDING_LIGHT_TABLE 7  // AliasEntry[]: light selection (item = light index)
-#define BINDING_MESH_TABLE 8   // AliasEntry[]: mesh-light triangles (item = primitive index)
+#define BINDING_LIGHTS 6       // Light[] as a texel buffer (LIGHT_TEXELS texels each)
+#define BINDING_LIGHT_TABLE 7  // AliasEntry[] as a texel buffer: light selection (item = light index)
+#define BINDING_MESH_TABLE 8   // AliasEntry[] as a texel buffer: mesh-light triangles (item = primitive index)
 #define BINDING_RAY_COUNT 9    // uint: rays traced, when SPEC_COUNT_RAYS is set
 #define BINDING_PRIMITIVE_TEXELS 10  // the same Primitive[] as a texel buffer: traversal
 #define BINDING_COUNT 11
@@ -131,6 +131,7 @@ struct Light {
     vec3 position;
     float selectionProb;   // probability that light selection picks this light
 };
+PENUMBRA_CONST uint LIGHT_TEXELS = 3u;  // RGBA32UI texels per Light (lights/light_data.glsl)
 
 // Walker/Vose alias table entry: pick slot i uniformly, keep it with `probability`,
 // otherwise take `alias`. `pmf` is the discrete probability of slot i itself.
