@@ -105,6 +105,9 @@ private:
     void loadMaterials();
     void addPrimitive(const tinygltf::Primitive& prim, const glm::dmat4& world, const std::string& path);
     void addLight(const tinygltf::Node& node, const glm::dmat4& world, const std::string& path);
+    Light pointLight(const glm::dmat4& world, const std::string& path);
+    Light directionalLight(const glm::dmat4& world, const std::string& path);
+    glm::vec3 lightAxis(const glm::dmat4& world, const std::string& path);
     void addCamera(const tinygltf::Node& node, const glm::dmat4& world, const std::string& path);
 
     const tinygltf::Model& m_model;
@@ -370,23 +373,37 @@ void Importer::addLight(const tinygltf::Node& node, const glm::dmat4& world, con
         std::max({value.x, value.y, value.z}) > double(float(kMaxRadiometric)))
         fail(lightPath, "negative, non-finite or above 1e20 intensity (README: ranges)");
     Light light;
+    if (src.type == "point") light = pointLight(world, path);
+    else if (src.type == "directional") light = directionalLight(world, path);
+    else fail(lightPath + ".type", "unknown light type \"" + src.type + "\"");
     light.intensity = glm::vec3(value);  // point: candela read as W/sr; directional: lux as W/m^2
-    if (src.type == "point") {
-        light.type = LightType::Point;
-        glm::dvec3 p = glm::dvec3(world * glm::dvec4(0, 0, 0, 1));
-        if (!std::isfinite(p.x + p.y + p.z) ||
-            std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)}) > kMaxCoordinate)
-            fail(path, "light position not within [-1e8, 1e8] (README: ranges)");
-        light.position = glm::vec3(p);
-    } else if (src.type == "directional") {
-        light.type = LightType::Directional;
-        glm::dvec3 d = glm::dmat3(world) * glm::dvec3(0, 0, -1);  // lights point down their local -Z
-        if (!(glm::length(d) > 0.0)) fail(path, "transform collapses the light direction");
-        light.direction = glm::vec3(glm::normalize(d));
-    } else {
-        fail(lightPath + ".type", "unknown light type \"" + src.type + "\"");
-    }
     m_result.lights.push_back(light);
+}
+
+// A point light at the node's origin.
+Light Importer::pointLight(const glm::dmat4& world, const std::string& path) {
+    Light light;
+    light.type = LightType::Point;
+    glm::dvec3 p = glm::dvec3(world * glm::dvec4(0, 0, 0, 1));
+    if (!std::isfinite(p.x + p.y + p.z) || std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)}) > kMaxCoordinate)
+        fail(path, "light position not within [-1e8, 1e8] (README: ranges)");
+    light.position = glm::vec3(p);
+    return light;
+}
+
+// A directional light shining down the node's local -Z.
+Light Importer::directionalLight(const glm::dmat4& world, const std::string& path) {
+    Light light;
+    light.type = LightType::Directional;
+    light.direction = lightAxis(world, path);
+    return light;
+}
+
+// The unit direction a glTF light points in: its node's local -Z in world space.
+glm::vec3 Importer::lightAxis(const glm::dmat4& world, const std::string& path) {
+    glm::dvec3 d = glm::dmat3(world) * glm::dvec3(0, 0, -1);
+    if (!(glm::length(d) > 0.0)) fail(path, "transform collapses the light direction");
+    return glm::vec3(glm::normalize(d));
 }
 
 void Importer::addCamera(const tinygltf::Node& node, const glm::dmat4& world, const std::string& path) {

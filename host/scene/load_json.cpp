@@ -318,37 +318,50 @@ private:
         if (!m_modelCamera) m_modelCamera = model.camera;
     }
 
+    // One function per light kind (SCENE_FORMAT.md, "Lights"); each checks its own keys.
     void readLight(const JsonReader& r) {
         std::string type = r.at("type").choice({"point", "directional", "environment"});
+        if (type == "point") m_scene.lights.push_back(readPointLight(r));
+        else if (type == "directional") m_scene.lights.push_back(readDirectionalLight(r));
+        else m_scene.lights.push_back(readEnvironmentLight(r));
+    }
+
+    Light readPointLight(const JsonReader& r) const {
+        r.expectKeys({"type", "position", "power", "intensity"}, "a point light");
         Light light;
-        if (type == "point") {
-            r.expectKeys({"type", "position", "power", "intensity"}, "a point light");
-            light.type = LightType::Point;
-            light.position = coordinates(r.at("position"));
-            if (r.has("power") == r.has("intensity")) r.fail("give exactly one of \"power\" (W) and \"intensity\" (W/sr)");
-            // Isotropic point light: I = P / (4 pi) W/sr.
-            JsonReader given = r.at(r.has("power") ? "power" : "intensity");
-            light.intensity =
-                radiometric(given, r.has("power") ? given.color() / (4.0f * kPi) : given.color(), "intensity");
-        } else if (type == "directional") {
-            r.expectKeys({"type", "direction", "irradiance"}, "a directional light");
-            light.type = LightType::Directional;
-            JsonReader direction = r.at("direction");
-            glm::vec3 d = direction.vec3();
-            float len = glm::length(d);
-            if (!(len > 0.0f) || !std::isfinite(len)) direction.fail("must be a non-zero vector");
-            light.direction = d / len;
-            light.intensity = radiometric(r.at("irradiance"), r.at("irradiance").color(), "irradiance");
-        } else {
-            r.expectKeys({"type", "radiance"}, "an environment light");
-            light.type = LightType::Environment;
-            light.intensity = r.has("radiance") ? radiometric(r.at("radiance"), r.at("radiance").color(), "radiance")
-                                                : glm::vec3(1.0f);
-            bool second = std::any_of(m_scene.lights.begin(), m_scene.lights.end(),
-                                      [](const Light& l) { return l.type == LightType::Environment; });
-            if (second) r.fail("only one environment light is allowed");
-        }
-        m_scene.lights.push_back(light);
+        light.type = LightType::Point;
+        light.position = coordinates(r.at("position"));
+        if (r.has("power") == r.has("intensity")) r.fail("give exactly one of \"power\" (W) and \"intensity\" (W/sr)");
+        // Isotropic point light: I = P / (4 pi) W/sr.
+        JsonReader given = r.at(r.has("power") ? "power" : "intensity");
+        light.intensity =
+            radiometric(given, r.has("power") ? given.color() / (4.0f * kPi) : given.color(), "intensity");
+        return light;
+    }
+
+    Light readDirectionalLight(const JsonReader& r) const {
+        r.expectKeys({"type", "direction", "irradiance"}, "a directional light");
+        Light light;
+        light.type = LightType::Directional;
+        JsonReader direction = r.at("direction");
+        glm::vec3 d = direction.vec3();
+        float len = glm::length(d);
+        if (!(len > 0.0f) || !std::isfinite(len)) direction.fail("must be a non-zero vector");
+        light.direction = d / len;
+        light.intensity = radiometric(r.at("irradiance"), r.at("irradiance").color(), "irradiance");
+        return light;
+    }
+
+    Light readEnvironmentLight(const JsonReader& r) const {
+        r.expectKeys({"type", "radiance"}, "an environment light");
+        Light light;
+        light.type = LightType::Environment;
+        light.intensity = r.has("radiance") ? radiometric(r.at("radiance"), r.at("radiance").color(), "radiance")
+                                            : glm::vec3(1.0f);
+        bool second = std::any_of(m_scene.lights.begin(), m_scene.lights.end(),
+                                  [](const Light& l) { return l.type == LightType::Environment; });
+        if (second) r.fail("only one environment light is allowed");
+        return light;
     }
 
     // A model rendered on its own has no camera in a scene file: use its own first camera,
