@@ -2,6 +2,8 @@
 // and the light-selection alias tables.
 #include "render/light_arrays.h"
 
+#include <bit>
+#include <cmath>
 #include <numbers>
 
 #include "render/alias_table.h"
@@ -20,9 +22,31 @@ gpu::Light makeLight(uint32_t type, glm::vec3 emission, glm::vec3 position = glm
     return light;
 }
 
+// Octahedral coordinates of a unit vector (Cigolle et al. 2014, "A Survey of Efficient
+// Representations for Independent Unit Vectors", JCGT 3(2), listing 1); spotAxis in
+// shaders/lights/spot.glsl decodes them.
+glm::vec2 octahedralEncode(glm::vec3 v) {
+    glm::vec2 p = glm::vec2(v.x, v.y) / (std::fabs(v.x) + std::fabs(v.y) + std::fabs(v.z));
+    if (v.z < 0.0f)
+        p = (1.0f - glm::abs(glm::vec2(p.y, p.x))) * glm::vec2(p.x >= 0.0f ? 1.0f : -1.0f, p.y >= 0.0f ? 1.0f : -1.0f);
+    return p;
+}
+
+gpu::Light makeSpotLight(const Light& l) {
+    gpu::Light light = makeLight(gpu::LIGHT_SPOT, l.intensity, l.position);
+    glm::vec2 axis = octahedralEncode(glm::normalize(l.direction));
+    light.first = std::bit_cast<uint32_t>(axis.x);
+    light.count = std::bit_cast<uint32_t>(axis.y);
+    light.area = l.cosOuter;
+    light.flags = std::bit_cast<uint32_t>(l.cosInner);
+    return light;
+}
+
 }  // namespace
 
-bool isDeltaLight(uint32_t type) { return type == gpu::LIGHT_POINT || type == gpu::LIGHT_DIRECTIONAL; }
+bool isDeltaLight(uint32_t type) {
+    return type == gpu::LIGHT_POINT || type == gpu::LIGHT_SPOT || type == gpu::LIGHT_DIRECTIONAL;
+}
 
 double lightPower(const gpu::Light& light, float sceneRadius) {
     double mean = (double(light.emission.x) + light.emission.y + light.emission.z) / 3.0;
@@ -30,6 +54,7 @@ double lightPower(const gpu::Light& light, float sceneRadius) {
     double r2 = double(sceneRadius) * sceneRadius;
     switch (light.type) {
         case gpu::LIGHT_POINT: return 4.0 * pi * mean;
+        case gpu::LIGHT_SPOT: return mean * spotFalloffIntegral(std::bit_cast<float>(light.flags), light.area);
         case gpu::LIGHT_DIRECTIONAL: return pi * r2 * mean;
         case gpu::LIGHT_ENVIRONMENT: return 4.0 * pi * pi * r2 * mean;
         default: return pi * mean * light.area * ((light.flags & gpu::LIGHT_TWO_SIDED) ? 2.0 : 1.0);
@@ -43,6 +68,7 @@ void appendLightsWithoutGeometry(const std::vector<Light>& lights, SceneArrays& 
     for (const Light& l : lights) {
         switch (l.type) {
             case LightType::Point: out.lights.push_back(makeLight(gpu::LIGHT_POINT, l.intensity, l.position)); break;
+            case LightType::Spot: out.lights.push_back(makeSpotLight(l)); break;
             case LightType::Directional:
                 out.lights.push_back(makeLight(gpu::LIGHT_DIRECTIONAL, l.intensity, glm::normalize(l.direction)));
                 break;

@@ -14,16 +14,16 @@ namespace penumbra {
 
 struct SceneArrays;
 
-// Point and directional lights (and any later light with a single direction per point):
+// Point, spot and directional lights (every light with a single direction per point):
 // sampled explicitly, never hit by a ray (SCENE_FORMAT.md, "direct").
 bool isDeltaLight(uint32_t type);
 
 // Power (mean of RGB, watts) used for light selection "power" (SCENE_FORMAT.md): area
-// lights pi * Le * area (twice for two-sided), points 4 pi I, directional pi R^2 E and the
+// lights pi * Le * area (twice for two-sided), points 4 pi I, spots I spotFalloffIntegral (scene.h), directional pi R^2 E and the
 // environment 4 pi^2 R^2 L for the scene's bounding radius R (as pbrt-v4 does).
 double lightPower(const gpu::Light& light, float sceneRadius);
 
-// Appends the lights that have no geometry (point, directional; several environments merged
+// Appends the lights that have no geometry (point, spot, directional; several environments merged
 // into one, whose index becomes out.environmentLight), in scene order.
 void appendLightsWithoutGeometry(const std::vector<Light>& lights, SceneArrays& out);
 

@@ -1,6 +1,6 @@
 // Lights (lecture, "Light Sources"; SCENE_FORMAT.md): choosing a light, and the dispatch to
 // each kind's sampler, density and emitted radiance (one file per kind: point.glsl,
-// directional.glsl, environment.glsl, sphere.glsl, quad.glsl, mesh.glsl). Every pdf returned
+// spot.glsl, directional.glsl, environment.glsl, sphere.glsl, quad.glsl, mesh.glsl). Every pdf returned
 // here is in SOLID ANGLE at the shading point x, for the given light alone (selection
 // probability not included): area-measure densities are converted by areaToSolidAngle
 // (light_sample.glsl) and nowhere else. Delta lights have no density: their samples carry
@@ -14,6 +14,7 @@
 #include "lights/light_sample.glsl"
 #include "lights/alias.glsl"
 #include "lights/point.glsl"
+#include "lights/spot.glsl"
 #include "lights/directional.glsl"
 #include "lights/environment.glsl"
 #include "lights/sphere.glsl"
@@ -43,6 +44,7 @@ bool sampleLight(uint index, vec3 x, vec3 n, vec3 u, LightSamplingModes modes, o
     Light light = loadLight(index);
     ls = emptyLightSample(n);
     if (lightIs(light, LIGHT_POINT)) return samplePointLight(light, x, ls);
+    if (lightIs(light, LIGHT_SPOT)) return sampleSpotLight(light, x, ls);
     if (lightIs(light, LIGHT_DIRECTIONAL)) return sampleDirectionalLight(light, ls);
     if (lightIs(light, LIGHT_ENVIRONMENT)) return sampleEnvironmentLight(light, n, u.xy, ls);
     if (lightIs(light, LIGHT_SPHERE)) return sampleSphereLight(light, x, u.xy, modes.sphere, ls);
@@ -57,7 +59,7 @@ bool sampleLight(uint index, vec3 x, vec3 n, vec3 u, LightSamplingModes modes, o
 float lightPdf(uint index, vec3 x, vec3 n, vec3 wi, vec3 y, vec3 ny, float d, uint primitive, LightSamplingModes modes) {
     Light light = loadLight(index);
     if (lightIs(light, LIGHT_ENVIRONMENT)) return environmentPdf(light, n, wi);
-    if (lightIs(light, LIGHT_POINT) || lightIs(light, LIGHT_DIRECTIONAL)) return 0.0;
+    if (lightIs(light, LIGHT_POINT) || lightIs(light, LIGHT_SPOT) || lightIs(light, LIGHT_DIRECTIONAL)) return 0.0;
     if (lightIs(light, LIGHT_SPHERE)) return sphereLightPdf(light, x, y, ny, d, modes.sphere);
     if (lightIs(light, LIGHT_QUAD)) return quadLightPdf(light, x, wi, ny, d, modes);
     if (lightIs(light, LIGHT_MESH)) return meshLightPdf(light, x, wi, ny, d, primitive, modes);

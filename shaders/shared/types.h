@@ -121,9 +121,16 @@ PENUMBRA_CONST uint LIGHT_ENVIRONMENT = 2u;  // emission = constant radiance
 PENUMBRA_CONST uint LIGHT_SPHERE = 3u;       // first = primitive index, emission = radiance
 PENUMBRA_CONST uint LIGHT_QUAD = 4u;         // first = primitive index, emission = radiance
 PENUMBRA_CONST uint LIGHT_MESH = 5u;         // meshTable[first, first + count), emission = radiance
-#define LIGHT_KIND_COUNT 6u  // one more than the last LIGHT_*: scene feature bits (below)
+PENUMBRA_CONST uint LIGHT_SPOT = 6u;         // position, emission = intensity on the axis (W/sr); see below
+#define LIGHT_KIND_COUNT 7u  // one more than the last LIGHT_*: scene feature bits (below)
 PENUMBRA_CONST uint LIGHT_TWO_SIDED = 1u;    // flags bit: quad / mesh emit from both faces
 
+// A spot light has no area, mesh table or sides; its axis and cone use those fields:
+// `first` and `count` hold the float bits (floatBitsToUint) of the unit axis in octahedral
+// coordinates (Cigolle et al. 2014, "A Survey of Efficient Representations for Independent
+// Unit Vectors", JCGT 3(2): encoded in host/render/light_arrays.cpp, decoded in
+// shaders/lights/spot.glsl), `area` the cosine of the outer angle and
+// `flags` the float bits of the cosine of the inner angle.
 struct Light {
     uint type;
     uint first;
@@ -217,7 +224,7 @@ static_assert(PRIM_TRIANGLE < PRIM_KIND_COUNT && PRIM_SPHERE < PRIM_KIND_COUNT &
               PRIM_KIND_COUNT <= PRIM_TYPE_MASK + 1u);
 static_assert(LIGHT_POINT < LIGHT_KIND_COUNT && LIGHT_DIRECTIONAL < LIGHT_KIND_COUNT &&
               LIGHT_ENVIRONMENT < LIGHT_KIND_COUNT && LIGHT_SPHERE < LIGHT_KIND_COUNT &&
-              LIGHT_QUAD < LIGHT_KIND_COUNT && LIGHT_MESH < LIGHT_KIND_COUNT);
+              LIGHT_QUAD < LIGHT_KIND_COUNT && LIGHT_MESH < LIGHT_KIND_COUNT && LIGHT_SPOT < LIGHT_KIND_COUNT);
 static_assert(MATERIAL_DIFFUSE < MATERIAL_KIND_COUNT && MATERIAL_PHONG < MATERIAL_KIND_COUNT);
 static_assert(FEATURE_BIT_COUNT <= 32u, "scene feature bits no longer fit in SPEC_SCENE_FEATURES");
 #endif
