@@ -171,11 +171,14 @@ TEST(DirectClosedForm, SpotLightInsideOnAndOutsideTheCone) {
                                  {"inner_angle", inner},
                                  {"outer_angle", outer},
                                  {"intensity", {I, I, I}}});
-        expectDeltaLightMatches(doc, [&](glm::dvec3 x) {
-            glm::dvec3 to = pos - x;
-            double d2 = glm::dot(to, to);
-            return kAlbedo / M_PI * I * falloff(x) * (to.y / std::sqrt(d2)) / d2;
-        }, "spot", 64);
+        expectDeltaLightMatches(
+            doc,
+            [&](glm::dvec3 x) {
+                glm::dvec3 to = pos - x;
+                double d2 = glm::dot(to, to);
+                return kAlbedo / M_PI * I * falloff(x) * (to.y / std::sqrt(d2)) / d2;
+            },
+            "spot", 64);
     }
 }
 
@@ -191,13 +194,16 @@ TEST(DirectClosedForm, SpotLightGivenByPowerWithTheDefaultInnerAngle) {
                              {"direction", {0, -1, 0}},
                              {"outer_angle", 60},
                              {"power", {P, P, P}}});
-    expectDeltaLightMatches(doc, [&](glm::dvec3 x) {
-        glm::dvec3 to = glm::dvec3(3.0, h, 0.0) - x;
-        double d2 = glm::dot(to, to);
-        double cosT = to.y / std::sqrt(d2);
-        double s = std::clamp((cosT - cosOuter) / (1.0 - cosOuter), 0.0, 1.0);
-        return kAlbedo / M_PI * I * s * s * cosT / d2;
-    }, "spot-power", 64);
+    expectDeltaLightMatches(
+        doc,
+        [&](glm::dvec3 x) {
+            glm::dvec3 to = glm::dvec3(3.0, h, 0.0) - x;
+            double d2 = glm::dot(to, to);
+            double cosT = to.y / std::sqrt(d2);
+            double s = std::clamp((cosT - cosOuter) / (1.0 - cosOuter), 0.0, 1.0);
+            return kAlbedo / M_PI * I * s * s * cosT / d2;
+        },
+        "spot-power", 64);
 }
 
 TEST(DirectClosedForm, DirectionalLight) {

@@ -29,7 +29,8 @@ EnvironmentImage makeMap(const std::string& kind) {
     for (uint32_t row = 0; row < kH; ++row)
         for (uint32_t col = 0; col < kW; ++col) {
             glm::vec3& t = image.texels[size_t(row) * kW + col];
-            if (kind == "sun") t = (row == 5 && col == 20) ? glm::vec3(2e4f, 1.5e4f, 1e4f) : glm::vec3(0.1f, 0.2f, 0.4f);
+            if (kind == "sun")
+                t = (row == 5 && col == 20) ? glm::vec3(2e4f, 1.5e4f, 1e4f) : glm::vec3(0.1f, 0.2f, 0.4f);
             if (kind == "gradient")
                 t = glm::vec3(0.1f + float(row) / kH, 0.5f + 0.4f * float(std::sin(2 * kPi * col / kW)), 0.3f);
             if (kind == "pole") t = (row == 0 && col == 7) ? glm::vec3(1e5f) : glm::vec3(0.01f);
@@ -94,9 +95,9 @@ TEST(EnvironmentMap, LookupFollowsTheContractsOrientation) {
     // u = atan2(d.x, -d.z) / (2 pi) wrapped, v = acos(d.y) / pi, row 0 at +y.
     EXPECT_EQ(environmentTexel({0, 1, 0}, kW, kH).y, 0u);  // any column at the pole
     EXPECT_EQ(environmentTexel({0, -1, 0}, kW, kH).y, kH - 1);
-    EXPECT_EQ(environmentTexel({0, 0, -1}, kW, kH), glm::uvec2(0, kH / 2));        // u = 0
-    EXPECT_EQ(environmentTexel({1, 0, 0}, kW, kH), glm::uvec2(kW / 4, kH / 2));    // u = 1/4
-    EXPECT_EQ(environmentTexel({0, 0, 1}, kW, kH), glm::uvec2(kW / 2, kH / 2));    // u = 1/2
+    EXPECT_EQ(environmentTexel({0, 0, -1}, kW, kH), glm::uvec2(0, kH / 2));           // u = 0
+    EXPECT_EQ(environmentTexel({1, 0, 0}, kW, kH), glm::uvec2(kW / 4, kH / 2));       // u = 1/4
+    EXPECT_EQ(environmentTexel({0, 0, 1}, kW, kH), glm::uvec2(kW / 2, kH / 2));       // u = 1/2
     EXPECT_EQ(environmentTexel({-1, 0, 0}, kW, kH), glm::uvec2(3 * kW / 4, kH / 2));  // u = -1/4 -> 3/4
     double total = 0;
     for (uint32_t row = 0; row < kH; ++row) total += kW * environmentTexelSolidAngle(row, kW, kH);

@@ -33,5 +33,6 @@ TEST(LightArrays, KindPastItsCountIsRefusedNotMappedIntoTheNextGroup) {
 
 TEST(LightArrays, DeltaLightsArePointSpotAndDirectionalOnly) {
     for (uint32_t k = 0; k < LIGHT_KIND_COUNT; ++k)
-        EXPECT_EQ(isDeltaLight(k), k == gpu::LIGHT_POINT || k == gpu::LIGHT_SPOT || k == gpu::LIGHT_DIRECTIONAL) << "kind " << k;
+        EXPECT_EQ(isDeltaLight(k), k == gpu::LIGHT_POINT || k == gpu::LIGHT_SPOT || k == gpu::LIGHT_DIRECTIONAL)
+            << "kind " << k;
 }

@@ -104,8 +104,7 @@ class SpotLightBadJson : public ::testing::TestWithParam<BadSpot> {};
 
 TEST_P(SpotLightBadJson, IsAnInputErrorNamingThePath) {
     json light = spot(GetParam().extra);
-    for (auto it = light.begin(); it != light.end();)
-        it = it->is_null() ? light.erase(it) : std::next(it);
+    for (auto it = light.begin(); it != light.end();) it = it->is_null() ? light.erase(it) : std::next(it);
     auto file = writeFile(freshTempDir() / "bad.json", sceneWithLights({light}).dump());
     std::string message = loadError(file);
     EXPECT_EQ(message.rfind(file.string() + ": ", 0), 0u) << message;
@@ -127,8 +126,8 @@ INSTANTIATE_TEST_SUITE_P(
     [](const ::testing::TestParamInfo<BadSpot>& info) { return std::string(info.param.name); });
 
 TEST(SpotLight, GltfSpotLoadsWithConeAnglesInRadians) {
-    Scene s = loadScene(writeFile(freshTempDir() / "spot.gltf",
-                                  gltfWithSpot({{"innerConeAngle", 0.2}, {"outerConeAngle", 0.7}})));
+    Scene s = loadScene(
+        writeFile(freshTempDir() / "spot.gltf", gltfWithSpot({{"innerConeAngle", 0.2}, {"outerConeAngle", 0.7}})));
     ASSERT_EQ(s.lights.size(), 1u);  // and no environment fallback
     EXPECT_EQ(s.lights[0].type, LightType::Spot);
     EXPECT_NEAR(s.lights[0].position.y, 2.0, 1e-6);
@@ -182,7 +181,9 @@ TEST(SpotLight, GltfSpotRendersItsConeOnTheFloor) {
     b.doc["extensions"]["KHR_lights_punctual"]["lights"] = {
         {{"type", "spot"}, {"intensity", 10}, {"spot", {{"innerConeAngle", 0.3}, {"outerConeAngle", 0.5}}}}};
     double h = std::sqrt(0.5);
-    b.addNode({{"translation", {0, 2, 0}}, {"rotation", {-h, 0, 0, h}}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+    b.addNode({{"translation", {0, 2, 0}},
+               {"rotation", {-h, 0, 0, h}},
+               {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
     // Beside the scene file sceneFromJson writes (a scene reads files in its own folder only).
     fs::path model = writeFile(test::outputPath("gltf-spot.gltf"), b.gltf());
     json doc = {{"camera", test::topDownCamera(0.0, 0.0, 2.5)},

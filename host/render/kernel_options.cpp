@@ -28,7 +28,9 @@ namespace {
 // at or past its group's count (added to types.h without raising *_KIND_COUNT) would set a
 // bit of the next group: refused here rather than compiled into the wrong kernel.
 uint32_t featureBit(uint32_t first, uint32_t count, uint32_t kind) {
-    if (kind >= count) throw std::logic_error("scene feature kind " + std::to_string(kind) + " not below its *_KIND_COUNT " + std::to_string(count));
+    if (kind >= count)
+        throw std::logic_error("scene feature kind " + std::to_string(kind) + " not below its *_KIND_COUNT " +
+                               std::to_string(count));
     return 1u << (first + kind);
 }
 

@@ -342,7 +342,8 @@ private:
 
     // SCENE_FORMAT.md `spot`: angles in degrees from the axis, 0 <= inner < outer <= 90.
     Light readSpotLight(const JsonReader& r) const {
-        r.expectKeys({"type", "position", "direction", "power", "intensity", "inner_angle", "outer_angle"}, "a spot light");
+        r.expectKeys({"type", "position", "direction", "power", "intensity", "inner_angle", "outer_angle"},
+                     "a spot light");
         Light light;
         light.type = LightType::Spot;
         light.position = coordinates(r.at("position"));
@@ -356,7 +357,8 @@ private:
         if (!(outer > 0.0 && outer <= 90.0)) r.at("outer_angle").fail("must be in (0, 90] degrees");
         if (!(inner >= 0.0 && inner < outer))
             (r.has("inner_angle") ? r.at("inner_angle") : r).fail("must be in [0, outer_angle) degrees");
-        double cosInner = std::cos(inner * std::numbers::pi / 180.0), cosOuter = std::cos(outer * std::numbers::pi / 180.0);
+        double cosInner = std::cos(inner * std::numbers::pi / 180.0),
+               cosOuter = std::cos(outer * std::numbers::pi / 180.0);
         // Angles that differ by less than a float can tell apart would leave no falloff band.
         if (!(float(cosOuter) < float(cosInner))) r.fail("inner_angle and outer_angle are too close to tell apart");
         light.cosInner = float(cosInner);
@@ -365,7 +367,8 @@ private:
         JsonReader given = r.at(r.has("power") ? "power" : "intensity");
         // Power P = I * (integral of the falloff over the sphere): I = P / that.
         double perIntensity = spotFalloffIntegral(light.cosInner, light.cosOuter);
-        light.intensity = radiometric(given, r.has("power") ? given.color() / float(perIntensity) : given.color(), "intensity");
+        light.intensity =
+            radiometric(given, r.has("power") ? given.color() / float(perIntensity) : given.color(), "intensity");
         return light;
     }
 

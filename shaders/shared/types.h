@@ -104,7 +104,7 @@ struct TriangleNormals {
 // ---- Materials (SCENE_FORMAT.md) -------------------------------------------------------
 PENUMBRA_CONST uint MATERIAL_DIFFUSE = 0u;  // kd = albedo, ks = 0
 PENUMBRA_CONST uint MATERIAL_PHONG = 1u;    // kd/pi + ks (n+2)/(2pi) cos^n(alpha)
-#define MATERIAL_KIND_COUNT 2u  // one more than the last MATERIAL_*: scene feature bits (below)
+#define MATERIAL_KIND_COUNT 2u              // one more than the last MATERIAL_*: scene feature bits (below)
 
 struct Material {
     vec3 kd;
@@ -122,7 +122,7 @@ PENUMBRA_CONST uint LIGHT_SPHERE = 3u;       // first = primitive index, emissio
 PENUMBRA_CONST uint LIGHT_QUAD = 4u;         // first = primitive index, emission = radiance
 PENUMBRA_CONST uint LIGHT_MESH = 5u;         // meshTable[first, first + count), emission = radiance
 PENUMBRA_CONST uint LIGHT_SPOT = 6u;         // position, emission = intensity on the axis (W/sr); see below
-#define LIGHT_KIND_COUNT 7u  // one more than the last LIGHT_*: scene feature bits (below)
+#define LIGHT_KIND_COUNT 7u                  // one more than the last LIGHT_*: scene feature bits (below)
 PENUMBRA_CONST uint LIGHT_TWO_SIDED = 1u;    // flags bit: quad / mesh emit from both faces
 
 // A spot light has no area, mesh table or sides; its axis and cone use those fields:
