@@ -35,7 +35,7 @@ json sceneWithLights(json lights) {
             {"lights", lights}};
 }
 
-json spot(json extra) {
+json spot(const json& extra) {
     json j = {{"type", "spot"}, {"position", {0, 1, 0}}, {"direction", {0, -1, 0}}, {"intensity", 1}};
     j.update(extra);
     return j;
@@ -43,7 +43,7 @@ json spot(json extra) {
 
 // A glTF file with one triangle and one spot light (node rotated -90 degrees about +X:
 // its -Z points down -Y), with the given `spot` object.
-std::string gltfWithSpot(json spotObject, double intensity = 3.0) {
+std::string gltfWithSpot(const json& spotObject, double intensity = 3.0) {
     GltfBuilder b;
     b.addMeshNode(b.triangle());
     b.doc["extensionsUsed"] = {"KHR_lights_punctual"};
