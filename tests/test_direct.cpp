@@ -3,12 +3,14 @@
 // looks straight down on a 3 x 3 patch beside the light, so each pixel's expected value is
 // a/pi * E(x) averaged over the pixel, with E the irradiance:
 //   point        E = I cos(theta) / d^2                             (lecture, "Point Light")
+//   spot         E = I s^2 cos(theta) / d^2, s the glTF falloff     (SCENE_FORMAT.md `spot`)
 //   directional  E = E_perp cos(theta)
 //   polygon      E = Le/2 |sum_i Theta_i (Gamma_i . n)|             (Lambert; Arvo 1995)
 //   sphere       E = pi Le (r/d)^2 cos(theta), sphere above the horizon
 // Delta lights give the same estimate for every sample of a pixel, so only the spread over
 // the pixel varies and its variance is known exactly; for area lights the per-sample variance
 // is unknown and a block t-test of the residuals checks unbiasedness instead.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -63,8 +65,12 @@ double polygonIrradiance(const std::vector<glm::dvec3>& v, glm::dvec3 x, double 
 
 const std::vector<std::string> kStrategies = {"light", "bsdf", "mis", "mixture"};
 
-// Delta lights: per-pixel check with the exact jitter variance.
-void expectDeltaLightMatches(json doc, const std::function<double(glm::dvec3)>& radiance, const std::string& name) {
+// Delta lights: per-pixel check with the exact jitter variance, the pixel integral and that
+// variance taken on a sub x sub grid. A spot's cone edge needs a finer grid than the default:
+// a pixel lit only in a sliver between grid points would look unlit (expected 0, variance 0)
+// to the reference.
+void expectDeltaLightMatches(json doc, const std::function<double(glm::dvec3)>& radiance, const std::string& name,
+                             int sub = 8) {
     const int spp = 64;
     for (const std::string& strategy : kStrategies) {
         doc["integrator"] = direct(strategy);
@@ -72,7 +78,7 @@ void expectDeltaLightMatches(json doc, const std::function<double(glm::dvec3)>& 
         Scene scene = test::sceneFromJson(doc, name + "-" + strategy);
         Image image = test::renderScene(scene);
         std::vector<double> jitter;
-        std::vector<double> expected = test::expectedTopDown(scene, radiance, 8, &jitter);
+        std::vector<double> expected = test::expectedTopDown(scene, radiance, sub, &jitter);
         double z = test::zScore(kAlpha, kSize * kSize * int(kStrategies.size()));
         int failures = 0;
         for (size_t p = 0; p < expected.size(); ++p) {
@@ -130,6 +136,74 @@ TEST(DirectClosedForm, PointLightGivenByPower) {
         double d2 = glm::dot(to, to);
         return kAlbedo / M_PI * I * (h / std::sqrt(d2)) / d2;
     }, "point-power");
+}
+
+// Spot lights over the plane, with their axes tilted so that the 3 x 3 patch holds points
+// inside the inner cone, in the falloff band and outside the outer cone (counted, so the
+// test cannot pass on one region alone); one axis has z < 0, the other z > 0 (both halves of
+// the octahedral axis encoding).
+TEST(DirectClosedForm, SpotLightInsideOnAndOutsideTheCone) {
+    const double I = 12.0;
+    const glm::dvec3 pos(3.2, 1.0, -0.1);
+    const double inner = 20.0, outer = 40.0;
+    const double cosInner = std::cos(inner * M_PI / 180.0), cosOuter = std::cos(outer * M_PI / 180.0);
+    for (glm::dvec3 axisIn : {glm::dvec3(-0.3, -1.0, -0.25), glm::dvec3(0.2, -1.0, 0.3)}) {
+        glm::dvec3 axis = glm::normalize(axisIn);
+        auto falloff = [&](glm::dvec3 x) {
+            double cosT = glm::dot(glm::normalize(x - pos), axis);
+            double s = std::clamp((cosT - cosOuter) / (cosInner - cosOuter), 0.0, 1.0);
+            return s * s;
+        };
+        int inside = 0, band = 0, outside = 0;
+        for (int i = 0; i < kSize; ++i)
+            for (int j = 0; j < kSize; ++j) {
+                glm::dvec3 x(1.5 + 3.0 * (i + 0.5) / kSize, 0.0, -1.5 + 3.0 * (j + 0.5) / kSize);
+                double f = falloff(x);
+                (f >= 1.0 ? inside : f > 0.0 ? band : outside) += 1;
+            }
+        EXPECT_GT(inside, 50);
+        EXPECT_GT(band, 50);
+        EXPECT_GT(outside, 50);
+        json doc = planeScene(64, direct("light"));
+        doc["lights"].push_back({{"type", "spot"},
+                                 {"position", {pos.x, pos.y, pos.z}},
+                                 {"direction", {axisIn.x, axisIn.y, axisIn.z}},
+                                 {"inner_angle", inner},
+                                 {"outer_angle", outer},
+                                 {"intensity", {I, I, I}}});
+        expectDeltaLightMatches(
+            doc,
+            [&](glm::dvec3 x) {
+                glm::dvec3 to = pos - x;
+                double d2 = glm::dot(to, to);
+                return kAlbedo / M_PI * I * falloff(x) * (to.y / std::sqrt(d2)) / d2;
+            },
+            "spot", 64);
+    }
+}
+
+TEST(DirectClosedForm, SpotLightGivenByPowerWithTheDefaultInnerAngle) {
+    // inner_angle 0: s falls linearly in cos t from the axis to the 60 degree edge; power
+    // P = 2 pi I ((1 - 1) + (1 - cos 60) / 3) = pi I / 3.
+    const double I = 9.0, h = 1.2;
+    const double cosOuter = 0.5;
+    const double P = 2.0 * M_PI * I * (1.0 - cosOuter) / 3.0;
+    json doc = planeScene(64, direct("light"));
+    doc["lights"].push_back({{"type", "spot"},
+                             {"position", {3.0, h, 0.0}},
+                             {"direction", {0, -1, 0}},
+                             {"outer_angle", 60},
+                             {"power", {P, P, P}}});
+    expectDeltaLightMatches(
+        doc,
+        [&](glm::dvec3 x) {
+            glm::dvec3 to = glm::dvec3(3.0, h, 0.0) - x;
+            double d2 = glm::dot(to, to);
+            double cosT = to.y / std::sqrt(d2);
+            double s = std::clamp((cosT - cosOuter) / (1.0 - cosOuter), 0.0, 1.0);
+            return kAlbedo / M_PI * I * s * s * cosT / d2;
+        },
+        "spot-power", 64);
 }
 
 TEST(DirectClosedForm, DirectionalLight) {

@@ -269,15 +269,6 @@ TEST(GltfLoad, UnsupportedRequiredExtension) {
     EXPECT_EQ(loadError(file), file.string() + ": extensionsRequired: unsupported required extension \"EXT_meshopt_compression\"");
 }
 
-TEST(GltfLoad, SpotLightIsUnsupported) {
-    GltfBuilder b;
-    b.addMeshNode(b.triangle());
-    b.doc["extensions"]["KHR_lights_punctual"]["lights"] = {{{"type", "spot"}, {"spot", {{"outerConeAngle", 0.5}}}}};
-    b.addNode({{"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
-    std::string message = loadError(writeFile(freshTempDir() / "spot.gltf", b.gltf()));
-    EXPECT_NE(message.find("spot lights are unsupported"), std::string::npos) << message;
-}
-
 TEST(GltfLoad, MalformedFilesAreInputErrors) {
     auto dir = freshTempDir();
     std::string garbage;

@@ -1,6 +1,9 @@
 // Integrator options and scene features -> specialization constants (see kernel_options.h).
 #include "render/kernel_options.h"
 
+#include <stdexcept>
+#include <string>
+
 namespace penumbra {
 
 // The scene enums number their values as the shaders' constants do, so an option is passed
@@ -46,11 +49,26 @@ uint32_t KernelOptions::lightAndBsdfSamples() const {
     return values[SPEC_LIGHT_SAMPLES] + values[SPEC_BSDF_SAMPLES];
 }
 
+namespace {
+
+// The feature bit of kind `kind` in the group starting at `first` with `count` kinds. A kind
+// at or past its group's count (added to types.h without raising *_KIND_COUNT) would set a
+// bit of the next group: refused here rather than compiled into the wrong kernel.
+uint32_t featureBit(uint32_t first, uint32_t count, uint32_t kind) {
+    if (kind >= count)
+        throw std::logic_error("scene feature kind " + std::to_string(kind) + " not below its *_KIND_COUNT " +
+                               std::to_string(count));
+    return 1u << (first + kind);
+}
+
+}  // namespace
+
 uint32_t sceneFeatures(const SceneArrays& arrays) {
     uint32_t bits = 0;
-    for (const gpu::Primitive& p : arrays.bvh.primitives) bits |= 1u << (FEATURE_PRIMITIVE + (p.typeAndNormals & gpu::PRIM_TYPE_MASK));
-    for (const gpu::Light& l : arrays.lights) bits |= 1u << (FEATURE_LIGHT + l.type);
-    for (const gpu::Material& m : arrays.materials) bits |= 1u << (FEATURE_MATERIAL + m.type);
+    for (const gpu::Primitive& p : arrays.bvh.primitives)
+        bits |= featureBit(FEATURE_PRIMITIVE, PRIM_KIND_COUNT, p.typeAndNormals & gpu::PRIM_TYPE_MASK);
+    for (const gpu::Light& l : arrays.lights) bits |= featureBit(FEATURE_LIGHT, LIGHT_KIND_COUNT, l.type);
+    for (const gpu::Material& m : arrays.materials) bits |= featureBit(FEATURE_MATERIAL, MATERIAL_KIND_COUNT, m.type);
     return bits;
 }
 

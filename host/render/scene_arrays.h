@@ -28,11 +28,6 @@ struct SceneArrays {
 
 SceneArrays buildSceneArrays(const Scene& scene, const BvhOptions& bvhOptions = {});
 
-// Power (mean of RGB, watts) used for light selection "power" (SCENE_FORMAT.md): area
-// lights pi * Le * area (twice for two-sided), points 4 pi I, directional pi R^2 E and the
-// environment 4 pi^2 R^2 L for the scene's bounding radius R (as pbrt-v4 does).
-double lightPower(const gpu::Light& light, float sceneRadius);
-
 // The RenderParams for a scene (camera basis, film, sampler, light tables); integrator
 // options that select code are specialization constants (render/kernel_options.h).
 gpu::RenderParams makeRenderParams(const Scene& scene, const SceneArrays& arrays);

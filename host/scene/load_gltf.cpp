@@ -105,6 +105,11 @@ private:
     void loadMaterials();
     void addPrimitive(const tinygltf::Primitive& prim, const glm::dmat4& world, const std::string& path);
     void addLight(const tinygltf::Node& node, const glm::dmat4& world, const std::string& path);
+    Light pointLight(const glm::dmat4& world, const std::string& path);
+    Light spotLight(const tinygltf::Light& src, const glm::dmat4& world, const std::string& path,
+                    const std::string& lightPath);
+    Light directionalLight(const glm::dmat4& world, const std::string& path);
+    glm::vec3 lightAxis(const glm::dmat4& world, const std::string& path);
     void addCamera(const tinygltf::Node& node, const glm::dmat4& world, const std::string& path);
 
     const tinygltf::Model& m_model;
@@ -359,7 +364,6 @@ void Importer::addLight(const tinygltf::Node& node, const glm::dmat4& world, con
     size_t li = size_t(index.GetNumberAsInt());
     const tinygltf::Light& src = m_model.lights[li];
     std::string lightPath = "extensions.KHR_lights_punctual.lights[" + std::to_string(li) + "]";
-    if (src.type == "spot") fail(lightPath, "spot lights are unsupported (only point and directional)");
     glm::dvec3 color(1.0);
     if (!src.color.empty()) {
         if (src.color.size() != 3) fail(lightPath + ".color", "expected 3 numbers");
@@ -370,23 +374,57 @@ void Importer::addLight(const tinygltf::Node& node, const glm::dmat4& world, con
         std::max({value.x, value.y, value.z}) > double(float(kMaxRadiometric)))
         fail(lightPath, "negative, non-finite or above 1e20 intensity (README: ranges)");
     Light light;
-    light.intensity = glm::vec3(value);  // point: candela read as W/sr; directional: lux as W/m^2
-    if (src.type == "point") {
-        light.type = LightType::Point;
-        glm::dvec3 p = glm::dvec3(world * glm::dvec4(0, 0, 0, 1));
-        if (!std::isfinite(p.x + p.y + p.z) ||
-            std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)}) > kMaxCoordinate)
-            fail(path, "light position not within [-1e8, 1e8] (README: ranges)");
-        light.position = glm::vec3(p);
-    } else if (src.type == "directional") {
-        light.type = LightType::Directional;
-        glm::dvec3 d = glm::dmat3(world) * glm::dvec3(0, 0, -1);  // lights point down their local -Z
-        if (!(glm::length(d) > 0.0)) fail(path, "transform collapses the light direction");
-        light.direction = glm::vec3(glm::normalize(d));
-    } else {
-        fail(lightPath + ".type", "unknown light type \"" + src.type + "\"");
-    }
+    if (src.type == "point") light = pointLight(world, path);
+    else if (src.type == "spot") light = spotLight(src, world, path, lightPath);
+    else if (src.type == "directional") light = directionalLight(world, path);
+    else fail(lightPath + ".type", "unknown light type \"" + src.type + "\"");
+    light.intensity = glm::vec3(value);  // point, spot: candela read as W/sr; directional: lux as W/m^2
     m_result.lights.push_back(light);
+}
+
+// A point light at the node's origin.
+Light Importer::pointLight(const glm::dmat4& world, const std::string& path) {
+    Light light;
+    light.type = LightType::Point;
+    glm::dvec3 p = glm::dvec3(world * glm::dvec4(0, 0, 0, 1));
+    if (!std::isfinite(p.x + p.y + p.z) || std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)}) > kMaxCoordinate)
+        fail(path, "light position not within [-1e8, 1e8] (README: ranges)");
+    light.position = glm::vec3(p);
+    return light;
+}
+
+// A spot light at the node's origin shining down its local -Z; the cone angles are radians,
+// 0 <= innerConeAngle < outerConeAngle <= pi/2 (KHR_lights_punctual; SCENE_FORMAT.md `spot`).
+Light Importer::spotLight(const tinygltf::Light& src, const glm::dmat4& world, const std::string& path,
+                          const std::string& lightPath) {
+    Light light = pointLight(world, path);
+    light.type = LightType::Spot;
+    light.direction = lightAxis(world, path);
+    double inner = src.spot.innerConeAngle, outer = src.spot.outerConeAngle;
+    if (!(outer > 0.0 && outer <= 0.5 * std::numbers::pi))
+        fail(lightPath + ".spot.outerConeAngle", "must be in (0, pi/2] radians");
+    if (!(inner >= 0.0 && inner < outer))
+        fail(lightPath + ".spot.innerConeAngle", "must be in [0, outerConeAngle) radians");
+    light.cosInner = float(std::cos(inner));
+    light.cosOuter = float(std::cos(outer));
+    if (!(light.cosOuter < light.cosInner))
+        fail(lightPath + ".spot", "innerConeAngle and outerConeAngle are too close to tell apart");
+    return light;
+}
+
+// A directional light shining down the node's local -Z.
+Light Importer::directionalLight(const glm::dmat4& world, const std::string& path) {
+    Light light;
+    light.type = LightType::Directional;
+    light.direction = lightAxis(world, path);
+    return light;
+}
+
+// The unit direction a glTF light points in: its node's local -Z in world space.
+glm::vec3 Importer::lightAxis(const glm::dmat4& world, const std::string& path) {
+    glm::dvec3 d = glm::dmat3(world) * glm::dvec3(0, 0, -1);
+    if (!(glm::length(d) > 0.0)) fail(path, "transform collapses the light direction");
+    return glm::vec3(glm::normalize(d));
 }
 
 void Importer::addCamera(const tinygltf::Node& node, const glm::dmat4& world, const std::string& path) {

@@ -310,37 +310,83 @@ private:
         if (!m_modelCamera) m_modelCamera = model.camera;
     }
 
+    // One function per light kind (SCENE_FORMAT.md, "Lights"); each checks its own keys.
     void readLight(const JsonReader& r) {
-        std::string type = r.at("type").choice({"point", "directional", "environment"});
+        std::string type = r.at("type").choice({"point", "spot", "directional", "environment"});
+        if (type == "point") m_scene.lights.push_back(readPointLight(r));
+        else if (type == "spot") m_scene.lights.push_back(readSpotLight(r));
+        else if (type == "directional") m_scene.lights.push_back(readDirectionalLight(r));
+        else m_scene.lights.push_back(readEnvironmentLight(r));
+    }
+
+    Light readPointLight(const JsonReader& r) const {
+        r.expectKeys({"type", "position", "power", "intensity"}, "a point light");
         Light light;
-        if (type == "point") {
-            r.expectKeys({"type", "position", "power", "intensity"}, "a point light");
-            light.type = LightType::Point;
-            light.position = coordinates(r.at("position"));
-            if (r.has("power") == r.has("intensity")) r.fail("give exactly one of \"power\" (W) and \"intensity\" (W/sr)");
-            // Isotropic point light: I = P / (4 pi) W/sr.
-            JsonReader given = r.at(r.has("power") ? "power" : "intensity");
-            light.intensity =
-                radiometric(given, r.has("power") ? given.color() / (4.0f * kPi) : given.color(), "intensity");
-        } else if (type == "directional") {
-            r.expectKeys({"type", "direction", "irradiance"}, "a directional light");
-            light.type = LightType::Directional;
-            JsonReader direction = r.at("direction");
-            glm::vec3 d = direction.vec3();
-            float len = glm::length(d);
-            if (!(len > 0.0f) || !std::isfinite(len)) direction.fail("must be a non-zero vector");
-            light.direction = d / len;
-            light.intensity = radiometric(r.at("irradiance"), r.at("irradiance").color(), "irradiance");
-        } else {
-            r.expectKeys({"type", "radiance"}, "an environment light");
-            light.type = LightType::Environment;
-            light.intensity = r.has("radiance") ? radiometric(r.at("radiance"), r.at("radiance").color(), "radiance")
-                                                : glm::vec3(1.0f);
-            bool second = std::any_of(m_scene.lights.begin(), m_scene.lights.end(),
-                                      [](const Light& l) { return l.type == LightType::Environment; });
-            if (second) r.fail("only one environment light is allowed");
-        }
-        m_scene.lights.push_back(light);
+        light.type = LightType::Point;
+        light.position = coordinates(r.at("position"));
+        if (r.has("power") == r.has("intensity")) r.fail("give exactly one of \"power\" (W) and \"intensity\" (W/sr)");
+        // Isotropic point light: I = P / (4 pi) W/sr.
+        JsonReader given = r.at(r.has("power") ? "power" : "intensity");
+        light.intensity =
+            radiometric(given, r.has("power") ? given.color() / (4.0f * kPi) : given.color(), "intensity");
+        return light;
+    }
+
+    // SCENE_FORMAT.md `spot`: angles in degrees from the axis, 0 <= inner < outer <= 90.
+    Light readSpotLight(const JsonReader& r) const {
+        r.expectKeys({"type", "position", "direction", "power", "intensity", "inner_angle", "outer_angle"},
+                     "a spot light");
+        Light light;
+        light.type = LightType::Spot;
+        light.position = coordinates(r.at("position"));
+        JsonReader direction = r.at("direction");
+        glm::vec3 d = direction.vec3();
+        float len = glm::length(d);
+        if (!(len > 0.0f) || !std::isfinite(len)) direction.fail("must be a non-zero vector");
+        light.direction = d / len;
+        double inner = r.has("inner_angle") ? r.at("inner_angle").number() : 0.0;
+        double outer = r.has("outer_angle") ? r.at("outer_angle").number() : 45.0;
+        if (!(outer > 0.0 && outer <= 90.0)) r.at("outer_angle").fail("must be in (0, 90] degrees");
+        if (!(inner >= 0.0 && inner < outer))
+            (r.has("inner_angle") ? r.at("inner_angle") : r).fail("must be in [0, outer_angle) degrees");
+        double cosInner = std::cos(inner * std::numbers::pi / 180.0),
+               cosOuter = std::cos(outer * std::numbers::pi / 180.0);
+        // Angles that differ by less than a float can tell apart would leave no falloff band.
+        if (!(float(cosOuter) < float(cosInner))) r.fail("inner_angle and outer_angle are too close to tell apart");
+        light.cosInner = float(cosInner);
+        light.cosOuter = float(cosOuter);
+        if (r.has("power") == r.has("intensity")) r.fail("give exactly one of \"power\" (W) and \"intensity\" (W/sr)");
+        JsonReader given = r.at(r.has("power") ? "power" : "intensity");
+        // Power P = I * (integral of the falloff over the sphere): I = P / that.
+        double perIntensity = spotFalloffIntegral(light.cosInner, light.cosOuter);
+        light.intensity =
+            radiometric(given, r.has("power") ? given.color() / float(perIntensity) : given.color(), "intensity");
+        return light;
+    }
+
+    Light readDirectionalLight(const JsonReader& r) const {
+        r.expectKeys({"type", "direction", "irradiance"}, "a directional light");
+        Light light;
+        light.type = LightType::Directional;
+        JsonReader direction = r.at("direction");
+        glm::vec3 d = direction.vec3();
+        float len = glm::length(d);
+        if (!(len > 0.0f) || !std::isfinite(len)) direction.fail("must be a non-zero vector");
+        light.direction = d / len;
+        light.intensity = radiometric(r.at("irradiance"), r.at("irradiance").color(), "irradiance");
+        return light;
+    }
+
+    Light readEnvironmentLight(const JsonReader& r) const {
+        r.expectKeys({"type", "radiance"}, "an environment light");
+        Light light;
+        light.type = LightType::Environment;
+        light.intensity = r.has("radiance") ? radiometric(r.at("radiance"), r.at("radiance").color(), "radiance")
+                                            : glm::vec3(1.0f);
+        bool second = std::any_of(m_scene.lights.begin(), m_scene.lights.end(),
+                                  [](const Light& l) { return l.type == LightType::Environment; });
+        if (second) r.fail("only one environment light is allowed");
+        return light;
     }
 
     // A model rendered on its own has no camera in a scene file: use its own first camera,

@@ -97,15 +97,25 @@ struct Shape {
     bool isEmitter() const { return emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f; }
 };
 
-enum class LightType { Point, Directional, Environment };
+enum class LightType { Point, Directional, Environment, Spot };
 
 // Lights without geometry. Area lights are Shapes with emission.
 struct Light {
     LightType type = LightType::Point;
-    glm::vec3 position{0.0f};   // point
-    glm::vec3 direction{0.0f};  // directional: unit direction the light travels
-    glm::vec3 intensity{0.0f};  // point: W/sr; directional: irradiance W/m^2; environment: radiance
+    glm::vec3 position{0.0f};   // point, spot
+    glm::vec3 direction{0.0f};  // directional: unit direction the light travels; spot: unit axis
+    glm::vec3 intensity{0.0f};  // point: W/sr; spot: W/sr on the axis; directional: irradiance W/m^2;
+                                // environment: radiance
+    float cosInner = 1.0f;      // spot: cosines of the inner and outer angles, cosOuter < cosInner
+    float cosOuter = 0.0f;
 };
+
+// Integral over the sphere of a spot light's falloff s^2 (SCENE_FORMAT.md `spot`): the full
+// cone 2 pi (1 - cos inner), and the band where s is linear in cos t, 2 pi (cos inner -
+// cos outer) / 3. A spot of intensity I on its axis emits I times this (W).
+inline double spotFalloffIntegral(double cosInner, double cosOuter) {
+    return 2.0 * 3.14159265358979323846 * ((1.0 - cosInner) + (cosInner - cosOuter) / 3.0);
+}
 
 struct Scene {
     std::string path;  // file it was loaded from, for messages

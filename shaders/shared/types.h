@@ -83,6 +83,7 @@ PENUMBRA_CONST uint PRIM_TRIANGLE = 0u;  // p0, p1, p2 = vertices, counter-clock
 PENUMBRA_CONST uint PRIM_SPHERE = 1u;    // p0 = centre, p1.x = radius
 PENUMBRA_CONST uint PRIM_QUAD = 2u;      // p0 = origin, p1 = edge_u, p2 = edge_v
 PENUMBRA_CONST uint PRIM_TYPE_MASK = 3u;
+#define PRIM_KIND_COUNT 3u  // one more than the last PRIM_*: scene feature bits (below)
 PENUMBRA_CONST uint NO_LIGHT = 0xffffffffu;
 
 // typeAndNormals: bits 0-1 the PRIM_* type; bits 2-31 hold (index into normals[] + 1),
@@ -103,6 +104,7 @@ struct TriangleNormals {
 // ---- Materials (SCENE_FORMAT.md) -------------------------------------------------------
 PENUMBRA_CONST uint MATERIAL_DIFFUSE = 0u;  // kd = albedo, ks = 0
 PENUMBRA_CONST uint MATERIAL_PHONG = 1u;    // kd/pi + ks (n+2)/(2pi) cos^n(alpha)
+#define MATERIAL_KIND_COUNT 2u              // one more than the last MATERIAL_*: scene feature bits (below)
 
 struct Material {
     vec3 kd;
@@ -119,8 +121,16 @@ PENUMBRA_CONST uint LIGHT_ENVIRONMENT = 2u;  // emission = constant radiance
 PENUMBRA_CONST uint LIGHT_SPHERE = 3u;       // first = primitive index, emission = radiance
 PENUMBRA_CONST uint LIGHT_QUAD = 4u;         // first = primitive index, emission = radiance
 PENUMBRA_CONST uint LIGHT_MESH = 5u;         // meshTable[first, first + count), emission = radiance
+PENUMBRA_CONST uint LIGHT_SPOT = 6u;         // position, emission = intensity on the axis (W/sr); see below
+#define LIGHT_KIND_COUNT 7u                  // one more than the last LIGHT_*: scene feature bits (below)
 PENUMBRA_CONST uint LIGHT_TWO_SIDED = 1u;    // flags bit: quad / mesh emit from both faces
 
+// A spot light has no area, mesh table or sides; its axis and cone use those fields:
+// `first` and `count` hold the float bits (floatBitsToUint) of the unit axis in octahedral
+// coordinates (Cigolle et al. 2014, "A Survey of Efficient Representations for Independent
+// Unit Vectors", JCGT 3(2): encoded in host/render/light_arrays.cpp, decoded in
+// shaders/lights/spot.glsl), `area` the cosine of the outer angle and
+// `flags` the float bits of the cosine of the inner angle.
 struct Light {
     uint type;
     uint first;
@@ -197,11 +207,25 @@ PENUMBRA_CONST uint SAMPLER_SOBOL = 1u;        // padded Owen-scrambled Sobol' (
 
 // Scene feature bits: bit FEATURE_PRIMITIVE + PRIM_*, FEATURE_LIGHT + LIGHT_*,
 // FEATURE_MATERIAL + MATERIAL_* is set when the scene has such a primitive, light or
-// material. Code for a kind the scene lacks is compiled out.
+// material. Code for a kind the scene lacks is compiled out. Each group starts where the
+// one before ends (its *_KIND_COUNT), so a new kind that raises its count moves the groups
+// after it instead of sharing their bits; the static_asserts below and the host's check of
+// every kind against its count (render/kernel_options.cpp) catch a kind added without
+// raising the count, and groups that no longer fit in 32 bits.
 #define FEATURE_PRIMITIVE 0u
-#define FEATURE_LIGHT 3u
-#define FEATURE_MATERIAL 9u
+#define FEATURE_LIGHT (FEATURE_PRIMITIVE + PRIM_KIND_COUNT)
+#define FEATURE_MATERIAL (FEATURE_LIGHT + LIGHT_KIND_COUNT)
+#define FEATURE_BIT_COUNT (FEATURE_MATERIAL + MATERIAL_KIND_COUNT)
 PENUMBRA_CONST uint FEATURES_ALL = 0xffffffffu;
+#ifdef __cplusplus
+static_assert(PRIM_TRIANGLE < PRIM_KIND_COUNT && PRIM_SPHERE < PRIM_KIND_COUNT && PRIM_QUAD < PRIM_KIND_COUNT &&
+              PRIM_KIND_COUNT <= PRIM_TYPE_MASK + 1u);
+static_assert(LIGHT_POINT < LIGHT_KIND_COUNT && LIGHT_DIRECTIONAL < LIGHT_KIND_COUNT &&
+              LIGHT_ENVIRONMENT < LIGHT_KIND_COUNT && LIGHT_SPHERE < LIGHT_KIND_COUNT &&
+              LIGHT_QUAD < LIGHT_KIND_COUNT && LIGHT_MESH < LIGHT_KIND_COUNT && LIGHT_SPOT < LIGHT_KIND_COUNT);
+static_assert(MATERIAL_DIFFUSE < MATERIAL_KIND_COUNT && MATERIAL_PHONG < MATERIAL_KIND_COUNT);
+static_assert(FEATURE_BIT_COUNT <= 32u, "scene feature bits no longer fit in SPEC_SCENE_FEATURES");
+#endif
 
 // Everything a render kernel needs besides the scene arrays and the specialization
 // constants; set once per render.

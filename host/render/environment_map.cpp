@@ -1,0 +1,90 @@
+// Equirectangular environment map lookup and importance sampling (see environment_map.h).
+// Piecewise-constant 2D distribution over the sphere: PBR book 4th ed. 12.5.2 ("Image
+// Infinite Lights") samples by marginal and conditional tables; here one alias table over
+// all texels gives the same distribution with one lookup per draw.
+#include "render/environment_map.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "render/alias_table.h"
+
+namespace penumbra {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+double luminance(glm::vec3 c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
+
+}  // namespace
+
+glm::uvec2 environmentTexel(glm::dvec3 d, uint32_t width, uint32_t height) {
+    double u = std::atan2(d.x, -d.z) / (2.0 * kPi);
+    u -= std::floor(u);  // wrapped to [0, 1)
+    double v = std::acos(std::clamp(d.y, -1.0, 1.0)) / kPi;
+    uint32_t col = std::min(uint32_t(u * width), width - 1);
+    uint32_t row = std::min(uint32_t(v * height), height - 1);
+    return {col, row};
+}
+
+double environmentTexelSolidAngle(uint32_t row, uint32_t width, uint32_t height) {
+    double theta0 = kPi * row / height, theta1 = kPi * (row + 1) / height;
+    return (2.0 * kPi / width) * (std::cos(theta0) - std::cos(theta1));
+}
+
+glm::vec3 environmentMapRadiance(const EnvironmentImage& image, glm::dvec3 d) {
+    glm::uvec2 t = environmentTexel(d, image.width, image.height);
+    return image.texels[size_t(t.y) * image.width + t.x];
+}
+
+EnvironmentDistribution buildEnvironmentDistribution(EnvironmentImage image) {
+    EnvironmentDistribution dist;
+    const size_t n = size_t(image.width) * image.height;
+    std::vector<double> weights(n), solidAngles(n);
+    std::vector<uint32_t> items(n);
+    double total = 0.0;
+    for (uint32_t row = 0; row < image.height; ++row) {
+        double omega = environmentTexelSolidAngle(row, image.width, image.height);
+        for (uint32_t col = 0; col < image.width; ++col) {
+            size_t i = size_t(row) * image.width + col;
+            solidAngles[i] = omega;
+            weights[i] = luminance(image.texels[i]) * omega;
+            items[i] = uint32_t(i);
+            total += weights[i];
+        }
+    }
+    dist.black = !(total > 0.0);
+    dist.table = buildAliasTable(dist.black ? solidAngles : weights, items);
+    dist.image = std::move(image);
+    return dist;
+}
+
+glm::dvec3 sampleEnvironmentMap(const EnvironmentDistribution& dist, glm::dvec3 u, double* pdf) {
+    const uint32_t w = dist.image.width, h = dist.image.height;
+    // Alias draw as in shaders/lights/alias.glsl: integer part of u n picks the slot, its
+    // fraction flips the slot's coin.
+    const uint32_t count = uint32_t(dist.table.size());
+    double scaled = u.x * count;
+    uint32_t slot = std::min(uint32_t(scaled), count - 1);
+    double coin = scaled - slot;
+    gpu::AliasEntry e = dist.table[slot];
+    if (coin >= e.probability) e = dist.table[e.alias];
+    uint32_t col = e.item % w, row = e.item / w;
+    double phi = 2.0 * kPi * (col + u.y) / w;
+    double cos0 = std::cos(kPi * row / h), cos1 = std::cos(kPi * (row + 1) / h);
+    double cosTheta = cos0 - u.z * (cos0 - cos1);
+    double sinTheta = std::sqrt(std::max(0.0, 1.0 - cosTheta * cosTheta));
+    // Inverse of environmentTexel's u = atan2(d.x, -d.z) / (2 pi), v = acos(d.y) / pi.
+    glm::dvec3 d(sinTheta * std::sin(phi), cosTheta, -sinTheta * std::cos(phi));
+    if (pdf) *pdf = double(e.pmf) / environmentTexelSolidAngle(row, w, h);
+    return d;
+}
+
+double environmentMapPdf(const EnvironmentDistribution& dist, glm::dvec3 d) {
+    glm::uvec2 t = environmentTexel(d, dist.image.width, dist.image.height);
+    size_t i = size_t(t.y) * dist.image.width + t.x;
+    return double(dist.table[i].pmf) / environmentTexelSolidAngle(t.y, dist.image.width, dist.image.height);
+}
+
+}  // namespace penumbra

@@ -1,0 +1,25 @@
+// Environment light (SCENE_FORMAT.md `environment`): radiance arriving from every direction
+// at infinity, seen by rays that leave the scene. A constant sky is sampled cosine-weighted
+// about the shading normal, in proportion to the integrand's cosine (PBR book 3rd ed.,
+// 13.6.3, Malley's method).
+#ifndef PENUMBRA_LIGHTS_ENVIRONMENT_GLSL
+#define PENUMBRA_LIGHTS_ENVIRONMENT_GLSL
+
+#include "lights/light_sample.glsl"
+#include "sampling/warp.glsl"
+
+// Radiance arriving from direction wi (pointing away from the scene).
+vec3 environmentRadiance(Light light, vec3 wi) { return light.emission; }
+
+bool sampleEnvironmentLight(Light light, vec3 n, vec2 u, inout LightSample ls) {
+    vec3 local = squareToCosineHemisphere(u);
+    ls.wi = frameToWorld(local, n);
+    ls.pdf = cosineHemispherePdf(local.z);
+    ls.radiance = environmentRadiance(light, ls.wi);
+    return ls.pdf > 0.0;
+}
+
+// Solid-angle density of wi under sampleEnvironmentLight from a point with normal n.
+float environmentPdf(Light light, vec3 n, vec3 wi) { return max(dot(wi, n), 0.0) * INV_PI; }
+
+#endif
