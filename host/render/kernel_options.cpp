@@ -16,6 +16,7 @@ std::vector<uint32_t> KernelOptions::specialization() const {
     values[SPEC_SAMPLER] = sampler;
     values[SPEC_QUAD_SAMPLING] = quadSampling;
     values[SPEC_TRIANGLE_SAMPLING] = triangleSampling;
+    values[SPEC_TEXTURES] = textures;
     return values;
 }
 
@@ -48,6 +49,7 @@ KernelOptions makeKernelOptions(const Scene& scene, const SceneArrays& arrays) {
                                                                            : gpu::TRIANGLE_SOLID_ANGLE;
     }
     o.sceneFeatures = sceneFeatures(arrays);
+    o.textures = arrays.textures.textured ? 1u : 0u;
     o.sampler = scene.sampler.type == SamplerType::Sobol ? gpu::SAMPLER_SOBOL : gpu::SAMPLER_INDEPENDENT;
     return o;
 }

@@ -23,6 +23,7 @@ struct KernelOptions {
     uint32_t sampler = gpu::SAMPLER_SOBOL;
     uint32_t quadSampling = gpu::QUAD_SOLID_ANGLE;
     uint32_t triangleSampling = gpu::TRIANGLE_AREA;
+    uint32_t textures = 0;  // 1: some material is textured
 
     // Values in constant_id order, for gpu::Pipeline.
     std::vector<uint32_t> specialization() const;

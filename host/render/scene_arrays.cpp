@@ -149,6 +149,7 @@ SceneArrays buildSceneArrays(const Scene& scene, const BvhOptions& bvhOptions) {
     }
 
     out.bvh = buildBvh(std::move(prims), bvhOptions);
+    out.textures = buildTextureArrays(scene, out.bvh);
 
     // Input primitive index -> leaf-order index, for the lights' references.
     std::vector<uint32_t> leafIndex(out.bvh.originalIndex.size());
