@@ -7,7 +7,9 @@
 // shadow itself): the only noise is where the samples land in the pixel, whose variance the
 // CPU evaluation measures. Independent samples, so that the normal bound applies.
 #include <cmath>
+#include <fstream>
 #include <functional>
+#include <iterator>
 #include <optional>
 #include <string>
 #include <vector>
@@ -15,11 +17,14 @@
 #include <gtest/gtest.h>
 #include <glm/gtc/packing.hpp>
 
+#include "gltf_builder.h"
 #include "gpu_fixture.h"
 #include "image/image.h"
 #include "image/image_file.h"
 #include "render/scene_arrays.h"
 #include "render_helpers.h"
+#include "scene/load.h"
+#include "scene_test_util.h"
 
 using namespace penumbra;
 using nlohmann::json;
@@ -327,4 +332,153 @@ TEST(Textures, PhongKdAndKsSlotsTakeScaleTimesTexture) {
             worst = std::max(worst, double(std::fabs(a.rgb[k] - b.rgb[k])) / (std::fabs(b.rgb[k]) + 1e-3));
         EXPECT_LT(worst, 1e-4) << "case " << i;
     }
+}
+
+namespace {
+
+// sRGB codes of a 4 x 3 RGB texture, every texel and channel different.
+std::vector<uint8_t> codes4x3() {
+    std::vector<uint8_t> rgb;
+    for (int i = 0; i < 12; ++i) rgb.insert(rgb.end(), {uint8_t(20 * i + 5), uint8_t(250 - 17 * i), uint8_t((i % 3) * 100 + 20)});
+    return rgb;
+}
+
+std::string fileBytes(const std::filesystem::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// A glTF quad over [-1, 1]^2 in y = 0 (facing +y) with TEXCOORD_0 = (x + 1, 0.75 (z + 1))
+// (so the texture repeats along u), base colour factor (1, 0.5, 0.25) times a texture whose
+// image comes from `source`: "uri" (an external PNG), "data" (a data URI) or "view" (a GLB
+// buffer view). `wrap` is the sampler's wrapS.
+std::string texturedQuadModel(const std::filesystem::path& dir, const std::string& source, int wrap = 10497) {
+    test::GltfBuilder b;
+    std::vector<float> uvs = {0, 0, 2, 0, 2, 1.5f, 0, 1.5f};
+    json primitive = {{"attributes",
+                       {{"POSITION", b.positions({-1, 0, -1, 1, 0, -1, 1, 0, 1, -1, 0, 1})},
+                        {"TEXCOORD_0", b.addAccessor(uvs.data(), uvs.size() * 4, 5126, 4, "VEC2")}}},
+                      {"indices", b.indices({0, 2, 1, 0, 3, 2})},
+                      {"material", 0}};
+    b.addMeshNode(primitive);
+    b.doc["materials"] = {{{"pbrMetallicRoughness",
+                            {{"baseColorFactor", {1, 0.5, 0.25, 1}}, {"baseColorTexture", {{"index", 0}}}}}}};
+    b.doc["samplers"] = {{{"wrapS", wrap}, {"wrapT", 10497}}};
+    b.doc["textures"] = {{{"source", 0}, {"sampler", 0}}};
+    writePngRgb8(dir / "texture.png", 4, 3, codes4x3());
+    std::string png = fileBytes(dir / "texture.png");
+    if (source == "uri") {
+        b.doc["images"] = {{{"uri", "texture.png"}}};
+    } else if (source == "data") {
+        b.doc["images"] = {{{"uri", "data:image/png;base64," + test::base64(std::vector<uint8_t>(png.begin(), png.end()))}}};
+    } else {
+        while (b.bin.size() % 4) b.bin.push_back(0);
+        b.doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", b.bin.size()}, {"byteLength", png.size()}});
+        b.bin.insert(b.bin.end(), png.begin(), png.end());
+        b.doc["images"] = {{{"bufferView", b.doc["bufferViews"].size() - 1}, {"mimeType", "image/png"}}};
+    }
+    return source == "view" ? b.glb() : b.gltf();
+}
+
+}  // namespace
+
+TEST(Textures, GltfBaseColorTextureFromEachImageSource) {
+    CpuTexture tex;
+    tex.width = 4;
+    tex.height = 3;
+    std::vector<uint8_t> codes = codes4x3();
+    for (size_t i = 0; i < codes.size(); i += 3) {
+        for (int c = 0; c < 3; ++c) tex.rgba.push_back(glm::unpackHalf1x16(glm::packHalf1x16(srgbToLinear(codes[i + c] / 255.0f))));
+        tex.rgba.push_back(1.0f);
+    }
+    const glm::dvec3 factor(1, 0.5, 0.25);
+    for (std::string source : {"uri", "data", "view"}) {
+        auto dir = test::freshOutputDir("textures", "gltf-" + source);
+        std::string model = source == "view" ? "quad.glb" : "quad.gltf";
+        test::writeFile(dir / model, texturedQuadModel(dir, source));
+        if (source != "uri") std::filesystem::remove(dir / "texture.png");  // only in the model
+        json scene = {{"camera", test::topDownCamera(0, 0, 0.95)},
+                      {"film", {{"width", kSize}, {"height", kSize}}},
+                      {"sampler", {{"spp", kSpp}, {"seed", 5}, {"type", "independent"}}},
+                      {"shapes", json::array({{{"type", "gltf"}, {"file", model}}})},
+                      {"lights", json::array({{{"type", "environment"}, {"radiance", 1}}})}};
+        Scene loaded = test::sceneFromJson(scene, "textures/gltf-" + source + "/scene");
+        ASSERT_EQ(loaded.textures.size(), 1u) << source;
+        EXPECT_TRUE(loaded.textures[0].srgb);
+        Image image = test::renderScene(loaded);
+        Expected e = expectedImage(loaded, [&](glm::dvec3 o, glm::dvec3 d, int c) -> std::optional<double> {
+            glm::dvec3 x = planeHit(o, d);
+            return factor[c] * tex.bilinear(x.x + 1, 0.75 * (x.z + 1), c);
+        });
+        EXPECT_EQ(compare(image, e, "gltf-" + source), 0) << source;
+    }
+}
+
+TEST(Textures, GltfClampAndMirrorWrapRenderAsRepeatWithANote) {
+    auto dir = test::freshOutputDir("textures", "gltf-wrap");
+    test::writeFile(dir / "quad.gltf", texturedQuadModel(dir, "data", 33071));
+    Scene scene = loadScene(dir / "quad.gltf");
+    bool noted = false;
+    for (const std::string& note : scene.notes) noted |= note.find("CLAMP_TO_EDGE wrapping are rendered with REPEAT") != std::string::npos;
+    EXPECT_TRUE(noted);
+}
+
+TEST(Textures, GltfBadImagesNameTheModelAndImage) {
+    auto dir = test::freshOutputDir("textures", "gltf-bad");
+    std::string model = texturedQuadModel(dir, "data");
+    json doc = json::parse(model);
+    doc["images"][0]["uri"] = "data:image/png;base64," + test::base64({0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n', 1, 2, 3});
+    test::writeFile(dir / "corrupt.gltf", doc.dump());
+    std::string error = test::loadError(dir / "corrupt.gltf");
+    EXPECT_NE(error.find("corrupt.gltf: images[0]: cannot decode PNG image"), std::string::npos) << error;
+
+    doc["images"][0]["uri"] = "data:image/gif;base64," + test::base64({'G', 'I', 'F', '8', '9', 'a'});
+    test::writeFile(dir / "gif.gltf", doc.dump());
+    error = test::loadError(dir / "gif.gltf");
+    EXPECT_NE(error.find("gif.gltf: images[0]: unsupported image format"), std::string::npos) << error;
+
+    doc["images"][0]["uri"] = "missing.png";
+    test::writeFile(dir / "missing.gltf", doc.dump());
+    error = test::loadError(dir / "missing.gltf");
+    EXPECT_NE(error.find("missing.gltf"), std::string::npos) << error;
+    EXPECT_NE(error.find("missing.png"), std::string::npos) << error;
+
+    json bad = json::parse(texturedQuadModel(dir, "data"));
+    bad["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["index"] = 4;
+    test::writeFile(dir / "no-texture.gltf", bad.dump());
+    error = test::loadError(dir / "no-texture.gltf");
+    EXPECT_NE(error.find("materials[0].pbrMetallicRoughness.baseColorTexture.index: texture 4 does not exist"),
+              std::string::npos)
+        << error;
+}
+
+// Debian's assimp-testmodels (tools/setup installs it): the Khronos BoxTextured sample in
+// its three packagings (external PNG, GLB, embedded data URI) loads its texture and
+// renders the same image from each.
+TEST(Textures, AssimpBoxTexturedRendersTheSameFromEachPackaging) {
+    const std::filesystem::path root = "/usr/share/assimp/models/glTF2";
+    const std::vector<std::filesystem::path> models = {root / "BoxTextured-glTF/BoxTextured.gltf",
+                                                       root / "BoxTextured-glTF-Binary/BoxTextured.glb",
+                                                       root / "BoxTextured-glTF-Embedded/BoxTextured.gltf"};
+    for (const auto& m : models) ASSERT_TRUE(std::filesystem::exists(m)) << m << " (install assimp-testmodels: tools/setup)";
+    ImageFile png = readImageFile(root / "BoxTextured-glTF/CesiumLogoFlat.png", ColorDecode::Srgb);
+    std::vector<Image> images;
+    for (const auto& m : models) {
+        Scene scene = loadScene(m, {{"film.width", "48"}, {"film.height", "48"}, {"sampler.spp", "4"}});
+        ASSERT_EQ(scene.textures.size(), 1u) << m;
+        EXPECT_EQ(scene.textures[0].width, png.width);
+        EXPECT_EQ(scene.textures[0].height, png.height);
+        // The decoded texels are the PNG's, sRGB-decoded and rounded to half.
+        for (size_t i = 0; i < png.rgba.size(); i += 97)
+            EXPECT_EQ(scene.textures[0].texels[i], glm::packHalf1x16(png.rgba[i])) << m << " texel value " << i;
+        size_t textured = 0;
+        for (const Material& mat : scene.materials) textured += mat.textures.size();
+        EXPECT_EQ(textured, 1u) << m;
+        images.push_back(test::renderScene(scene));
+    }
+    for (size_t i = 1; i < images.size(); ++i) EXPECT_EQ(images[i].rgb, images[0].rgb) << models[i];
+    // The logo's texture shows: the box's pixels are not one colour.
+    float lo = 1e30f, hi = -1e30f;
+    for (float v : images[0].rgb) lo = std::min(lo, v), hi = std::max(hi, v);
+    EXPECT_GT(hi - lo, 0.2f);
 }

@@ -310,7 +310,20 @@ private:
         // The file's materials join the scene unless the shape names its own.
         uint32_t firstMaterial = uint32_t(m_scene.materials.size());
         bool ownMaterial = r.has("material");
-        if (!ownMaterial) m_scene.materials.insert(m_scene.materials.end(), model.materials.begin(), model.materials.end());
+        if (!ownMaterial) {
+            // The model's textures join the scene's table (shared with any other user of
+            // the same image, counted against the scene's limits).
+            std::vector<uint32_t> textureIndex;
+            for (Texture& t : model.textures) {
+                std::string key = t.file;
+                bool srgb = t.srgb;
+                textureIndex.push_back(m_textures.table().add(key, srgb, [&] { return std::move(t); },
+                                                              [&](const std::string& why) { fileField.fail(why); }));
+            }
+            for (Material& m : model.materials)
+                for (MaterialTexture& mt : m.textures) mt.texture = textureIndex[mt.texture];
+            m_scene.materials.insert(m_scene.materials.end(), model.materials.begin(), model.materials.end());
+        }
         glm::vec3 emission = r.has("emission") ? radiometric(r.at("emission"), r.at("emission").color(), "radiance")
                                                : glm::vec3(0.0f);
         if (auto p = r.find("power")) {
