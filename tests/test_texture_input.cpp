@@ -28,15 +28,18 @@ void writeTexturePng(const fs::path& file) {
 
 json sceneWith(json materials, json shapes = nullptr) {
     if (shapes.is_null())
-        shapes = json::array({{{"type", "quad"}, {"origin", {0, 0, 0}}, {"edge_u", {1, 0, 0}}, {"edge_v", {0, 0, 1}},
+        shapes = json::array({{{"type", "quad"},
+                               {"origin", {0, 0, 0}},
+                               {"edge_u", {1, 0, 0}},
+                               {"edge_v", {0, 0, 1}},
                                {"material", "m"}}});
-    return {{"materials", materials}, {"shapes", shapes}, {"film", {{"width", 8}, {"height", 8}}},
+    return {{"materials", materials},
+            {"shapes", shapes},
+            {"film", {{"width", 8}, {"height", 8}}},
             {"sampler", {{"spp", 1}}}};
 }
 
-fs::path writeScene(const fs::path& dir, const json& doc) {
-    return test::writeFile(dir / "scene.json", doc.dump());
-}
+fs::path writeScene(const fs::path& dir, const json& doc) { return test::writeFile(dir / "scene.json", doc.dump()); }
 
 // The error of loading `doc` from `dir`, which must name the scene file, the JSON path and
 // `why` (in that order, on one line).
@@ -85,7 +88,10 @@ TEST(TextureInput, TextureLimitsAreEnforced) {
     std::vector<Texture> textures;
     TextureTable table(textures);
     std::string why;
-    auto fail = [&](const std::string& w) { why = w; throw InputError(w); };
+    auto fail = [&](const std::string& w) {
+        why = w;
+        throw InputError(w);
+    };
     auto texture = [](uint32_t w, uint32_t h) {
         return [w, h] {
             Texture t;
@@ -117,7 +123,7 @@ TEST(TextureInput, BadTexturesNameTheFileAndPath) {
     fs::path dir = test::freshTempDir();
     writeTexturePng(dir / "good.png");
     test::writeFile(dir / "corrupt.png", std::string("\x89PNG\r\n\x1a\n", 8) + "not really a png at all");
-    test::writeFile(dir / "picture.gif", "GIF89a\x01\x00\x01\x00");
+    test::writeFile(dir / "picture.gif", std::string("GIF89a\x01\x00\x01\x00", 10));
     auto albedo = [](json texture) { return json{{"m", {{"type", "diffuse"}, {"albedo", texture}}}}; };
 
     expectError(dir, sceneWith(albedo({{"texture", "missing.png"}})), "materials.m.albedo.texture",

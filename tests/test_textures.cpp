@@ -64,7 +64,8 @@ CpuTexture checkerboard() {
     t.height = 3;
     for (int y = 0; y < t.height; ++y)
         for (int x = 0; x < t.width; ++x)
-            t.rgba.insert(t.rgba.end(), {(x + y) % 2 ? 0.75f : 0.25f, 0.125f + 0.25f * float(x), 0.875f - 0.25f * float(y), 1.0f});
+            t.rgba.insert(t.rgba.end(),
+                          {(x + y) % 2 ? 0.75f : 0.25f, 0.125f + 0.25f * float(x), 0.875f - 0.25f * float(y), 1.0f});
     return t;
 }
 
@@ -72,7 +73,8 @@ std::filesystem::path writeExrTexture(const CpuTexture& t, const std::filesystem
     Image image;
     image.width = uint32_t(t.width);
     image.height = uint32_t(t.height);
-    for (size_t i = 0; i < t.rgba.size(); i += 4) image.rgb.insert(image.rgb.end(), {t.rgba[i], t.rgba[i + 1], t.rgba[i + 2]});
+    for (size_t i = 0; i < t.rgba.size(); i += 4)
+        image.rgb.insert(image.rgb.end(), {t.rgba[i], t.rgba[i + 1], t.rgba[i + 2]});
     writeExr(file, image);
     return file;
 }
@@ -103,9 +105,9 @@ Expected expectedImage(const Scene& scene, const RayValue& value, int sub = 12) 
                 for (int j = 0; j < sub; ++j)
                     for (int i = 0; i < sub; ++i) {
                         double fx = (px + (i + 0.5) / sub) / w, fy = (py + (j + 0.5) / sub) / h;
-                        glm::dvec3 dir = glm::normalize(glm::dvec3(p.forward) +
-                                                        ((2 * fx - 1) * p.aspect * p.tanHalfFovY) * glm::dvec3(p.right) +
-                                                        ((1 - 2 * fy) * p.tanHalfFovY) * glm::dvec3(p.up));
+                        glm::dvec3 dir = glm::normalize(
+                            glm::dvec3(p.forward) + ((2 * fx - 1) * p.aspect * p.tanHalfFovY) * glm::dvec3(p.right) +
+                            ((1 - 2 * fy) * p.tanHalfFovY) * glm::dvec3(p.up));
                         std::optional<double> v = value(glm::dvec3(p.eye), dir, c);
                         hits += v.has_value();
                         double x = v.value_or(1.0);
@@ -168,7 +170,8 @@ TEST(Textures, QuadCheckerboardIsBilinearWithRowZeroAtVZero) {
     // border pixels blend across the repeat seam.
     json quad = {{"type", "quad"}, {"origin", {-1, 0, -1}}, {"edge_u", {2, 0, 0}}, {"edge_v", {0, 0, 2}}};
     json scene = sceneWith(test::topDownCamera(0, 0, 0.95),
-                           {{"type", "diffuse"}, {"albedo", {{"texture", "checker.exr"}, {"scale", {1, 0.8, 1}}}}}, quad);
+                           {{"type", "diffuse"}, {"albedo", {{"texture", "checker.exr"}, {"scale", {1, 0.8, 1}}}}},
+                           quad);
     Scene loaded = test::sceneFromJson(scene, "textures/quad/scene");
     Image image = test::renderScene(loaded);
     const glm::dvec3 scale(1, 0.8, 1);
@@ -185,8 +188,7 @@ TEST(Textures, QuadCheckerboardIsBilinearWithRowZeroAtVZero) {
         return scale[c] * tex.bilinear((x.x + 1) / 2, 1.0 - (x.z + 1) / 2, c);
     });
     int mismatches = 0;
-    for (size_t k = 0; k < flipped.mean.size(); ++k)
-        mismatches += std::fabs(image.rgb[k] - flipped.mean[k]) > 0.05;
+    for (size_t k = 0; k < flipped.mean.size(); ++k) mismatches += std::fabs(image.rgb[k] - flipped.mean[k]) > 0.05;
     EXPECT_GT(mismatches, kSize * kSize / 4);
 }
 
@@ -200,7 +202,8 @@ TEST(Textures, MeshUvsInterpolateAndRepeat) {
                  {"positions", {-1, 0, -1, 1, 0, -1, 1, 0, 1, -1, 0, 1}},
                  {"indices", {0, 2, 1, 0, 3, 2}},
                  {"uvs", {-1, -1, -1, 2, 2, 2, 2, -1}}};
-    json scene = sceneWith(test::topDownCamera(0, 0, 0.95), {{"type", "diffuse"}, {"albedo", {{"texture", "checker.exr"}}}}, mesh);
+    json scene = sceneWith(test::topDownCamera(0, 0, 0.95),
+                           {{"type", "diffuse"}, {"albedo", {{"texture", "checker.exr"}}}}, mesh);
     Scene loaded = test::sceneFromJson(scene, "textures/mesh/scene");
     Image image = test::renderScene(loaded);
     Expected e = expectedImage(loaded, [&](glm::dvec3 o, glm::dvec3 d, int c) -> std::optional<double> {
@@ -215,13 +218,13 @@ TEST(Textures, MeshWithoutUvsReadsUvZero) {
     CpuTexture tex = checkerboard();
     writeExrTexture(tex, dir / "checker.exr");
     json mesh = {{"type", "mesh"}, {"positions", {-1, 0, -1, 1, 0, -1, 1, 0, 1}}, {"indices", {0, 2, 1}}};
-    json scene = sceneWith(test::topDownCamera(0.3, -0.3, 0.3), {{"type", "diffuse"}, {"albedo", {{"texture", "checker.exr"}}}}, mesh);
+    json scene = sceneWith(test::topDownCamera(0.3, -0.3, 0.3),
+                           {{"type", "diffuse"}, {"albedo", {{"texture", "checker.exr"}}}}, mesh);
     Scene loaded = test::sceneFromJson(scene, "textures/mesh-no-uvs/scene");
     Image image = test::renderScene(loaded);
     // uv (0, 0) is the corner between texels (3, 2), (0, 2), (3, 0) and (0, 0), equally weighted.
-    Expected e = expectedImage(loaded, [&](glm::dvec3, glm::dvec3, int c) -> std::optional<double> {
-        return tex.bilinear(0, 0, c);
-    });
+    Expected e = expectedImage(
+        loaded, [&](glm::dvec3, glm::dvec3, int c) -> std::optional<double> { return tex.bilinear(0, 0, c); });
     EXPECT_EQ(compare(image, e, "mesh-no-uvs"), 0);
 }
 
@@ -233,7 +236,8 @@ TEST(Textures, SphereCoordinatesFollowTheContract) {
     tex.height = 4;
     for (int y = 0; y < 4; ++y)
         for (int x = 0; x < 8; ++x)
-            tex.rgba.insert(tex.rgba.end(), {0.0625f + 0.125f * float(x), 0.125f + 0.25f * float(y), (x + y) % 2 ? 1.0f : 0.0f, 1.0f});
+            tex.rgba.insert(tex.rgba.end(),
+                            {0.0625f + 0.125f * float(x), 0.125f + 0.25f * float(y), (x + y) % 2 ? 1.0f : 0.0f, 1.0f});
     writeExrTexture(tex, dir / "bands.exr");
     const glm::dvec3 centre(0.2, 0.1, -0.3);
     const double radius = 1.0;
@@ -277,7 +281,8 @@ TEST(Textures, SrgbPngIsDecodedBeforeFiltering) {
             tex.rgba.push_back(glm::unpackHalf1x16(glm::packHalf1x16(linear)));
         }
     json quad = {{"type", "quad"}, {"origin", {-1, 0, -1}}, {"edge_u", {2, 0, 0}}, {"edge_v", {0, 0, 2}}};
-    json scene = sceneWith(test::topDownCamera(0, 0, 0.95), {{"type", "diffuse"}, {"albedo", {{"texture", "pair.png"}}}}, quad);
+    json scene =
+        sceneWith(test::topDownCamera(0, 0, 0.95), {{"type", "diffuse"}, {"albedo", {{"texture", "pair.png"}}}}, quad);
     Scene loaded = test::sceneFromJson(scene, "textures/srgb/scene");
     Image image = test::renderScene(loaded);
     Expected e = expectedImage(loaded, [&](glm::dvec3 o, glm::dvec3 d, int c) -> std::optional<double> {
@@ -306,7 +311,7 @@ TEST(Textures, PhongKdAndKsSlotsTakeScaleTimesTexture) {
     writeExr(dir / "two.exr", two);
     json camera = {{"eye", {0, 3, 3}}, {"target", {0, 0, 0}}, {"up", {0, 1, 0}}, {"fov_y", 40}};
     json quad = {{"type", "quad"}, {"origin", {-1, 0, -1}}, {"edge_u", {2, 0, 0}}, {"edge_v", {0, 0, 2}}};
-    auto render = [&](json material, const std::string& name) {
+    auto render = [&](const json& material, const std::string& name) {
         json scene = sceneWith(camera, material, quad);
         scene["lights"].push_back({{"type", "point"}, {"position", {0.5, 2, 1}}, {"power", 30}});
         scene["sampler"]["spp"] = 4;
@@ -316,11 +321,20 @@ TEST(Textures, PhongKdAndKsSlotsTakeScaleTimesTexture) {
         json textured, plain;
     };
     std::vector<Case> cases = {
-        {{{"type", "phong"}, {"kd", {{"texture", "half.exr"}, {"scale", {0.6, 0.2, 0.4}}}}, {"ks", 0.4}, {"exponent", 30}},
+        {{{"type", "phong"},
+          {"kd", {{"texture", "half.exr"}, {"scale", {0.6, 0.2, 0.4}}}},
+          {"ks", 0.4},
+          {"exponent", 30}},
          {{"type", "phong"}, {"kd", {0.3, 0.1, 0.2}}, {"ks", 0.4}, {"exponent", 30}}},
-        {{{"type", "phong"}, {"kd", 0.3}, {"ks", {{"texture", "half.exr"}, {"scale", {0.5, 0.7, 0.2}}}}, {"exponent", 30}},
+        {{{"type", "phong"},
+          {"kd", 0.3},
+          {"ks", {{"texture", "half.exr"}, {"scale", {0.5, 0.7, 0.2}}}},
+          {"exponent", 30}},
          {{"type", "phong"}, {"kd", 0.3}, {"ks", {0.25, 0.35, 0.1}}, {"exponent", 30}}},
-        {{{"type", "phong"}, {"kd", {{"texture", "two.exr"}, {"scale", 0.4}}}, {"ks", {{"texture", "two.exr"}, {"scale", 0.25}}}, {"exponent", 30}},
+        {{{"type", "phong"},
+          {"kd", {{"texture", "two.exr"}, {"scale", 0.4}}},
+          {"ks", {{"texture", "two.exr"}, {"scale", 0.25}}},
+          {"exponent", 30}},
          {{"type", "phong"}, {"kd", 0.8}, {"ks", 0.2}, {"exponent", 30}}},
     };
     for (size_t i = 0; i < cases.size(); ++i) {
@@ -339,7 +353,8 @@ namespace {
 // sRGB codes of a 4 x 3 RGB texture, every texel and channel different.
 std::vector<uint8_t> codes4x3() {
     std::vector<uint8_t> rgb;
-    for (int i = 0; i < 12; ++i) rgb.insert(rgb.end(), {uint8_t(20 * i + 5), uint8_t(250 - 17 * i), uint8_t((i % 3) * 100 + 20)});
+    for (int i = 0; i < 12; ++i)
+        rgb.insert(rgb.end(), {uint8_t(20 * i + 5), uint8_t(250 - 17 * i), uint8_t((i % 3) * 100 + 20)});
     return rgb;
 }
 
@@ -361,8 +376,8 @@ std::string texturedQuadModel(const std::filesystem::path& dir, const std::strin
                       {"indices", b.indices({0, 2, 1, 0, 3, 2})},
                       {"material", 0}};
     b.addMeshNode(primitive);
-    b.doc["materials"] = {{{"pbrMetallicRoughness",
-                            {{"baseColorFactor", {1, 0.5, 0.25, 1}}, {"baseColorTexture", {{"index", 0}}}}}}};
+    b.doc["materials"] = {
+        {{"pbrMetallicRoughness", {{"baseColorFactor", {1, 0.5, 0.25, 1}}, {"baseColorTexture", {{"index", 0}}}}}}};
     b.doc["samplers"] = {{{"wrapS", wrap}, {"wrapT", 10497}}};
     b.doc["textures"] = {{{"source", 0}, {"sampler", 0}}};
     writePngRgb8(dir / "texture.png", 4, 3, codes4x3());
@@ -370,7 +385,8 @@ std::string texturedQuadModel(const std::filesystem::path& dir, const std::strin
     if (source == "uri") {
         b.doc["images"] = {{{"uri", "texture.png"}}};
     } else if (source == "data") {
-        b.doc["images"] = {{{"uri", "data:image/png;base64," + test::base64(std::vector<uint8_t>(png.begin(), png.end()))}}};
+        b.doc["images"] = {
+            {{"uri", "data:image/png;base64," + test::base64(std::vector<uint8_t>(png.begin(), png.end()))}}};
     } else {
         while (b.bin.size() % 4) b.bin.push_back(0);
         b.doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", b.bin.size()}, {"byteLength", png.size()}});
@@ -388,7 +404,8 @@ TEST(Textures, GltfBaseColorTextureFromEachImageSource) {
     tex.height = 3;
     std::vector<uint8_t> codes = codes4x3();
     for (size_t i = 0; i < codes.size(); i += 3) {
-        for (int c = 0; c < 3; ++c) tex.rgba.push_back(glm::unpackHalf1x16(glm::packHalf1x16(srgbToLinear(codes[i + c] / 255.0f))));
+        for (int c = 0; c < 3; ++c)
+            tex.rgba.push_back(glm::unpackHalf1x16(glm::packHalf1x16(srgbToLinear(codes[i + c] / 255.0f))));
         tex.rgba.push_back(1.0f);
     }
     const glm::dvec3 factor(1, 0.5, 0.25);
@@ -419,7 +436,8 @@ TEST(Textures, GltfClampAndMirrorWrapRenderAsRepeatWithANote) {
     test::writeFile(dir / "quad.gltf", texturedQuadModel(dir, "data", 33071));
     Scene scene = loadScene(dir / "quad.gltf");
     bool noted = false;
-    for (const std::string& note : scene.notes) noted |= note.find("CLAMP_TO_EDGE wrapping are rendered with REPEAT") != std::string::npos;
+    for (const std::string& note : scene.notes)
+        noted |= note.find("CLAMP_TO_EDGE wrapping are rendered with REPEAT") != std::string::npos;
     EXPECT_TRUE(noted);
 }
 
@@ -427,7 +445,8 @@ TEST(Textures, GltfBadImagesNameTheModelAndImage) {
     auto dir = test::freshOutputDir("textures", "gltf-bad");
     std::string model = texturedQuadModel(dir, "data");
     json doc = json::parse(model);
-    doc["images"][0]["uri"] = "data:image/png;base64," + test::base64({0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n', 1, 2, 3});
+    doc["images"][0]["uri"] = "data:image/png;base64," +
+                              test::base64({0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n', 1, 2, 3});
     test::writeFile(dir / "corrupt.gltf", doc.dump());
     std::string error = test::loadError(dir / "corrupt.gltf");
     EXPECT_NE(error.find("corrupt.gltf: images[0]: cannot decode PNG image"), std::string::npos) << error;
@@ -460,7 +479,8 @@ TEST(Textures, AssimpBoxTexturedRendersTheSameFromEachPackaging) {
     const std::vector<std::filesystem::path> models = {root / "BoxTextured-glTF/BoxTextured.gltf",
                                                        root / "BoxTextured-glTF-Binary/BoxTextured.glb",
                                                        root / "BoxTextured-glTF-Embedded/BoxTextured.gltf"};
-    for (const auto& m : models) ASSERT_TRUE(std::filesystem::exists(m)) << m << " (install assimp-testmodels: tools/setup)";
+    for (const auto& m : models)
+        ASSERT_TRUE(std::filesystem::exists(m)) << m << " (install assimp-testmodels: tools/setup)";
     ImageFile png = readImageFile(root / "BoxTextured-glTF/CesiumLogoFlat.png", ColorDecode::Srgb);
     std::vector<Image> images;
     for (const auto& m : models) {

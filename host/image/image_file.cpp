@@ -58,8 +58,9 @@ bool startsWith(const std::string& bytes, const char* magic, size_t n) {
 void checkSize(int64_t width, int64_t height, const std::string& label) {
     if (width <= 0 || height <= 0) throwInputError(label, "", "image has no pixels");
     if (width > kMaxImageSide || height > kMaxImageSide || uint64_t(width) * uint64_t(height) > kMaxImagePixels)
-        throwInputError(label, "", "image is " + std::to_string(width) + "x" + std::to_string(height) +
-                                       ", larger than the limit (each side <= 16384, at most 67108864 pixels)");
+        throwInputError(label, "",
+                        "image is " + std::to_string(width) + "x" + std::to_string(height) +
+                            ", larger than the limit (each side <= 16384, at most 67108864 pixels)");
 }
 
 // stb's failure reason is a short phrase ("bad huffman code", "corrupt PNG").
@@ -109,7 +110,8 @@ ImageFile decodeStb(const std::string& bytes, const std::string& label, ImageFil
         if (!pixels) stbFailed(label, what);
         // 256 entries: the decoded value of every code, computed once.
         float table[256];
-        for (int c = 0; c < 256; ++c) table[c] = decode == ColorDecode::Srgb ? srgbToLinear(float(c) / 255.0f) : float(c) / 255.0f;
+        for (int c = 0; c < 256; ++c)
+            table[c] = decode == ColorDecode::Srgb ? srgbToLinear(float(c) / 255.0f) : float(c) / 255.0f;
         for (size_t i = 0; i < count; ++i)
             image.rgba[i] = i % 4 == 3 ? float(pixels.get()[i]) / 255.0f : table[pixels.get()[i]];
         return image;

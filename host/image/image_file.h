@@ -31,9 +31,9 @@ struct ImageFile {
     uint32_t width = 0;
     uint32_t height = 0;
     ImageFileFormat format = ImageFileFormat::Png;
-    uint32_t channels = 0;     // in the file: 1 grey, 2 grey + alpha, 3 RGB, 4 RGBA
-    std::vector<float> rgba;   // width * height * 4, row-major, row 0 = the image's top row;
-                               // grey is copied to R, G and B; alpha 1 where the file has none
+    uint32_t channels = 0;    // in the file: 1 grey, 2 grey + alpha, 3 RGB, 4 RGBA
+    std::vector<float> rgba;  // width * height * 4, row-major, row 0 = the image's top row;
+                              // grey is copied to R, G and B; alpha 1 where the file has none
 
     const float* texel(uint32_t x, uint32_t y) const { return &rgba[(size_t(y) * width + x) * 4]; }
 };

@@ -14,10 +14,10 @@
 namespace penumbra {
 
 struct TextureArrays {
-    bool textured = false;                      // some material has a textured field
-    std::vector<glm::uvec4> materialTextures;   // BINDING_MATERIAL_TEXTURES
-    std::vector<glm::uvec4> texels;             // BINDING_TEXTURE_TEXELS
-    std::vector<gpu::TriangleUvs> uvs;          // BINDING_UVS, in the BVH's leaf order
+    bool textured = false;                     // some material has a textured field
+    std::vector<glm::uvec4> materialTextures;  // BINDING_MATERIAL_TEXTURES
+    std::vector<glm::uvec4> texels;            // BINDING_TEXTURE_TEXELS
+    std::vector<gpu::TriangleUvs> uvs;         // BINDING_UVS, in the BVH's leaf order
 };
 
 // `bvh` is the scene's, built from its shapes' primitives in order (one per sphere and

@@ -40,12 +40,14 @@ std::string GltfTextureReader::imageBytes(int index, const std::string& path) co
         auto found = m_bytes.byIndex.find(index);
         // tinygltf only warns when an external image cannot be read.
         if (found == m_bytes.byIndex.end())
-            throwInputError(m_label, path, image.uri.empty() ? "image has no data"
-                                                             : "cannot read \"" + image.uri + "\" (missing or unreadable)");
+            throwInputError(
+                m_label, path,
+                image.uri.empty() ? "image has no data" : "cannot read \"" + image.uri + "\" (missing or unreadable)");
         return found->second;
     }
     if (size_t(image.bufferView) >= m_model.bufferViews.size())
-        throwInputError(m_label, path + ".bufferView", "bufferView " + std::to_string(image.bufferView) + " does not exist");
+        throwInputError(m_label, path + ".bufferView",
+                        "bufferView " + std::to_string(image.bufferView) + " does not exist");
     const tinygltf::BufferView& bv = m_model.bufferViews[size_t(image.bufferView)];
     std::string bvPath = at("bufferViews", size_t(image.bufferView));
     if (bv.buffer < 0 || size_t(bv.buffer) >= m_model.buffers.size())
@@ -70,7 +72,8 @@ uint32_t GltfTextureReader::texture(const tinygltf::TextureInfo& info, const std
                                        : "image " + std::to_string(tex.source) + " does not exist");
     if (tex.sampler >= 0) {
         if (size_t(tex.sampler) >= m_model.samplers.size())
-            throwInputError(m_label, texPath + ".sampler", "sampler " + std::to_string(tex.sampler) + " does not exist");
+            throwInputError(m_label, texPath + ".sampler",
+                            "sampler " + std::to_string(tex.sampler) + " does not exist");
         // Penumbra's textures repeat (SCENE_FORMAT.md); clamp and mirror only differ outside
         // [0, 1], which is where a model asking for them rarely puts its uvs.
         const tinygltf::Sampler& s = m_model.samplers[size_t(tex.sampler)];
@@ -83,15 +86,16 @@ uint32_t GltfTextureReader::texture(const tinygltf::TextureInfo& info, const std
     auto found = m_decoded.find({tex.source, srgb});
     if (found != m_decoded.end()) return found->second;
     std::string imagePath = at("images", size_t(tex.source));
-    ImageFile image =
-        decodeImage(imageBytes(tex.source, imagePath), m_label + ": " + imagePath, srgb ? ColorDecode::Srgb : ColorDecode::Linear);
+    ImageFile image = decodeImage(imageBytes(tex.source, imagePath), m_label + ": " + imagePath,
+                                  srgb ? ColorDecode::Srgb : ColorDecode::Linear);
     uint32_t index = uint32_t(m_textures.size());
     m_textures.push_back(makeTexture(m_label + "#" + imagePath, srgb, image.width, image.height, image.rgba.data()));
     m_decoded[{tex.source, srgb}] = index;
     return index;
 }
 
-std::optional<MaterialTexture> GltfTextureReader::baseColor(const tinygltf::Material& material, const std::string& path) {
+std::optional<MaterialTexture> GltfTextureReader::baseColor(const tinygltf::Material& material,
+                                                            const std::string& path) {
     const tinygltf::PbrMetallicRoughness& pbr = material.pbrMetallicRoughness;
     if (pbr.baseColorTexture.index < 0) return std::nullopt;
     glm::vec3 factor(1.0f);
@@ -107,7 +111,8 @@ GltfMaterialTextures GltfTextureReader::metallicRoughness(const tinygltf::Materi
     const tinygltf::PbrMetallicRoughness& pbr = material.pbrMetallicRoughness;
     if (pbr.metallicRoughnessTexture.index >= 0) {
         // glTF 2.0 section 3.9.2: metalness in the blue channel, roughness in green; linear data.
-        uint32_t t = texture(pbr.metallicRoughnessTexture, path + ".pbrMetallicRoughness.metallicRoughnessTexture", false);
+        uint32_t t =
+            texture(pbr.metallicRoughnessTexture, path + ".pbrMetallicRoughness.metallicRoughnessTexture", false);
         out.metallic = MaterialTexture{TextureSlot::KsX, t, glm::vec3(unit(pbr.metallicFactor)), 2};
         out.roughness = MaterialTexture{TextureSlot::KsY, t, glm::vec3(unit(pbr.roughnessFactor)), 1};
     }

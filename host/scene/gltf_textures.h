@@ -48,7 +48,7 @@ private:
     // Index into m_textures of glTF texture `info` decoded as sRGB colour or linear data;
     // throws InputError naming the glTF path.
     uint32_t texture(const tinygltf::TextureInfo& info, const std::string& path, bool srgb);
-    std::string imageBytes(int image, const std::string& path) const;
+    std::string imageBytes(int index, const std::string& path) const;
     void noteOnce(const std::string& text);
 
     const tinygltf::Model& m_model;

@@ -87,7 +87,9 @@ struct AccessorView {
 class Importer {
 public:
     Importer(const tinygltf::Model& model, std::string label, const GltfImageBytes& images)
-        : m_model(model), m_label(std::move(label)), m_textures(model, m_label, images, m_result.textures, m_result.notes) {}
+        : m_model(model),
+          m_label(std::move(label)),
+          m_textures(model, m_label, images, m_result.textures, m_result.notes) {}
 
     GltfImport run();
 
@@ -108,7 +110,7 @@ private:
     const tinygltf::Model& m_model;
     std::string m_label;
     GltfImport m_result;
-    GltfTextureReader m_textures;  // after m_label and m_result, which it refers to
+    GltfTextureReader m_textures;       // after m_label and m_result, which it refers to
     std::vector<glm::vec3> m_emission;  // per glTF material: emissiveFactor * emissiveStrength
     std::vector<bool> m_doubleSided;
     size_t m_degenerate = 0, m_nonTriangles = 0, m_noPositions = 0, m_badNormals = 0;
@@ -298,7 +300,8 @@ void Importer::addPrimitive(const tinygltf::Primitive& prim, const glm::dmat4& w
         // glTF's uv has v = 0 at the top of the image, as SCENE_FORMAT.md's textures do.
         AccessorView tv = view(uv->second, path + ".attributes.TEXCOORD_0", TINYGLTF_TYPE_VEC2);
         if (tv.count != pos.count)
-            fail(path + ".attributes.TEXCOORD_0", std::to_string(tv.count) + " uvs for " + std::to_string(pos.count) + " positions");
+            fail(path + ".attributes.TEXCOORD_0",
+                 std::to_string(tv.count) + " uvs for " + std::to_string(pos.count) + " positions");
         shape.uvs.resize(tv.count);
         for (size_t i = 0; i < tv.count; ++i) {
             glm::dvec2 t(tv.get(i, 0), tv.get(i, 1));

@@ -53,7 +53,10 @@ float meshArea(const Shape& s) {
 class SceneBuilder {
 public:
     SceneBuilder(Scene& scene, std::string label, fs::path baseDir, bool directModel)
-        : m_scene(scene), m_label(std::move(label)), m_baseDir(std::move(baseDir)), m_direct(directModel),
+        : m_scene(scene),
+          m_label(std::move(label)),
+          m_baseDir(std::move(baseDir)),
+          m_direct(directModel),
           m_textures(scene, m_baseDir) {}
 
     void build(const json& doc) {
@@ -201,8 +204,9 @@ private:
         if (type == "sphere") r.expectKeys({"type", "center", "radius", "material", "emission", "power"}, "a sphere");
         if (type == "quad") r.expectKeys({"type", "origin", "edge_u", "edge_v", "material", "emission", "power", "two_sided"}, "a quad");
         if (type == "mesh")
-            r.expectKeys({"type", "positions", "indices", "normals", "uvs", "material", "emission", "power", "two_sided"},
-                         "a mesh");
+            r.expectKeys(
+                {"type", "positions", "indices", "normals", "uvs", "material", "emission", "power", "two_sided"},
+                "a mesh");
         if (type == "gltf") r.expectKeys({"type", "file", "material", "emission", "power", "two_sided"}, "a gltf shape");
         if (r.has("emission") && r.has("power")) r.fail("has both \"emission\" and \"power\"; give one");
 
@@ -317,8 +321,8 @@ private:
             for (Texture& t : model.textures) {
                 std::string key = t.file;
                 bool srgb = t.srgb;
-                textureIndex.push_back(m_textures.table().add(key, srgb, [&] { return std::move(t); },
-                                                              [&](const std::string& why) { fileField.fail(why); }));
+                textureIndex.push_back(m_textures.table().add(
+                    key, srgb, [&] { return std::move(t); }, [&](const std::string& why) { fileField.fail(why); }));
             }
             for (Material& m : model.materials)
                 for (MaterialTexture& mt : m.textures) mt.texture = textureIndex[mt.texture];

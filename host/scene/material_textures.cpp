@@ -50,7 +50,8 @@ uint32_t MaterialTextureReader::loadFile(const JsonReader& fileField, bool srgb)
     fs::path file = m_baseDir / name;
     if (auto problem = openProblem(file)) fileField.fail("cannot open \"" + file.string() + "\" (" + *problem + ")");
     if (!allowAnyPath() && !isInsideFolder(file, m_baseDir))
-        fileField.fail("refusing to read \"" + name + "\": it is outside the scene's folder (--allow-any-path reads it)");
+        fileField.fail("refusing to read \"" + name +
+                       "\": it is outside the scene's folder (--allow-any-path reads it)");
     std::error_code ec;
     fs::path resolved = fs::weakly_canonical(file, ec);
     std::string key = ec ? file.string() : resolved.string();

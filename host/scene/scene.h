@@ -80,9 +80,9 @@ enum class TextureSlot { Kd, Ks, KsX, KsY };
 // texture at the point's (u, v), channel `channel` alone for a number field.
 struct MaterialTexture {
     TextureSlot slot = TextureSlot::Kd;
-    uint32_t texture = 0;         // index into Scene::textures
-    glm::vec3 scale{1.0f};        // a number field uses scale.x
-    uint32_t channel = 0;         // number fields: which channel (0 = R ... 3 = A)
+    uint32_t texture = 0;   // index into Scene::textures
+    glm::vec3 scale{1.0f};  // a number field uses scale.x
+    uint32_t channel = 0;   // number fields: which channel (0 = R ... 3 = A)
 };
 
 struct Material {
@@ -146,7 +146,7 @@ struct Scene {
     std::vector<Material> materials;  // index 0 is always the default diffuse 0.8
     std::vector<Shape> shapes;
     std::vector<Light> lights;
-    std::vector<Texture> textures;   // every distinct (file, decoding) the materials use
+    std::vector<Texture> textures;  // every distinct (file, decoding) the materials use
     // One-line notes for the user (stderr unless --quiet), e.g. that an unlit glTF model
     // is lit by a white environment instead.
     std::vector<std::string> notes;

@@ -30,9 +30,9 @@ using uint = std::uint32_t;
 #define BINDING_MESH_TABLE 8   // AliasEntry[]: mesh-light triangles (item = primitive index)
 #define BINDING_RAY_COUNT 9    // uint: rays traced, when SPEC_COUNT_RAYS is set
 #define BINDING_PRIMITIVE_TEXELS 10  // the same Primitive[] as a texel buffer: traversal
-#define BINDING_MATERIAL_TEXTURES 11 // texel buffer: which fields of each material are textured
-#define BINDING_TEXTURE_TEXELS 12    // texel buffer: the texels of every texture
-#define BINDING_UVS 13               // TriangleUvs[] per primitive in leaf order (textured scenes)
+#define BINDING_MATERIAL_TEXTURES 11  // texel buffer: which fields of each material are textured
+#define BINDING_TEXTURE_TEXELS 12     // texel buffer: the texels of every texture
+#define BINDING_UVS 13                // TriangleUvs[] per primitive in leaf order (textured scenes)
 #define BINDING_COUNT 14
 
 // ---- BVH ------------------------------------------------------------------------------
@@ -235,7 +235,7 @@ PENUMBRA_CONST uint SAMPLER_SOBOL = 1u;        // padded Owen-scrambled Sobol' (
 #define SPEC_SAMPLER 8           // SAMPLER_*
 #define SPEC_QUAD_SAMPLING 9     // QUAD_*
 #define SPEC_TRIANGLE_SAMPLING 10  // TRIANGLE_*
-#define SPEC_TEXTURES 11         // 1: some material is textured (uvs computed, textures read)
+#define SPEC_TEXTURES 11           // 1: some material is textured (uvs computed, textures read)
 #define SPEC_COUNT 12
 
 // Scene feature bits: bit FEATURE_PRIMITIVE + PRIM_*, FEATURE_LIGHT + LIGHT_*,
