@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include <glm/gtc/packing.hpp>
 #include <vulkan/vulkan.h>
+#include <glm/gtc/packing.hpp>
 
 #include "gpu/buffer.h"
 #include "gpu/context.h"
@@ -142,8 +142,8 @@ public:
         moduleInfo.codeSize = code.size() * 4;
         moduleInfo.pCode = code.data();
         vkCheck(vkCreateShaderModule(device, &moduleInfo, nullptr, &m_module), "create shader module");
-        const VkDescriptorType textureType =
-            image ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+        const VkDescriptorType textureType = image ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
+                                                   : VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
         VkDescriptorSetLayoutBinding bindings[3] = {
             {0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
             {BINDING_TEXTURE_TEXELS, textureType, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
@@ -169,8 +169,8 @@ public:
         vkCheck(vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &pipelineInfo, nullptr, &m_pipeline),
                 "create compute pipeline");
 
-        VkDescriptorPoolSize sizes[3] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1}, {textureType, 1},
-                                         {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 1}};
+        VkDescriptorPoolSize sizes[3] = {
+            {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1}, {textureType, 1}, {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 1}};
         VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
         poolInfo.maxSets = 1;
         poolInfo.poolSizeCount = 3;
@@ -275,7 +275,9 @@ int main(int argc, char** argv) {
                     info.driverName.c_str(), info.driverInfo.c_str(), loadAverage().c_str());
         std::printf("%u invocations x %u dependent lookups per run, %d runs alternating, medians\n\n", invocations,
                     steps, runs);
-        std::printf("| texture | (a) sampled image: M lookups/s | (b) texel buffer, bilinear in shader: M lookups/s | b / a | max |a - b|, first lookup |\n");
+        std::printf(
+            "| texture | (a) sampled image: M lookups/s | (b) texel buffer, bilinear in shader: M lookups/s | b / a | "
+            "max |a - b|, first lookup |\n");
         std::printf("|---|---|---|---|---|\n");
         for (uint32_t size : {64u, 2048u}) {
             // Random RGBA in [0, 1) as half floats: the texture both variants read.
