@@ -41,6 +41,7 @@ std::vector<uint32_t> KernelOptions::specialization() const {
     values[SPEC_SAMPLER] = uint32_t(sampler);
     values[SPEC_QUAD_SAMPLING] = uint32_t(direct.quadSampling);
     values[SPEC_TRIANGLE_SAMPLING] = uint32_t(direct.triangleSampling);
+    values[SPEC_TEXTURES] = textures;
     return values;
 }
 
@@ -77,6 +78,7 @@ KernelOptions makeKernelOptions(const Scene& scene, const SceneArrays& arrays) {
     o.integrator = scene.integrator;
     o.sampler = scene.sampler.type;
     o.sceneFeatures = sceneFeatures(arrays);
+    o.textures = arrays.textures.textured ? 1u : 0u;
     return o;
 }
 

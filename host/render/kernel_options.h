@@ -16,6 +16,7 @@ struct KernelOptions {
     SamplerType sampler = SamplerType::Sobol;
     uint32_t sceneFeatures = gpu::FEATURES_ALL;
     uint32_t countRays = 0;
+    uint32_t textures = 0;  // 1: some material is textured
 
     // Values in constant_id order, for gpu::Pipeline.
     std::vector<uint32_t> specialization() const;

@@ -32,6 +32,8 @@ std::vector<VkDescriptorType> renderBindings() {
     types[BINDING_LIGHTS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
     types[BINDING_LIGHT_TABLE] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
     types[BINDING_MESH_TABLE] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+    types[BINDING_MATERIAL_TEXTURES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+    types[BINDING_TEXTURE_TEXELS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
     return types;
 }
 
@@ -61,6 +63,11 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
     m_lightTable = Buffer::fromVector(context, m_arrays.lightTable, "light selection table", texels);
     m_meshTable = Buffer::fromVector(context, m_arrays.meshTable, "mesh light table", texels);
     m_rayCount = Buffer(context, sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    // Untextured scenes get 16-byte placeholders: the kernel never reads them (hasTextures()).
+    const TextureArrays& textures = m_arrays.textures;
+    m_materialTextures = Buffer::fromVector(context, textures.materialTextures, "material textures", texels);
+    m_textureTexels = Buffer::fromVector(context, textures.texels, "texture texels", texels);
+    m_uvs = Buffer::fromVector(context, textures.uvs, "texture coordinates");
 
     m_kernel = createKernel(m_options);
     reset();
@@ -83,6 +90,9 @@ std::unique_ptr<gpu::Kernel> Renderer::createKernel(const KernelOptions& options
     kernel->bind(BINDING_LIGHT_TABLE, m_lightTable);
     kernel->bind(BINDING_MESH_TABLE, m_meshTable);
     kernel->bind(BINDING_RAY_COUNT, m_rayCount);
+    kernel->bind(BINDING_MATERIAL_TEXTURES, m_materialTextures);
+    kernel->bind(BINDING_TEXTURE_TEXELS, m_textureTexels);
+    kernel->bind(BINDING_UVS, m_uvs);
     return kernel;
 }
 

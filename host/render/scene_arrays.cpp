@@ -53,6 +53,7 @@ SceneArrays buildSceneArrays(const Scene& scene, const BvhOptions& bvhOptions) {
 
     ShapePrimitives shapes = flattenShapes(scene, out);
     buildBvhAndMeshTables(std::move(shapes), bvhOptions, out);
+    out.textures = buildTextureArrays(scene, out.bvh);
     setBounds(out);
 
     buildLightSelection(scene.integrator.lightSelection, out);

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "bvh/bvh.h"
+#include "render/texture_arrays.h"
 #include "scene/scene.h"
 #include "shared/types.h"
 
@@ -22,6 +23,7 @@ struct SceneArrays {
     uint32_t continuousTableOffset = 0, continuousCount = 0;
     float deltaScale = 0.0f, continuousScale = 0.0f;
     uint32_t environmentLight = gpu::NO_LIGHT;
+    TextureArrays textures;                     // material textures and mesh uvs
     glm::vec3 boundsCenter{0.0f};               // bounding sphere of the geometry
     float boundsRadius = 0.0f;
 };

@@ -19,6 +19,7 @@ struct GltfImport {
     std::vector<Shape> shapes;
     std::vector<int> shapeMaterials;
     std::vector<Material> materials;  // one diffuse material per glTF material
+    std::vector<Texture> textures;    // the materials' textures (MaterialTexture::texture indexes this)
     std::vector<Light> lights;        // KHR_lights_punctual point and directional lights
     std::optional<Camera> camera;     // the first perspective camera in the node hierarchy
     std::vector<std::string> notes;   // skipped primitives, degenerate triangles, ...

@@ -1,5 +1,6 @@
 // glTF 2.0 import (.gltf and .glb) through tinygltf: triangle primitives with node
-// transforms, base colour and emission of materials, KHR_lights_punctual lights and the
+// transforms and TEXCOORD_0, base colour (factor and texture, gltf_textures.cpp) and
+// emission of materials, KHR_lights_punctual lights and the
 // first camera. Every index, offset and count from the file is bounds-checked here, since
 // tinygltf leaves most of that to its caller. Joining the result to a Scene is load_json.cpp's.
 #include <algorithm>
@@ -17,6 +18,7 @@
 #include "core/errors.h"
 #include "scene/gltf_import.h"
 #include "scene/gltf_input_rules.h"
+#include "scene/gltf_textures.h"
 #include "scene/input_file.h"
 #include "scene/limits.h"
 
@@ -39,11 +41,6 @@ std::string firstLine(const std::string& text) {
 }
 
 std::string at(const char* array, size_t index) { return std::string(array) + "[" + std::to_string(index) + "]"; }
-
-// Textures are optional in SCENE_FORMAT.md and not used: skip decoding images.
-bool skipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int, void*) {
-    return true;
-}
 
 // A bounds-checked view of an accessor's elements (component type and count as stored).
 struct AccessorView {
@@ -89,7 +86,10 @@ struct AccessorView {
 
 class Importer {
 public:
-    Importer(const tinygltf::Model& model, std::string label) : m_model(model), m_label(std::move(label)) {}
+    Importer(const tinygltf::Model& model, std::string label, const GltfImageBytes& images)
+        : m_model(model),
+          m_label(std::move(label)),
+          m_textures(model, m_label, images, m_result.textures, m_result.notes) {}
 
     GltfImport run();
 
@@ -115,6 +115,7 @@ private:
     const tinygltf::Model& m_model;
     std::string m_label;
     GltfImport m_result;
+    GltfTextureReader m_textures;       // after m_label and m_result, which it refers to
     std::vector<glm::vec3> m_emission;  // per glTF material: emissiveFactor * emissiveStrength
     std::vector<bool> m_doubleSided;
     size_t m_degenerate = 0, m_nonTriangles = 0, m_noPositions = 0, m_badNormals = 0;
@@ -257,6 +258,8 @@ void Importer::loadMaterials() {
         Material m;
         m.name = m_label + ":" + (mat.name.empty() ? path : mat.name);
         m.kd = glm::clamp(glm::vec3(albedo), 0.0f, 1.0f);
+        // A diffuse material takes the base colour texture as its albedo (the factor its scale).
+        if (auto texture = m_textures.baseColor(mat, path)) m.textures.push_back(*texture);
         m_result.materials.push_back(m);
         m_emission.push_back(glm::vec3(emission));
         m_doubleSided.push_back(mat.doubleSided);
@@ -296,6 +299,20 @@ void Importer::addPrimitive(const tinygltf::Primitive& prim, const glm::dmat4& w
             double len = glm::length(n);
             if (!(len > 1e-30) || !std::isfinite(len)) { shape.normals.clear(); ++m_badNormals; break; }
             shape.normals[i] = glm::vec3(n / len);
+        }
+    }
+    if (auto uv = prim.attributes.find("TEXCOORD_0"); uv != prim.attributes.end()) {
+        // glTF's uv has v = 0 at the top of the image, as SCENE_FORMAT.md's textures do.
+        AccessorView tv = view(uv->second, path + ".attributes.TEXCOORD_0", TINYGLTF_TYPE_VEC2);
+        if (tv.count != pos.count)
+            fail(path + ".attributes.TEXCOORD_0",
+                 std::to_string(tv.count) + " uvs for " + std::to_string(pos.count) + " positions");
+        shape.uvs.resize(tv.count);
+        for (size_t i = 0; i < tv.count; ++i) {
+            glm::dvec2 t(tv.get(i, 0), tv.get(i, 1));
+            if (!std::isfinite(t.x + t.y) || std::max(std::fabs(t.x), std::fabs(t.y)) > 1e30)
+                fail(path + ".attributes.TEXCOORD_0", "uv " + std::to_string(i) + " is not finite");
+            shape.uvs[i] = glm::vec2(t);
         }
     }
 
@@ -519,7 +536,9 @@ GltfImport importGltf(const fs::path& file, const std::string& label) {
     checkGltfDocument(binary ? glbJsonChunk(bytes, label) : std::string_view(bytes), label);
 
     tinygltf::TinyGLTF loader;
-    loader.SetImageLoader(skipImage, nullptr);
+    // Images are kept undecoded here and decoded by gltf_textures.cpp when a material uses them.
+    GltfImageBytes images;
+    loader.SetImageLoader(keepGltfImageBytes, &images);
     GltfFileAccess access{file.parent_path(), {}, {}};
     loader.SetFsCallbacks(confinedFsCallbacks(access));
     tinygltf::Model model;
@@ -540,7 +559,7 @@ GltfImport importGltf(const fs::path& file, const std::string& label) {
                             "\": it is outside the model's folder (--allow-any-path reads it)");
     if (!access.failed.empty()) throwInputError(label, "", access.failed);
     if (!ok) throwInputError(label, "", err.empty() ? "not a valid glTF file" : firstLine(err));
-    return Importer(model, label).run();
+    return Importer(model, label, images).run();
 }
 
 }  // namespace penumbra

@@ -15,6 +15,7 @@
 #include "scene/json_reader.h"
 #include "scene/limits.h"
 #include "scene/load.h"
+#include "scene/material_textures.h"
 
 namespace penumbra {
 namespace {
@@ -59,7 +60,11 @@ float meshArea(const Shape& s) {
 class SceneBuilder {
 public:
     SceneBuilder(Scene& scene, std::string label, fs::path baseDir, bool modelAlone)
-        : m_scene(scene), m_label(std::move(label)), m_baseDir(std::move(baseDir)), m_modelAlone(modelAlone) {}
+        : m_scene(scene),
+          m_label(std::move(label)),
+          m_baseDir(std::move(baseDir)),
+          m_modelAlone(modelAlone),
+          m_textures(scene, m_baseDir) {}
 
     void build(const json& doc) {
         JsonReader root(doc, m_label);
@@ -144,7 +149,10 @@ private:
             JsonReader m = r->at(name.c_str());
             std::string type = m.has("type") ? m.at("type").choice({"diffuse", "phong"}) : "diffuse";
             Material mat{name};
-            auto unitColor = [&](const char* key, glm::vec3 fallback) {
+            // A texture object stands for its scale here: the value where the texture reads 1.
+            auto unitColor = [&](const char* key, glm::vec3 fallback, TextureSlot slot) {
+                if (m.has(key) && MaterialTextureReader::isTexture(m.at(key)))
+                    return m_textures.colorField(m.at(key), slot, mat);
                 glm::vec3 c = m.colorOr(key, fallback);
                 if (c.x > 1.0f || c.y > 1.0f || c.z > 1.0f) m.at(key).fail("components must be in [0, 1]");
                 return c;
@@ -152,16 +160,18 @@ private:
             if (type == "diffuse") {
                 m.expectKeys({"type", "albedo"}, "a diffuse material");
                 mat.type = MaterialType::Diffuse;
-                mat.kd = unitColor("albedo", glm::vec3(0.8f));
+                mat.kd = unitColor("albedo", glm::vec3(0.8f), TextureSlot::Kd);
             } else {
                 m.expectKeys({"type", "kd", "ks", "exponent"}, "a phong material");
                 mat.type = MaterialType::Phong;
-                mat.kd = unitColor("kd", glm::vec3(0.5f));
-                mat.ks = unitColor("ks", glm::vec3(0.5f));
+                mat.kd = unitColor("kd", glm::vec3(0.5f), TextureSlot::Kd);
+                mat.ks = unitColor("ks", glm::vec3(0.5f), TextureSlot::Ks);
                 mat.exponent = m.numberOr("exponent", 20.0f);
                 if (mat.exponent < 0.0f) m.at("exponent").fail("must be >= 0");
                 // kd + ks <= 1 keeps the normalized Phong BRDF from reflecting more than it
                 // receives (Lafortune & Willems 1994); a small tolerance absorbs decimal rounding.
+                // Textured fields are checked by their scales (textures/textures.glsl keeps
+                // kd + ks <= 1 where a texture would pass it).
                 for (int c = 0; c < 3; ++c)
                     if (mat.kd[c] + mat.ks[c] > 1.0f + 1e-6f)
                         m.fail("kd + ks exceeds 1 in the " + std::string(c == 0 ? "red" : c == 1 ? "green" : "blue") +
@@ -186,7 +196,9 @@ private:
         if (type == "sphere") r.expectKeys({"type", "center", "radius", "material", "emission", "power"}, "a sphere");
         if (type == "quad") r.expectKeys({"type", "origin", "edge_u", "edge_v", "material", "emission", "power", "two_sided"}, "a quad");
         if (type == "mesh")
-            r.expectKeys({"type", "positions", "indices", "normals", "material", "emission", "power", "two_sided"}, "a mesh");
+            r.expectKeys(
+                {"type", "positions", "indices", "normals", "uvs", "material", "emission", "power", "two_sided"},
+                "a mesh");
         if (type == "gltf") r.expectKeys({"type", "file", "material", "emission", "power", "two_sided"}, "a gltf shape");
         if (r.has("emission") && r.has("power")) r.fail("has both \"emission\" and \"power\"; give one");
 
@@ -269,6 +281,14 @@ private:
                 s.normals.push_back(normal / len);
             }
         }
+        if (auto uvs = r.find("uvs")) {
+            // Any finite values: outside [0, 1] the textures repeat.
+            std::vector<float> uv = uvs->numbers();
+            if (uv.size() != 2 * vertices)
+                uvs->fail("has " + std::to_string(uv.size()) + " numbers, expected 2 per vertex (" +
+                          std::to_string(2 * vertices) + ")");
+            for (size_t v = 0; v < vertices; ++v) s.uvs.emplace_back(uv[2 * v], uv[2 * v + 1]);
+        }
     }
 
     void readGltfShape(const JsonReader& r, const Shape& settings) {
@@ -286,7 +306,20 @@ private:
         // The file's materials join the scene unless the shape names its own.
         uint32_t firstMaterial = uint32_t(m_scene.materials.size());
         bool ownMaterial = r.has("material");
-        if (!ownMaterial) m_scene.materials.insert(m_scene.materials.end(), model.materials.begin(), model.materials.end());
+        if (!ownMaterial) {
+            // The model's textures join the scene's table (shared with any other user of
+            // the same image, counted against the scene's limits).
+            std::vector<uint32_t> textureIndex;
+            for (Texture& t : model.textures) {
+                std::string key = t.file;
+                bool srgb = t.srgb;
+                textureIndex.push_back(m_textures.table().add(
+                    key, srgb, [&] { return std::move(t); }, [&](const std::string& why) { fileField.fail(why); }));
+            }
+            for (Material& m : model.materials)
+                for (MaterialTexture& mt : m.textures) mt.texture = textureIndex[mt.texture];
+            m_scene.materials.insert(m_scene.materials.end(), model.materials.begin(), model.materials.end());
+        }
         glm::vec3 emission = r.has("emission") ? radiometric(r.at("emission"), r.at("emission").color(), "radiance")
                                                : glm::vec3(0.0f);
         if (auto p = r.find("power")) {
@@ -456,6 +489,7 @@ private:
     bool m_modelAlone;  // a glTF model given on its own, wrapped in a scene document
     std::map<std::string, uint32_t> m_materialIndex;
     std::optional<Camera> m_modelCamera;
+    MaterialTextureReader m_textures;  // after m_baseDir, which it is built from
 };
 
 }  // namespace

@@ -67,12 +67,35 @@ struct IntegratorSettings {
 
 enum class MaterialType { Diffuse, Phong };
 
+// Which value of a material a texture replaces: the GPU Material's slots (TEXTURE_SLOT_*
+// in shaders/shared/types.h say which material field each one is).
+enum class TextureSlot { Kd, Ks, KsX, KsY };
+
+// A textured field (SCENE_FORMAT.md "Textures (v2)"): the value is scale times the
+// texture at the point's (u, v), channel `channel` alone for a number field.
+struct MaterialTexture {
+    TextureSlot slot = TextureSlot::Kd;
+    uint32_t texture = 0;   // index into Scene::textures
+    glm::vec3 scale{1.0f};  // a number field uses scale.x
+    uint32_t channel = 0;   // number fields: which channel (0 = R ... 3 = A)
+};
+
 struct Material {
     std::string name;
     MaterialType type = MaterialType::Diffuse;
     glm::vec3 kd{0.8f};  // diffuse: albedo
     glm::vec3 ks{0.0f};
     float exponent = 20.0f;
+    std::vector<MaterialTexture> textures;  // fields given as textures, each slot at most once
+};
+
+// A decoded texture image: linear RGBA, already rounded to the half floats the GPU holds
+// (render/texture_arrays.h), row 0 = the image's top row = v 0.
+struct Texture {
+    std::string file;   // as resolved from the scene, for messages
+    bool srgb = false;  // 8/16-bit data was sRGB-decoded (colour fields)
+    uint32_t width = 0, height = 0;
+    std::vector<uint16_t> texels;  // width * height * 4 half floats (RGBA), row-major
 };
 
 enum class ShapeType { Sphere, Quad, Mesh };
@@ -93,6 +116,7 @@ struct Shape {
     std::vector<glm::vec3> positions;
     std::vector<uint32_t> indices;
     std::vector<glm::vec3> normals;
+    std::vector<glm::vec2> uvs;  // per vertex or empty (then uv 0 everywhere)
 
     bool isEmitter() const { return emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f; }
 };
@@ -127,6 +151,7 @@ struct Scene {
     std::vector<Material> materials;  // index 0 is always the default diffuse 0.8
     std::vector<Shape> shapes;
     std::vector<Light> lights;
+    std::vector<Texture> textures;  // every distinct (file, decoding) the materials use
     // One-line notes for the user (stderr unless --quiet), e.g. that an unlit glTF model
     // is lit by a white environment instead.
     std::vector<std::string> notes;

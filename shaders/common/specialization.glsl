@@ -18,12 +18,16 @@ layout(constant_id = SPEC_SCENE_FEATURES) const uint kSceneFeatures = FEATURES_A
 layout(constant_id = SPEC_SAMPLER) const uint kSampler = SAMPLER_SOBOL;
 layout(constant_id = SPEC_QUAD_SAMPLING) const uint kQuadSampling = QUAD_SOLID_ANGLE;
 layout(constant_id = SPEC_TRIANGLE_SAMPLING) const uint kTriangleSampling = TRIANGLE_AREA;
+// Off unless set: kernels without the texture bindings (the shader tests) never read them.
+layout(constant_id = SPEC_TEXTURES) const uint kTextures = 0u;
 
 // Whether the scene has a primitive / light / material of this type; false compiles the
 // code that handles it out of the kernel.
 bool hasPrimitive(uint type) { return (kSceneFeatures & (1u << (FEATURE_PRIMITIVE + type))) != 0u; }
 bool hasLight(uint type) { return (kSceneFeatures & (1u << (FEATURE_LIGHT + type))) != 0u; }
 bool hasMaterial(uint type) { return (kSceneFeatures & (1u << (FEATURE_MATERIAL + type))) != 0u; }
+// Whether any material is textured; false compiles texture coordinates and lookups out.
+bool hasTextures() { return kTextures != 0u; }
 
 // Type tests that are false at compile time for kinds the scene lacks.
 bool lightIs(Light light, uint type) { return hasLight(type) && light.type == type; }

@@ -1,6 +1,7 @@
 // What a closest hit means for shading: position, geometric (front) normal, interpolated
-// shading normal, material and light of the primitive; and where to start the next ray
-// from that point. Declares the per-vertex normal buffer; traversal is in bvh.glsl.
+// shading normal, texture coordinates, material and light of the primitive; and where to
+// start the next ray from that point. Declares the per-vertex normal and uv buffers;
+// traversal is in bvh.glsl.
 //
 // Normals are NOT flipped toward the viewer here: geometricNormal is always the front
 // normal of SCENE_FORMAT.md (triangles: counter-clockwise, normalize(cross(v1-v0, v2-v0));
@@ -16,6 +17,9 @@
 // Per-vertex shading normals of triangles whose typeAndNormals >> 2 is non-zero
 // (normals[(typeAndNormals >> 2) - 1]).
 layout(std430, binding = BINDING_NORMALS) readonly restrict buffer TriangleNormalsBuffer { TriangleNormals normals[]; };
+// Per-vertex texture coordinates of every primitive (leaf order; zero for meshes without
+// `uvs`, unused for quads and spheres). Bound and read only when the scene is textured.
+layout(std430, binding = BINDING_UVS) readonly restrict buffer TriangleUvsBuffer { TriangleUvs uvs[]; };
 
 struct SurfacePoint {
     vec3 position;         // on the primitive (world space)
@@ -24,7 +28,15 @@ struct SurfacePoint {
     uint material;         // index into materials[]
     uint light;            // index into lights[], NO_LIGHT if the primitive does not emit
     uint primitiveType;    // PRIM_*
+    // Texture coordinates (SCENE_FORMAT.md "Textures (v2)"): mesh `uvs` interpolated, quad
+    // (s, t), sphere (atan2(x, -z) / 2 pi wrapped to [0, 1), acos(y) / pi) of the unit
+    // direction from the centre. Computed only in textured scenes (hasTextures()), else 0:
+    // an untextured kernel pays nothing for them.
+    vec2 uv;
 };
+
+const float SURFACE_INV_TWO_PI = 0.15915494309189535;
+const float SURFACE_INV_PI = 0.3183098861837907;
 
 // The surface point of `hit` (which must be a hit: hit.primitive != NO_HIT) for the ray
 // origin + t dir that found it. Positions come from the primitive's own parameters
@@ -36,15 +48,24 @@ SurfacePoint surfaceAt(Hit hit, vec3 origin, vec3 dir) {
     sp.material = primitive.material;
     sp.light = primitive.light;
     sp.primitiveType = primitive.typeAndNormals & PRIM_TYPE_MASK;
+    sp.uv = vec2(0.0);
     if (hasPrimitive(PRIM_SPHERE) && sp.primitiveType == PRIM_SPHERE) {
         vec3 outward = normalize(origin + hit.t * dir - primitive.p0);
         sp.position = primitive.p0 + primitive.p1.x * outward;
         sp.geometricNormal = outward;
         sp.shadingNormal = outward;
+        if (hasTextures()) {
+            // atan(y, x) is in [-pi, pi]: shift negative angles by one turn; u = 1 only
+            // where rounding lands exactly on the seam, which wraps to 0.
+            float u = atan(outward.x, -outward.z) * SURFACE_INV_TWO_PI;
+            u = u < 0.0 ? u + 1.0 : u;
+            sp.uv = vec2(u >= 1.0 ? 0.0 : u, acos(clamp(outward.y, -1.0, 1.0)) * SURFACE_INV_PI);
+        }
     } else if (hasPrimitive(PRIM_QUAD) && sp.primitiveType == PRIM_QUAD) {
         sp.position = primitive.p0 + hit.uv.x * primitive.p1 + hit.uv.y * primitive.p2;
         sp.geometricNormal = normalize(cross(primitive.p1, primitive.p2));
         sp.shadingNormal = sp.geometricNormal;
+        sp.uv = hit.uv;  // (s, t)
     } else {
         vec3 b = vec3(1.0 - hit.uv.x - hit.uv.y, hit.uv.x, hit.uv.y);
         sp.position = b.x * primitive.p0 + b.y * primitive.p1 + b.z * primitive.p2;
@@ -56,6 +77,10 @@ SurfacePoint surfaceAt(Hit hit, vec3 origin, vec3 dir) {
             vec3 n = b.x * tn.n0.xyz + b.y * tn.n1.xyz + b.z * tn.n2.xyz;
             float len2 = dot(n, n);
             if (len2 > 0.0) sp.shadingNormal = n * inversesqrt(len2);  // degenerate: keep geometric
+        }
+        if (hasTextures()) {
+            TriangleUvs t = uvs[hit.primitive];
+            sp.uv = b.x * t.uv01.xy + b.y * t.uv01.zw + b.z * t.uv2.xy;
         }
     }
     return sp;

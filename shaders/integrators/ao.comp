@@ -13,6 +13,7 @@
 #include "sampling/warp.glsl"
 
 #include "bsdf/materials.glsl"
+#include "textures/textures.glsl"
 
 void main() {
     uvec2 pixel;
@@ -30,7 +31,7 @@ void main() {
     // Two-sided shading: use the side facing the viewer.
     vec3 ng = dot(sp.geometricNormal, dir) < 0.0 ? sp.geometricNormal : -sp.geometricNormal;
     vec3 ns = dot(sp.shadingNormal, ng) < 0.0 ? -sp.shadingNormal : sp.shadingNormal;
-    vec3 albedo = loadMaterial(sp.material).kd;
+    vec3 albedo = applyTextures(loadMaterial(sp.material), sp.material, sp.uv).kd;
 
     vec2 u = rand2(rng);
     vec3 local;

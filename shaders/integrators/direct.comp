@@ -22,6 +22,7 @@
 #include "integrators/mis.glsl"
 
 #include "bsdf/materials.glsl"
+#include "textures/textures.glsl"
 
 // How area lights are sampled, for sampleLight and lightPdf alike.
 LightSamplingModes lightModes() {
@@ -199,7 +200,7 @@ void main() {
     // A shading normal facing away from the viewer would reflect nothing: fall back.
     if (dot(s.ns, s.wo) <= 0.0) s.ns = s.ng;
     s.origin = offsetRayOrigin(s.x, s.ng);
-    s.m = loadMaterial(sp.material);
+    s.m = applyTextures(loadMaterial(sp.material), sp.material, sp.uv);
     L += reflectedRadiance(s, rng);
     accumulate(pixel, L);
 }

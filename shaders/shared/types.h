@@ -30,7 +30,10 @@ using uint = std::uint32_t;
 #define BINDING_MESH_TABLE 8   // AliasEntry[] as a texel buffer: mesh-light triangles (item = primitive index)
 #define BINDING_RAY_COUNT 9    // uint: rays traced, when SPEC_COUNT_RAYS is set
 #define BINDING_PRIMITIVE_TEXELS 10  // the same Primitive[] as a texel buffer: traversal
-#define BINDING_COUNT 11
+#define BINDING_MATERIAL_TEXTURES 11  // texel buffer: which fields of each material are textured
+#define BINDING_TEXTURE_TEXELS 12     // texel buffer: the texels of every texture
+#define BINDING_UVS 13                // TriangleUvs[] per primitive in leaf order (textured scenes)
+#define BINDING_COUNT 14
 
 // ---- BVH ------------------------------------------------------------------------------
 // Flattened depth-first: an interior node's left child is the next node, `offset` is the
@@ -113,6 +116,43 @@ struct Material {
     float exponent;
 };
 PENUMBRA_CONST uint MATERIAL_TEXELS = 2u;  // RGBA32UI texels per Material (bsdf/materials.glsl)
+
+// ---- Textures (SCENE_FORMAT.md "Textures (v2)"; shaders/textures/textures.glsl) ----------
+// A textured material field replaces one value slot of the Material above with
+// scale x texture(u, v), clamped to [0, 1] (the range of every texturable field):
+//   TEXTURE_SLOT_KD    kd.rgb   diffuse `albedo`, phong `kd`, pbr `base_color`
+//   TEXTURE_SLOT_KS    ks.rgb   phong `ks`
+//   TEXTURE_SLOT_KS_X  ks.x     pbr `metallic`   (one channel of the texture)
+//   TEXTURE_SLOT_KS_Y  ks.y     pbr `roughness`  (one channel of the texture)
+// A new texturable field names its slot here and in host/scene (TextureSlot); the BRDF
+// code never sees textures, only the Material they produced.
+PENUMBRA_CONST uint TEXTURE_SLOT_KD = 0u;
+PENUMBRA_CONST uint TEXTURE_SLOT_KS = 1u;
+PENUMBRA_CONST uint TEXTURE_SLOT_KS_X = 2u;
+PENUMBRA_CONST uint TEXTURE_SLOT_KS_Y = 3u;
+
+// BINDING_MATERIAL_TEXTURES, RGBA32UI texels: texel i (i < material count) is material i's
+// (first texel of its texture references, reference count, 0, 0); a reference is two
+// texels, the TextureRef below. BINDING_TEXTURE_TEXELS, RGBA32UI texels: every texture's
+// RGBA texels as half floats, row-major from the top row, two per buffer texel (texel j is
+// (x, y) of buffer texel j/2 for even j, (z, w) for odd j; each pair of halves packed as
+// packHalf2x16(r, g), packHalf2x16(b, a)). Textures follow each other without padding.
+struct TextureRef {
+    vec3 scale;        // the field's scale S (a number field: scale.x)
+    uint slotChannel;  // TEXTURE_SLOT_* | channel << 8 (number slots: 0 = R ... 3 = A)
+    uint firstTexel;   // of the texture in BINDING_TEXTURE_TEXELS, in texels
+    uint width;
+    uint height;
+    uint pad;
+};
+PENUMBRA_CONST uint TEXTURE_REF_TEXELS = 2u;
+
+// Per-vertex texture coordinates of a triangle (mesh `uvs`; zero without them), indexed
+// by the primitive's leaf-order index. Quads and spheres compute theirs (geometry/surface.glsl).
+struct TriangleUvs {
+    vec4 uv01;  // (u0, v0, u1, v1)
+    vec4 uv2;   // (u2, v2, 0, 0)
+};
 
 // ---- Lights -----------------------------------------------------------------------------
 PENUMBRA_CONST uint LIGHT_POINT = 0u;        // position, emission = intensity (W/sr)
@@ -203,7 +243,8 @@ PENUMBRA_CONST uint SAMPLER_SOBOL = 1u;        // padded Owen-scrambled Sobol' (
 #define SPEC_SAMPLER 8           // SAMPLER_*
 #define SPEC_QUAD_SAMPLING 9     // QUAD_*
 #define SPEC_TRIANGLE_SAMPLING 10  // TRIANGLE_*
-#define SPEC_COUNT 11
+#define SPEC_TEXTURES 11           // 1: some material is textured (uvs computed, textures read)
+#define SPEC_COUNT 12
 
 // Scene feature bits: bit FEATURE_PRIMITIVE + PRIM_*, FEATURE_LIGHT + LIGHT_*,
 // FEATURE_MATERIAL + MATERIAL_* is set when the scene has such a primitive, light or

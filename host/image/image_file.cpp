@@ -1,0 +1,190 @@
+// Image files as linear float RGBA (see image_file.h): the format from the magic bytes,
+// the size from the header (refused past the limits before decoding), then stb_image for
+// PNG, JPEG and HDR, exr.cpp's readExr for OpenEXR.
+#include "image/image_file.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <memory>
+
+#include "core/errors.h"
+#include "image/image.h"
+
+// Static, so that another copy in the same program (the tests have one, tinygltf may
+// bring one) never clashes with ours; only the formats Penumbra reads are compiled in.
+// stb_image refuses a side above STBI_MAX_DIMENSIONS itself as well.
+#define STB_IMAGE_STATIC
+#define STB_IMAGE_IMPLEMENTATION
+#define STBI_ONLY_PNG
+#define STBI_ONLY_JPEG
+#define STBI_ONLY_HDR
+#define STBI_NO_STDIO
+#define STBI_MAX_DIMENSIONS 16384
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wunused-function"
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+#pragma GCC diagnostic ignored "-Wsign-compare"
+#include <stb_image.h>
+#pragma GCC diagnostic pop
+
+namespace penumbra {
+namespace {
+
+static_assert(STBI_MAX_DIMENSIONS == kMaxImageSide);
+
+std::string readFileBytes(const std::filesystem::path& path, const std::string& label) {
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) throwInputError(label, "", "no such file");
+    if (std::filesystem::is_directory(path, ec)) throwInputError(label, "", "is a directory, not an image");
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throwInputError(label, "", std::string("cannot open: ") + std::strerror(errno));
+    std::string bytes;
+    char buffer[1 << 16];
+    while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
+        bytes.append(buffer, size_t(in.gcount()));
+        if (bytes.size() > kMaxImageFileBytes)
+            throwInputError(label, "", "file too large (more than " + std::to_string(kMaxImageFileBytes) + " bytes)");
+    }
+    if (in.bad()) throwInputError(label, "", std::string("read error: ") + std::strerror(errno));
+    return bytes;
+}
+
+bool startsWith(const std::string& bytes, const char* magic, size_t n) {
+    return bytes.size() >= n && std::memcmp(bytes.data(), magic, n) == 0;
+}
+
+void checkSize(int64_t width, int64_t height, const std::string& label) {
+    if (width <= 0 || height <= 0) throwInputError(label, "", "image has no pixels");
+    if (width > kMaxImageSide || height > kMaxImageSide || uint64_t(width) * uint64_t(height) > kMaxImagePixels)
+        throwInputError(label, "",
+                        "image is " + std::to_string(width) + "x" + std::to_string(height) +
+                            ", larger than the limit (each side <= 16384, at most 67108864 pixels)");
+}
+
+// stb's failure reason is a short phrase ("bad huffman code", "corrupt PNG").
+[[noreturn]] void stbFailed(const std::string& label, const char* what) {
+    const char* reason = stbi_failure_reason();
+    throwInputError(label, "", std::string("cannot decode ") + what + " image: " + (reason ? reason : "corrupt data"));
+}
+
+struct StbFree {
+    void operator()(void* p) const { stbi_image_free(p); }
+};
+
+ImageFile decodeStb(const std::string& bytes, const std::string& label, ImageFileFormat format, ColorDecode decode) {
+    const char* what = format == ImageFileFormat::Png ? "PNG" : format == ImageFileFormat::Jpeg ? "JPEG" : "HDR";
+    const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
+    if (bytes.size() > size_t(INT32_MAX)) throwInputError(label, "", "file too large");
+    const int length = int(bytes.size());
+    int w = 0, h = 0, n = 0;
+    // The format's own header reader: stbi_info_from_memory would go on to try every
+    // other format and replace the reason ("too large") by "unknown image type".
+    stbi__context context;
+    stbi__start_mem(&context, data, length);
+    int known = format == ImageFileFormat::Png    ? stbi__png_info(&context, &w, &h, &n)
+                : format == ImageFileFormat::Jpeg ? stbi__jpeg_info(&context, &w, &h, &n)
+                                                  : stbi__hdr_info(&context, &w, &h, &n);
+    if (!known) stbFailed(label, what);
+    checkSize(w, h, label);
+
+    ImageFile image;
+    image.width = uint32_t(w);
+    image.height = uint32_t(h);
+    image.format = format;
+    image.channels = uint32_t(n);
+    const size_t count = size_t(w) * size_t(h) * 4;
+    image.rgba.resize(count);
+    // Requesting 4 channels makes stb expand grey to RGB and add an opaque alpha.
+    if (format == ImageFileFormat::Hdr) {
+        std::unique_ptr<float, StbFree> pixels(stbi_loadf_from_memory(data, length, &w, &h, &n, 4));
+        if (!pixels) stbFailed(label, what);
+        std::memcpy(image.rgba.data(), pixels.get(), count * sizeof(float));
+    } else if (stbi_is_16_bit_from_memory(data, length)) {
+        std::unique_ptr<stbi_us, StbFree> pixels(stbi_load_16_from_memory(data, length, &w, &h, &n, 4));
+        if (!pixels) stbFailed(label, what);
+        for (size_t i = 0; i < count; ++i) image.rgba[i] = float(pixels.get()[i]) / 65535.0f;
+    } else {
+        std::unique_ptr<stbi_uc, StbFree> pixels(stbi_load_from_memory(data, length, &w, &h, &n, 4));
+        if (!pixels) stbFailed(label, what);
+        // 256 entries: the decoded value of every code, computed once.
+        float table[256];
+        for (int c = 0; c < 256; ++c)
+            table[c] = decode == ColorDecode::Srgb ? srgbToLinear(float(c) / 255.0f) : float(c) / 255.0f;
+        for (size_t i = 0; i < count; ++i)
+            image.rgba[i] = i % 4 == 3 ? float(pixels.get()[i]) / 255.0f : table[pixels.get()[i]];
+        return image;
+    }
+    if (format != ImageFileFormat::Hdr && decode == ColorDecode::Srgb)
+        for (size_t i = 0; i < count; ++i)
+            if (i % 4 != 3) image.rgba[i] = srgbToLinear(image.rgba[i]);
+    // Radiance HDR holds finite non-negative values by construction (RGBE); keep it so.
+    for (float& v : image.rgba)
+        if (!std::isfinite(v)) throwInputError(label, "", "image holds non-finite values");
+    return image;
+}
+
+ImageFile decodeExr(const std::filesystem::path& path, const std::string& label) {
+    Image exr;
+    try {
+        exr = readExr(path);
+    } catch (const InputError& e) {
+        // readExr names the path; the caller's label replaces it.
+        std::string message = e.what();
+        std::string prefix = path.string() + ": ";
+        if (message.rfind(prefix, 0) == 0) message = message.substr(prefix.size());
+        throwInputError(label, "", message);
+    }
+    checkSize(exr.width, exr.height, label);
+    ImageFile image;
+    image.width = exr.width;
+    image.height = exr.height;
+    image.format = ImageFileFormat::Exr;
+    image.channels = 3;
+    image.rgba.resize(size_t(exr.width) * exr.height * 4);
+    for (size_t i = 0; i < size_t(exr.width) * exr.height; ++i) {
+        for (int c = 0; c < 3; ++c) {
+            float v = exr.rgb[3 * i + c];
+            // EXR may hold NaN or infinity (half or float): data that would reach the
+            // accumulation buffer as NaN, so it is bad input.
+            if (!std::isfinite(v)) throwInputError(label, "", "image holds non-finite values (NaN or infinity)");
+            image.rgba[4 * i + c] = v;
+        }
+        image.rgba[4 * i + 3] = 1.0f;
+    }
+    return image;
+}
+
+}  // namespace
+
+float srgbToLinear(float encoded) {
+    // IEC 61966-2-1: linear segment below 0.04045, a 2.4 power curve above.
+    const double x = encoded;
+    return float(x <= 0.04045 ? x / 12.92 : std::pow((x + 0.055) / 1.055, 2.4));
+}
+
+ImageFile decodeImage(const std::string& bytes, const std::string& label, ColorDecode decode) {
+    try {
+        if (startsWith(bytes, "\x89PNG\r\n\x1a\n", 8)) return decodeStb(bytes, label, ImageFileFormat::Png, decode);
+        if (startsWith(bytes, "\xff\xd8\xff", 3)) return decodeStb(bytes, label, ImageFileFormat::Jpeg, decode);
+        if (startsWith(bytes, "#?RADIANCE", 10) || startsWith(bytes, "#?RGBE", 6))
+            return decodeStb(bytes, label, ImageFileFormat::Hdr, decode);
+    } catch (const std::bad_alloc&) {
+        throwInputError(label, "", "image too large to load");
+    }
+    if (startsWith(bytes, "\x76\x2f\x31\x01", 4))
+        throwInputError(label, "", "OpenEXR images are read from files only, not from memory");
+    throwInputError(label, "", "unsupported image format (PNG, JPEG, Radiance HDR and OpenEXR are read)");
+}
+
+ImageFile readImageFile(const std::filesystem::path& path, const std::string& label, ColorDecode decode) {
+    std::string bytes = readFileBytes(path, label);
+    if (startsWith(bytes, "\x76\x2f\x31\x01", 4)) {
+        bytes = std::string();  // OpenEXR reads the file itself
+        return decodeExr(path, label);
+    }
+    return decodeImage(bytes, label, decode);
+}
+
+}  // namespace penumbra

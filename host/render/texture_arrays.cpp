@@ -1,0 +1,78 @@
+// Scene textures and mesh uvs -> GPU arrays (see texture_arrays.h).
+#include "render/texture_arrays.h"
+
+#include <cstring>
+
+namespace penumbra {
+
+uint32_t gpuTextureSlot(TextureSlot slot) {
+    switch (slot) {
+        case TextureSlot::Kd: return gpu::TEXTURE_SLOT_KD;
+        case TextureSlot::Ks: return gpu::TEXTURE_SLOT_KS;
+        case TextureSlot::KsX: return gpu::TEXTURE_SLOT_KS_X;
+        case TextureSlot::KsY: return gpu::TEXTURE_SLOT_KS_Y;
+    }
+    return gpu::TEXTURE_SLOT_KD;
+}
+
+TextureArrays buildTextureArrays(const Scene& scene, const Bvh& bvh) {
+    TextureArrays out;
+    for (const Material& m : scene.materials) out.textured |= !m.textures.empty();
+    if (!out.textured) return out;
+
+    // Texels: every texture after the previous one, two RGBA half texels per uvec4.
+    std::vector<uint32_t> firstTexel;
+    std::vector<uint16_t> halves;
+    for (const Texture& t : scene.textures) {
+        firstTexel.push_back(uint32_t(halves.size() / 4));
+        halves.insert(halves.end(), t.texels.begin(), t.texels.end());
+    }
+    halves.resize((halves.size() + 7) / 8 * 8, 0);  // whole uvec4s
+    out.texels.resize(halves.size() / 8);
+    std::memcpy(out.texels.data(), halves.data(), halves.size() * sizeof(uint16_t));
+
+    // One header texel per material, then the references.
+    out.materialTextures.resize(scene.materials.size(), glm::uvec4(0));
+    for (size_t i = 0; i < scene.materials.size(); ++i) {
+        const Material& m = scene.materials[i];
+        out.materialTextures[i] = glm::uvec4(uint32_t(out.materialTextures.size()), uint32_t(m.textures.size()), 0, 0);
+        for (const MaterialTexture& mt : m.textures) {
+            const Texture& t = scene.textures[mt.texture];
+            gpu::TextureRef ref{};
+            ref.scale = mt.scale;
+            ref.slotChannel = gpuTextureSlot(mt.slot) | mt.channel << 8;
+            ref.firstTexel = firstTexel[mt.texture];
+            ref.width = t.width;
+            ref.height = t.height;
+            glm::uvec4 words[gpu::TEXTURE_REF_TEXELS];
+            static_assert(sizeof words == sizeof ref);
+            std::memcpy(words, &ref, sizeof ref);
+            out.materialTextures.insert(out.materialTextures.end(), std::begin(words), std::end(words));
+        }
+    }
+
+    // Mesh uvs in input primitive order (as buildSceneArrays emits primitives), then leaf order.
+    std::vector<gpu::TriangleUvs> input;
+    input.reserve(bvh.originalIndex.size());
+    for (const Shape& shape : scene.shapes) {
+        if (shape.type != ShapeType::Mesh) {
+            input.push_back({});
+            continue;
+        }
+        for (size_t t = 0; t + 2 < shape.indices.size(); t += 3) {
+            gpu::TriangleUvs uv{};
+            if (!shape.uvs.empty()) {
+                glm::vec2 a = shape.uvs[shape.indices[t]], b = shape.uvs[shape.indices[t + 1]],
+                          c = shape.uvs[shape.indices[t + 2]];
+                uv.uv01 = glm::vec4(a, b);
+                uv.uv2 = glm::vec4(c, 0.0f, 0.0f);
+            }
+            input.push_back(uv);
+        }
+    }
+    out.uvs.resize(bvh.originalIndex.size());
+    for (size_t i = 0; i < bvh.originalIndex.size(); ++i) out.uvs[i] = input.at(bvh.originalIndex[i]);
+    return out;
+}
+
+}  // namespace penumbra

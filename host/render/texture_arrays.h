@@ -1,0 +1,31 @@
+// The GPU arrays of material textures and texture coordinates (shaders/shared/types.h,
+// "Textures"): per-material texture references, every texture's half-float texels packed
+// two per RGBA32UI texel, and per-primitive mesh uvs. Empty for an untextured scene.
+#pragma once
+
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "bvh/bvh.h"
+#include "scene/scene.h"
+#include "shared/types.h"
+
+namespace penumbra {
+
+struct TextureArrays {
+    bool textured = false;                     // some material has a textured field
+    std::vector<glm::uvec4> materialTextures;  // BINDING_MATERIAL_TEXTURES
+    std::vector<glm::uvec4> texels;            // BINDING_TEXTURE_TEXELS
+    std::vector<gpu::TriangleUvs> uvs;         // BINDING_UVS, in the BVH's leaf order
+};
+
+// `bvh` is the scene's, built from its shapes' primitives in order (one per sphere and
+// quad, one per mesh triangle), so that leaf i's uvs are those of input primitive
+// bvh.originalIndex[i].
+TextureArrays buildTextureArrays(const Scene& scene, const Bvh& bvh);
+
+// The GPU slot of a scene-side TextureSlot (TEXTURE_SLOT_*).
+uint32_t gpuTextureSlot(TextureSlot slot);
+
+}  // namespace penumbra

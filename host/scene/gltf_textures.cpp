@@ -1,0 +1,122 @@
+// glTF material textures: image bytes from URIs (kept by the image callback) or buffer
+// views (bounds-checked here), decoded once per (image, decoding), and the sampler's wrap
+// modes (see gltf_textures.h).
+#include "scene/gltf_textures.h"
+
+#include <algorithm>
+
+#include "core/errors.h"
+#include "image/image_file.h"
+#include "scene/material_textures.h"
+
+namespace penumbra {
+namespace {
+
+std::string at(const char* array, size_t index) { return std::string(array) + "[" + std::to_string(index) + "]"; }
+
+// Factors are clamped into [0, 1] like the plain values of load_gltf.cpp (the scale of a
+// colour or number field, SCENE_FORMAT.md "Textures (v2)").
+float unit(double x) { return float(std::clamp(x, 0.0, 1.0)); }
+
+}  // namespace
+
+bool keepGltfImageBytes(tinygltf::Image* image, int index, std::string*, std::string*, int, int,
+                        const unsigned char* bytes, int size, void* userData) {
+    // Buffer-view images are read from the model instead, with their range checked.
+    if (image->bufferView >= 0 || size <= 0) return true;
+    static_cast<GltfImageBytes*>(userData)->byIndex[index].assign(reinterpret_cast<const char*>(bytes), size_t(size));
+    return true;
+}
+
+void GltfTextureReader::noteOnce(const std::string& text) {
+    if (std::find(m_noted.begin(), m_noted.end(), text) != m_noted.end()) return;
+    m_noted.push_back(text);
+    m_notes.push_back(m_label + ": " + text);
+}
+
+std::string GltfTextureReader::imageBytes(int index, const std::string& path) const {
+    const tinygltf::Image& image = m_model.images[size_t(index)];
+    if (image.bufferView < 0) {
+        auto found = m_bytes.byIndex.find(index);
+        // tinygltf only warns when an external image cannot be read.
+        if (found == m_bytes.byIndex.end())
+            throwInputError(
+                m_label, path,
+                image.uri.empty() ? "image has no data" : "cannot read \"" + image.uri + "\" (missing or unreadable)");
+        return found->second;
+    }
+    if (size_t(image.bufferView) >= m_model.bufferViews.size())
+        throwInputError(m_label, path + ".bufferView",
+                        "bufferView " + std::to_string(image.bufferView) + " does not exist");
+    const tinygltf::BufferView& bv = m_model.bufferViews[size_t(image.bufferView)];
+    std::string bvPath = at("bufferViews", size_t(image.bufferView));
+    if (bv.buffer < 0 || size_t(bv.buffer) >= m_model.buffers.size())
+        throwInputError(m_label, bvPath + ".buffer", "buffer " + std::to_string(bv.buffer) + " does not exist");
+    const std::vector<unsigned char>& data = m_model.buffers[size_t(bv.buffer)].data;
+    if (bv.byteOffset > data.size() || bv.byteLength > data.size() - bv.byteOffset)
+        throwInputError(m_label, bvPath, "byte range exceeds its buffer (" + std::to_string(data.size()) + " bytes)");
+    return std::string(reinterpret_cast<const char*>(data.data()) + bv.byteOffset, bv.byteLength);
+}
+
+uint32_t GltfTextureReader::texture(const tinygltf::TextureInfo& info, const std::string& path, bool srgb) {
+    if (info.index < 0 || size_t(info.index) >= m_model.textures.size())
+        throwInputError(m_label, path + ".index", "texture " + std::to_string(info.index) + " does not exist");
+    // SCENE_FORMAT.md: TEXCOORD_0. Another set is read as set 0, with a note.
+    if (info.texCoord != 0)
+        noteOnce("textures using TEXCOORD_" + std::to_string(info.texCoord) + " are read with TEXCOORD_0");
+    const tinygltf::Texture& tex = m_model.textures[size_t(info.index)];
+    std::string texPath = at("textures", size_t(info.index));
+    if (tex.source < 0 || size_t(tex.source) >= m_model.images.size())
+        throwInputError(m_label, texPath + ".source",
+                        tex.source < 0 ? "texture has no source image (only PNG and JPEG sources are read)"
+                                       : "image " + std::to_string(tex.source) + " does not exist");
+    if (tex.sampler >= 0) {
+        if (size_t(tex.sampler) >= m_model.samplers.size())
+            throwInputError(m_label, texPath + ".sampler",
+                            "sampler " + std::to_string(tex.sampler) + " does not exist");
+        // Penumbra's textures repeat (SCENE_FORMAT.md); clamp and mirror only differ outside
+        // [0, 1], which is where a model asking for them rarely puts its uvs.
+        const tinygltf::Sampler& s = m_model.samplers[size_t(tex.sampler)];
+        for (int wrap : {s.wrapS, s.wrapT})
+            if (wrap != TINYGLTF_TEXTURE_WRAP_REPEAT)
+                noteOnce(std::string("texture samplers with ") +
+                         (wrap == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE ? "CLAMP_TO_EDGE" : "MIRRORED_REPEAT") +
+                         " wrapping are rendered with REPEAT");
+    }
+    auto found = m_decoded.find({tex.source, srgb});
+    if (found != m_decoded.end()) return found->second;
+    std::string imagePath = at("images", size_t(tex.source));
+    ImageFile image = decodeImage(imageBytes(tex.source, imagePath), m_label + ": " + imagePath,
+                                  srgb ? ColorDecode::Srgb : ColorDecode::Linear);
+    uint32_t index = uint32_t(m_textures.size());
+    m_textures.push_back(makeTexture(m_label + "#" + imagePath, srgb, image.width, image.height, image.rgba.data()));
+    m_decoded[{tex.source, srgb}] = index;
+    return index;
+}
+
+std::optional<MaterialTexture> GltfTextureReader::baseColor(const tinygltf::Material& material,
+                                                            const std::string& path) {
+    const tinygltf::PbrMetallicRoughness& pbr = material.pbrMetallicRoughness;
+    if (pbr.baseColorTexture.index < 0) return std::nullopt;
+    glm::vec3 factor(1.0f);
+    if (pbr.baseColorFactor.size() == 4)
+        factor = {unit(pbr.baseColorFactor[0]), unit(pbr.baseColorFactor[1]), unit(pbr.baseColorFactor[2])};
+    uint32_t t = texture(pbr.baseColorTexture, path + ".pbrMetallicRoughness.baseColorTexture", true);
+    return MaterialTexture{TextureSlot::Kd, t, factor, 0};
+}
+
+GltfMaterialTextures GltfTextureReader::metallicRoughness(const tinygltf::Material& material, const std::string& path) {
+    GltfMaterialTextures out;
+    out.baseColor = baseColor(material, path);
+    const tinygltf::PbrMetallicRoughness& pbr = material.pbrMetallicRoughness;
+    if (pbr.metallicRoughnessTexture.index >= 0) {
+        // glTF 2.0 section 3.9.2: metalness in the blue channel, roughness in green; linear data.
+        uint32_t t =
+            texture(pbr.metallicRoughnessTexture, path + ".pbrMetallicRoughness.metallicRoughnessTexture", false);
+        out.metallic = MaterialTexture{TextureSlot::KsX, t, glm::vec3(unit(pbr.metallicFactor)), 2};
+        out.roughness = MaterialTexture{TextureSlot::KsY, t, glm::vec3(unit(pbr.roughnessFactor)), 1};
+    }
+    return out;
+}
+
+}  // namespace penumbra
