@@ -6,10 +6,24 @@ namespace penumbra {
 
 gpu::Material packMaterial(const Material& m) {
     gpu::Material g{};
-    g.type = m.type == MaterialType::Phong ? gpu::MATERIAL_PHONG : gpu::MATERIAL_DIFFUSE;
-    g.kd = m.kd;
-    g.ks = m.type == MaterialType::Phong ? m.ks : glm::vec3(0.0f);
-    g.exponent = m.exponent;
+    switch (m.type) {
+        case MaterialType::Diffuse:
+            g.type = gpu::MATERIAL_DIFFUSE;
+            g.kd = m.kd;
+            g.exponent = m.exponent;
+            break;
+        case MaterialType::Phong:
+            g.type = gpu::MATERIAL_PHONG;
+            g.kd = m.kd;
+            g.ks = m.ks;
+            g.exponent = m.exponent;
+            break;
+        case MaterialType::Pbr:
+            g.type = gpu::MATERIAL_PBR;
+            g.kd = m.pbr.baseColor;
+            g.ks = glm::vec3(m.pbr.metallic, m.pbr.roughness, 0.0f);
+            break;
+    }
     return g;
 }
 

@@ -37,13 +37,29 @@ void parsePhong(const JsonReader& m, Material& mat) {
                    " channel (" + std::to_string(mat.kd[c]) + " + " + std::to_string(mat.ks[c]) + ")");
 }
 
+// A factor in [0, 1] (glTF's metallic and roughness).
+float unitNumber(const JsonReader& m, const char* key, float fallback) {
+    float x = m.numberOr(key, fallback);
+    if (x < 0.0f || x > 1.0f) m.at(key).fail("must be in [0, 1]");
+    return x;
+}
+
+void parsePbr(const JsonReader& m, Material& mat) {
+    m.expectKeys({"type", "base_color", "metallic", "roughness"}, "a pbr material");
+    mat.type = MaterialType::Pbr;
+    mat.pbr.baseColor = unitColor(m, "base_color", glm::vec3(0.8f));
+    mat.pbr.metallic = unitNumber(m, "metallic", 0.0f);
+    mat.pbr.roughness = unitNumber(m, "roughness", 0.5f);
+}
+
 }  // namespace
 
 Material parseMaterial(const JsonReader& m, const std::string& name) {
-    std::string type = m.has("type") ? m.at("type").choice({"diffuse", "phong"}) : "diffuse";
+    std::string type = m.has("type") ? m.at("type").choice({"diffuse", "phong", "pbr"}) : "diffuse";
     Material mat{name};
     if (type == "diffuse") parseDiffuse(m, mat);
-    else parsePhong(m, mat);
+    else if (type == "phong") parsePhong(m, mat);
+    else parsePbr(m, mat);
     return mat;
 }
 

@@ -70,14 +70,22 @@ struct IntegratorSettings {
     nlohmann::json json;
 };
 
-enum class MaterialType { Diffuse, Phong };
+enum class MaterialType { Diffuse, Phong, Pbr };
+
+// The `pbr` material's factors (SCENE_FORMAT.md v2, glTF metallic-roughness), each in [0, 1].
+struct PbrFactors {
+    glm::vec3 baseColor{0.8f};
+    float metallic = 0.0f;
+    float roughness = 0.5f;
+};
 
 struct Material {
     std::string name;
     MaterialType type = MaterialType::Diffuse;
-    glm::vec3 kd{0.8f};  // diffuse: albedo
-    glm::vec3 ks{0.0f};
-    float exponent = 20.0f;
+    glm::vec3 kd{0.8f};      // diffuse: albedo; phong: kd
+    glm::vec3 ks{0.0f};      // phong
+    float exponent = 20.0f;  // phong
+    PbrFactors pbr;          // pbr
 };
 
 enum class ShapeType { Sphere, Quad, Mesh };

@@ -103,7 +103,13 @@ struct TriangleNormals {
 // ---- Materials (SCENE_FORMAT.md) -------------------------------------------------------
 PENUMBRA_CONST uint MATERIAL_DIFFUSE = 0u;  // kd = albedo, ks = 0
 PENUMBRA_CONST uint MATERIAL_PHONG = 1u;    // kd/pi + ks (n+2)/(2pi) cos^n(alpha)
+PENUMBRA_CONST uint MATERIAL_PBR = 2u;      // glTF metallic-roughness (bsdf/pbr.glsl)
 
+// Packing per type (render/material_arrays.cpp; textures rely on these slots):
+//   diffuse  kd = albedo                      ks = 0                       exponent unused
+//   phong    kd, ks as in the scene           exponent = n
+//   pbr      kd = base_color                  ks.x = metallic, ks.y = roughness,
+//                                             ks.z unused (0)              exponent unused (0)
 struct Material {
     vec3 kd;
     uint type;
@@ -111,6 +117,14 @@ struct Material {
     float exponent;
 };
 PENUMBRA_CONST uint MATERIAL_TEXELS = 2u;  // RGBA32UI texels per Material (bsdf/materials.glsl)
+
+// The smallest GGX alpha (= roughness^2) of `pbr`: roughness below 0.01 renders as 0.01.
+// A float direction or half vector is known to ~2.4e-7 rad, and D varies on the angular
+// scale alpha (|d ln D / d theta_h| <= 2 / alpha), so D is evaluated to ~2.4e-7 * 2 / alpha
+// relative: 0.5% here, 5% at 1e-5. D's peak 1 / (pi alpha^2) = 3.2e7 and alpha^4 = 1e-16
+// stay well inside float range. A true mirror would be a delta lobe, which light sampling
+// cannot hit; this one stays a (very sharp) density that every strategy can weigh.
+PENUMBRA_CONST float PBR_MIN_ALPHA = 1e-4f;
 
 // ---- Lights -----------------------------------------------------------------------------
 PENUMBRA_CONST uint LIGHT_POINT = 0u;        // position, emission = intensity (W/sr)
