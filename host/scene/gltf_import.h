@@ -18,7 +18,7 @@ struct GltfImport {
     // -1 for a primitive without a material (it gets the scene's default material).
     std::vector<Shape> shapes;
     std::vector<int> shapeMaterials;
-    std::vector<Material> materials;  // one diffuse material per glTF material
+    std::vector<Material> materials;  // one pbr material per glTF material
     std::vector<Light> lights;        // KHR_lights_punctual point and directional lights
     std::optional<Camera> camera;     // the first perspective camera in the node hierarchy
     std::vector<std::string> notes;   // skipped primitives, degenerate triangles, ...
