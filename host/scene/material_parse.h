@@ -10,8 +10,8 @@
 
 namespace penumbra {
 
-// `r` is the material's object, `name` its key; throws InputError naming the file and the
+// `m` is the material's object, `name` its key; throws InputError naming the file and the
 // JSON path of the offending value.
-Material parseMaterial(const JsonReader& r, const std::string& name);
+Material parseMaterial(const JsonReader& m, const std::string& name);
 
 }  // namespace penumbra
