@@ -165,8 +165,43 @@ TEST(GltfLoad, EmissiveStrengthAndBaseColour) {
     expectVec(s.shapes[0].emission, {4, 2, 1});
     ASSERT_EQ(s.materials.size(), 2u);
     EXPECT_EQ(s.shapes[0].material, 1u);
-    expectVec(s.materials[1].kd, {1, 0.5, 0.25});  // clamped to [0, 1]
-    EXPECT_TRUE(s.lights.empty());                  // emissive: no environment fallback
+    // SCENE_FORMAT.md v2: a glTF material is `pbr`, with glTF's defaults metallic 1 and
+    // roughness 1 where the file gives no factors.
+    EXPECT_EQ(s.materials[1].type, MaterialType::Pbr);
+    expectVec(s.materials[1].pbr.baseColor, {1, 0.5, 0.25});  // clamped to [0, 1]
+    EXPECT_EQ(s.materials[1].pbr.metallic, 1.0f);
+    EXPECT_EQ(s.materials[1].pbr.roughness, 1.0f);
+    EXPECT_TRUE(s.lights.empty());  // emissive: no environment fallback
+}
+
+TEST(GltfLoad, MetallicRoughnessFactorsBecomePbr) {
+    GltfBuilder b;
+    json prim = b.triangle();
+    prim["material"] = 0;
+    b.addMeshNode(prim);
+    b.doc["materials"] = {
+        {{"pbrMetallicRoughness",
+          {{"baseColorFactor", {0.2, 0.4, 0.6, 0.5}}, {"metallicFactor", 0.25}, {"roughnessFactor", 0.75}}}}};
+    Scene s = loadScene(writeFile(freshTempDir() / "factors.gltf", b.gltf()));
+    ASSERT_EQ(s.materials.size(), 2u);
+    EXPECT_EQ(s.materials[1].type, MaterialType::Pbr);
+    expectVec(s.materials[1].pbr.baseColor, {0.2f, 0.4f, 0.6f});
+    EXPECT_EQ(s.materials[1].pbr.metallic, 0.25f);
+    EXPECT_EQ(s.materials[1].pbr.roughness, 0.75f);
+
+    // Out of [0, 1]: one line naming the file and the glTF JSON path.
+    for (const char* key : {"metallicFactor", "roughnessFactor"})
+        for (double bad : {-0.5, 1.5}) {
+            GltfBuilder c;
+            json p = c.triangle();
+            p["material"] = 0;
+            c.addMeshNode(p);
+            c.doc["materials"] = {{{"pbrMetallicRoughness", {{key, bad}}}}};
+            std::string err = loadError(writeFile(freshTempDir() / "bad-factor.gltf", c.gltf()));
+            EXPECT_NE(err.find("bad-factor.gltf"), std::string::npos) << err;
+            EXPECT_NE(err.find(std::string("materials[0].pbrMetallicRoughness.") + key), std::string::npos) << err;
+            EXPECT_NE(err.find("[0, 1]"), std::string::npos) << err;
+        }
 }
 
 TEST(GltfLoad, UnlitModelGetsWhiteEnvironmentAndNote) {

@@ -166,10 +166,31 @@ def lecture_spheres():
     }
 
 
+def pbr_lights():
+    """A GGX metal (glTF metallic-roughness, roughness 0.2) under a small and a large sphere
+    light of equal power: light sampling wins on the small light's highlight, BRDF sampling
+    on the large one's, MIS on both (the figure pbr_strategies.png)."""
+    P = 40.0
+    return {
+        "camera": {"eye": [0, 2, 6], "target": [0, 0, 0.3], "up": [0, 1, 0], "fov_y": 40},
+        "film": {"width": 480, "height": 320},
+        "sampler": {"spp": 16},
+        "integrator": {"type": "direct", "strategy": "mis"},
+        "materials": {"metal": {"type": "pbr", "base_color": [0.95, 0.8, 0.6], "metallic": 1, "roughness": 0.2},
+                      "black": {"type": "diffuse", "albedo": [0, 0, 0]}},
+        "shapes": [
+            quad([-5, 0, -4], [0, 0, 8], [10, 0, 0], "metal"),
+            {"type": "sphere", "center": [-1.8, 1.2, -1.5], "radius": 0.05, "power": [P, P, P], "material": "black"},
+            {"type": "sphere", "center": [1.8, 1.2, -1.5], "radius": 0.7, "power": [P, P, P], "material": "black"},
+        ],
+        "lights": [],
+    }
+
+
 def main():
     os.makedirs("scenes", exist_ok=True)
     for name, scene in [("cornell", cornell()), ("veach_mis", veach_mis()), ("mesh_light", mesh_light()),
-                        ("lecture_spheres", lecture_spheres())]:
+                        ("lecture_spheres", lecture_spheres()), ("pbr_lights", pbr_lights())]:
         text = json.dumps(scene, indent=2)
         # Keep arrays of numbers on one line: positions and colours read better that way.
         text = re.sub(r"\[[-0-9.,\se]*\]", lambda m: re.sub(r"\s+", " ", m.group(0)).replace("[ ", "[").replace(" ]", "]"), text)

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "render/light_arrays.h"
+#include "render/material_arrays.h"
 
 namespace penumbra {
 namespace {
@@ -37,15 +38,7 @@ void setBounds(SceneArrays& out);
 SceneArrays buildSceneArrays(const Scene& scene, const BvhOptions& bvhOptions) {
     SceneArrays out;
 
-    for (const Material& m : scene.materials) {
-        gpu::Material g{};
-        g.type = m.type == MaterialType::Phong ? gpu::MATERIAL_PHONG : gpu::MATERIAL_DIFFUSE;
-        g.kd = m.kd;
-        g.ks = m.type == MaterialType::Phong ? m.ks : glm::vec3(0.0f);
-        g.exponent = m.exponent;
-        out.materials.push_back(g);
-    }
-    if (out.materials.empty()) out.materials.push_back({glm::vec3(0.8f), gpu::MATERIAL_DIFFUSE, glm::vec3(0.0f), 0.0f});
+    out.materials = packMaterials(scene.materials);
 
     // Lights without geometry first, then one light per emitting shape. Area lights record
     // their primitive's *input* index for now; it becomes the BVH leaf-order index below.

@@ -18,7 +18,7 @@ struct GltfImport {
     // `materials` below, or -1 for a primitive without one (it gets the scene's default).
     std::vector<Shape> shapes;
     std::vector<int> shapeMaterials;
-    std::vector<Material> materials;  // one diffuse material per glTF material
+    std::vector<Material> materials;  // one pbr material per glTF material
     std::vector<Texture> textures;    // the materials' textures (MaterialTexture::texture indexes this)
     std::vector<Light> lights;        // KHR_lights_punctual point and directional lights
     std::optional<Camera> camera;     // the first perspective camera in the node hierarchy

@@ -1,6 +1,6 @@
 // glTF 2.0 import (.gltf and .glb) through tinygltf: triangle primitives with node
-// transforms and TEXCOORD_0, base colour (factor and texture, gltf_textures.cpp) and
-// emission of materials, KHR_lights_punctual lights and the
+// transforms and TEXCOORD_0, materials (metallic-roughness factors and textures as `pbr`,
+// textures in gltf_textures.cpp; emission), KHR_lights_punctual lights and the
 // first camera. Every index, offset and count from the file is bounds-checked here, since
 // tinygltf leaves most of that to its caller. Joining the result to a Scene is load_json.cpp's.
 #include <algorithm>
@@ -103,6 +103,7 @@ private:
     glm::dmat4 localTransform(const tinygltf::Node& node, const std::string& path) const;
     void checkHierarchy() const;
     void loadMaterials();
+    Material metallicRoughnessMaterial(const tinygltf::Material& mat, const std::string& path) const;
     void addPrimitive(const tinygltf::Primitive& prim, const glm::dmat4& world, const std::string& path);
     void addLight(const tinygltf::Node& node, const glm::dmat4& world, const std::string& path);
     Light pointLight(const glm::dmat4& world, const std::string& path);
@@ -226,16 +227,36 @@ void Importer::checkHierarchy() const {
         if (!reached[i]) fail(at("nodes", i), "node cycle: node " + std::to_string(i) + " is its own ancestor");
 }
 
+// glTF's metallic-roughness factors as a `pbr` material (SCENE_FORMAT.md v2, "glTF input";
+// glTF 2.0 section 3.9.2): baseColorFactor (default 1; alpha ignored), metallicFactor and
+// roughnessFactor (both default 1, as glTF says). A base colour above 1 is clamped to 1 (as
+// v1 did for the diffuse albedo); a factor outside [0, 1] or not finite is an error.
+Material Importer::metallicRoughnessMaterial(const tinygltf::Material& mat, const std::string& path) const {
+    const tinygltf::PbrMetallicRoughness& pbr = mat.pbrMetallicRoughness;
+    const std::string where = path + ".pbrMetallicRoughness";
+    glm::dvec3 base(1.0);
+    if (!pbr.baseColorFactor.empty()) {
+        if (pbr.baseColorFactor.size() != 4) fail(where + ".baseColorFactor", "expected 4 numbers");
+        base = glm::make_vec3(pbr.baseColorFactor.data());
+    }
+    if (!(base.x >= 0 && base.y >= 0 && base.z >= 0) || !std::isfinite(base.x + base.y + base.z))
+        fail(where + ".baseColorFactor", "negative or non-finite");
+    auto factor = [&](double value, const char* key) {
+        if (!(value >= 0.0 && value <= 1.0)) fail(where + "." + key, "must be in [0, 1]");
+        return float(value);
+    };
+    Material m;
+    m.type = MaterialType::Pbr;
+    m.pbr.baseColor = glm::clamp(glm::vec3(base), 0.0f, 1.0f);
+    m.pbr.metallic = factor(pbr.metallicFactor, "metallicFactor");
+    m.pbr.roughness = factor(pbr.roughnessFactor, "roughnessFactor");
+    return m;
+}
+
 void Importer::loadMaterials() {
     for (size_t i = 0; i < m_model.materials.size(); ++i) {
         const tinygltf::Material& mat = m_model.materials[i];
         std::string path = at("materials", i);
-        const std::vector<double>& base = mat.pbrMetallicRoughness.baseColorFactor;
-        glm::dvec3 albedo(1.0);  // glTF default base colour
-        if (!base.empty()) {
-            if (base.size() != 4) fail(path + ".pbrMetallicRoughness.baseColorFactor", "expected 4 numbers");
-            albedo = glm::make_vec3(base.data());
-        }
         glm::dvec3 emission(0.0);
         if (!mat.emissiveFactor.empty()) {
             if (mat.emissiveFactor.size() != 3) fail(path + ".emissiveFactor", "expected 3 numbers");
@@ -252,14 +273,14 @@ void Importer::loadMaterials() {
             return !(c.x >= 0 && c.y >= 0 && c.z >= 0) || !std::isfinite(c.x + c.y + c.z) ||
                    std::max({c.x, c.y, c.z}) > double(float(kMaxRadiometric));
         };
-        if (bad(albedo)) fail(path + ".pbrMetallicRoughness.baseColorFactor", "negative or non-finite");
         if (bad(emission))
             fail(path + ".emissiveFactor", "negative, non-finite or above 1e20 emission (README: ranges)");
-        Material m;
+        Material m = metallicRoughnessMaterial(mat, path);
         m.name = m_label + ":" + (mat.name.empty() ? path : mat.name);
-        m.kd = glm::clamp(glm::vec3(albedo), 0.0f, 1.0f);
-        // A diffuse material takes the base colour texture as its albedo (the factor its scale).
-        if (auto texture = m_textures.baseColor(mat, path)) m.textures.push_back(*texture);
+        // The textures of base colour, metallic and roughness, each with its factor as the scale.
+        GltfMaterialTextures textures = m_textures.metallicRoughness(mat, path);
+        for (const std::optional<MaterialTexture>* field : {&textures.baseColor, &textures.metallic, &textures.roughness})
+            if (*field) m.textures.push_back(**field);
         m_result.materials.push_back(m);
         m_emission.push_back(glm::vec3(emission));
         m_doubleSided.push_back(mat.doubleSided);

@@ -15,6 +15,7 @@
 #include "scene/json_reader.h"
 #include "scene/limits.h"
 #include "scene/load.h"
+#include "scene/material_parse.h"
 #include "scene/material_textures.h"
 
 namespace penumbra {
@@ -147,36 +148,7 @@ private:
         if (!r) return;
         for (const std::string& name : r->keys()) {
             JsonReader m = r->at(name.c_str());
-            std::string type = m.has("type") ? m.at("type").choice({"diffuse", "phong"}) : "diffuse";
-            Material mat{name};
-            // A texture object stands for its scale here: the value where the texture reads 1.
-            auto unitColor = [&](const char* key, glm::vec3 fallback, TextureSlot slot) {
-                if (m.has(key) && MaterialTextureReader::isTexture(m.at(key)))
-                    return m_textures.colorField(m.at(key), slot, mat);
-                glm::vec3 c = m.colorOr(key, fallback);
-                if (c.x > 1.0f || c.y > 1.0f || c.z > 1.0f) m.at(key).fail("components must be in [0, 1]");
-                return c;
-            };
-            if (type == "diffuse") {
-                m.expectKeys({"type", "albedo"}, "a diffuse material");
-                mat.type = MaterialType::Diffuse;
-                mat.kd = unitColor("albedo", glm::vec3(0.8f), TextureSlot::Kd);
-            } else {
-                m.expectKeys({"type", "kd", "ks", "exponent"}, "a phong material");
-                mat.type = MaterialType::Phong;
-                mat.kd = unitColor("kd", glm::vec3(0.5f), TextureSlot::Kd);
-                mat.ks = unitColor("ks", glm::vec3(0.5f), TextureSlot::Ks);
-                mat.exponent = m.numberOr("exponent", 20.0f);
-                if (mat.exponent < 0.0f) m.at("exponent").fail("must be >= 0");
-                // kd + ks <= 1 keeps the normalized Phong BRDF from reflecting more than it
-                // receives (Lafortune & Willems 1994); a small tolerance absorbs decimal rounding.
-                // Textured fields are checked by their scales (textures/textures.glsl keeps
-                // kd + ks <= 1 where a texture would pass it).
-                for (int c = 0; c < 3; ++c)
-                    if (mat.kd[c] + mat.ks[c] > 1.0f + 1e-6f)
-                        m.fail("kd + ks exceeds 1 in the " + std::string(c == 0 ? "red" : c == 1 ? "green" : "blue") +
-                               " channel (" + std::to_string(mat.kd[c]) + " + " + std::to_string(mat.ks[c]) + ")");
-            }
+            Material mat = parseMaterial(m, name, m_textures);
             m_materialIndex[name] = uint32_t(m_scene.materials.size());
             m_scene.materials.push_back(mat);
         }

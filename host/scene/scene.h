@@ -65,7 +65,14 @@ struct IntegratorSettings {
     bool triangleSamplingGiven = false;
 };
 
-enum class MaterialType { Diffuse, Phong };
+enum class MaterialType { Diffuse, Phong, Pbr };
+
+// The `pbr` material's factors (SCENE_FORMAT.md v2, glTF metallic-roughness), each in [0, 1].
+struct PbrFactors {
+    glm::vec3 baseColor{0.8f};
+    float metallic = 0.0f;
+    float roughness = 0.5f;
+};
 
 // Which value of a material a texture replaces: the GPU Material's slots (TEXTURE_SLOT_*
 // in shaders/shared/types.h say which material field each one is).
@@ -83,9 +90,10 @@ struct MaterialTexture {
 struct Material {
     std::string name;
     MaterialType type = MaterialType::Diffuse;
-    glm::vec3 kd{0.8f};  // diffuse: albedo
-    glm::vec3 ks{0.0f};
-    float exponent = 20.0f;
+    glm::vec3 kd{0.8f};      // diffuse: albedo; phong: kd
+    glm::vec3 ks{0.0f};      // phong
+    float exponent = 20.0f;  // phong
+    PbrFactors pbr;          // pbr
     std::vector<MaterialTexture> textures;  // fields given as textures, each slot at most once
 };
 

@@ -107,8 +107,14 @@ struct TriangleNormals {
 // ---- Materials (SCENE_FORMAT.md) -------------------------------------------------------
 PENUMBRA_CONST uint MATERIAL_DIFFUSE = 0u;  // kd = albedo, ks = 0
 PENUMBRA_CONST uint MATERIAL_PHONG = 1u;    // kd/pi + ks (n+2)/(2pi) cos^n(alpha)
-#define MATERIAL_KIND_COUNT 2u              // one more than the last MATERIAL_*: scene feature bits (below)
+PENUMBRA_CONST uint MATERIAL_PBR = 2u;      // glTF metallic-roughness (bsdf/pbr.glsl)
+#define MATERIAL_KIND_COUNT 3u              // one more than the last MATERIAL_*: scene feature bits (below)
 
+// Packing per type (render/material_arrays.cpp; textures rely on these slots):
+//   diffuse  kd = albedo                      ks = 0                       exponent unused
+//   phong    kd, ks as in the scene           exponent = n
+//   pbr      kd = base_color                  ks.x = metallic, ks.y = roughness,
+//                                             ks.z unused (0)              exponent unused (0)
 struct Material {
     vec3 kd;
     uint type;
@@ -153,6 +159,14 @@ struct TriangleUvs {
     vec4 uv01;  // (u0, v0, u1, v1)
     vec4 uv2;   // (u2, v2, 0, 0)
 };
+
+// The smallest GGX alpha (= roughness^2) of `pbr`: roughness below 0.01 renders as 0.01.
+// A float direction or half vector is known to ~2.4e-7 rad, and D varies on the angular
+// scale alpha (|d ln D / d theta_h| <= 2 / alpha), so D is evaluated to ~2.4e-7 * 2 / alpha
+// relative: 0.5% here, 5% at 1e-5. D's peak 1 / (pi alpha^2) = 3.2e7 and alpha^4 = 1e-16
+// stay well inside float range. A true mirror would be a delta lobe, which light sampling
+// cannot hit; this one stays a (very sharp) density that every strategy can weigh.
+PENUMBRA_CONST float PBR_MIN_ALPHA = 1e-4f;
 
 // ---- Lights -----------------------------------------------------------------------------
 PENUMBRA_CONST uint LIGHT_POINT = 0u;        // position, emission = intensity (W/sr)
@@ -264,7 +278,7 @@ static_assert(PRIM_TRIANGLE < PRIM_KIND_COUNT && PRIM_SPHERE < PRIM_KIND_COUNT &
 static_assert(LIGHT_POINT < LIGHT_KIND_COUNT && LIGHT_DIRECTIONAL < LIGHT_KIND_COUNT &&
               LIGHT_ENVIRONMENT < LIGHT_KIND_COUNT && LIGHT_SPHERE < LIGHT_KIND_COUNT &&
               LIGHT_QUAD < LIGHT_KIND_COUNT && LIGHT_MESH < LIGHT_KIND_COUNT && LIGHT_SPOT < LIGHT_KIND_COUNT);
-static_assert(MATERIAL_DIFFUSE < MATERIAL_KIND_COUNT && MATERIAL_PHONG < MATERIAL_KIND_COUNT);
+static_assert(MATERIAL_DIFFUSE < MATERIAL_KIND_COUNT && MATERIAL_PHONG < MATERIAL_KIND_COUNT && MATERIAL_PBR < MATERIAL_KIND_COUNT);
 static_assert(FEATURE_BIT_COUNT <= 32u, "scene feature bits no longer fit in SPEC_SCENE_FEATURES");
 #endif
 
