@@ -14,13 +14,14 @@
 
 namespace penumbra::test {
 
-// A directory under the system temp folder named after the running test, emptied first.
+// A directory named after the running test under this build's test output folder (not the
+// system temp folder, which two builds testing at the same time would share), emptied first.
 inline std::filesystem::path freshTempDir() {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    std::string name = std::string("penumbra-") + info->test_suite_name() + "-" + info->name();
+    std::string name = std::string(info->test_suite_name()) + "-" + info->name();
     for (char& c : name)
         if (c == '/') c = '_';
-    auto dir = std::filesystem::temp_directory_path() / name;
+    auto dir = std::filesystem::path(PENUMBRA_TEST_OUTPUT) / "scenes" / name;
     std::filesystem::remove_all(dir);
     std::filesystem::create_directories(dir);
     return dir;
