@@ -279,7 +279,8 @@ void Importer::loadMaterials() {
         m.name = m_label + ":" + (mat.name.empty() ? path : mat.name);
         // The textures of base colour, metallic and roughness, each with its factor as the scale.
         GltfMaterialTextures textures = m_textures.metallicRoughness(mat, path);
-        for (const std::optional<MaterialTexture>* field : {&textures.baseColor, &textures.metallic, &textures.roughness})
+        for (const std::optional<MaterialTexture>* field :
+             {&textures.baseColor, &textures.metallic, &textures.roughness})
             if (*field) m.textures.push_back(**field);
         m_result.materials.push_back(m);
         m_emission.push_back(glm::vec3(emission));

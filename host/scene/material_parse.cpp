@@ -15,8 +15,7 @@ struct Fields {
 
     // A colour whose components are reflectances: each in [0, 1].
     glm::vec3 unitColor(const char* key, glm::vec3 fallback, TextureSlot slot) const {
-        if (m.has(key) && MaterialTextureReader::isTexture(m.at(key)))
-            return textures.colorField(m.at(key), slot, mat);
+        if (m.has(key) && MaterialTextureReader::isTexture(m.at(key))) return textures.colorField(m.at(key), slot, mat);
         glm::vec3 c = m.colorOr(key, fallback);
         if (c.x > 1.0f || c.y > 1.0f || c.z > 1.0f) m.at(key).fail("components must be in [0, 1]");
         return c;

@@ -90,10 +90,10 @@ struct MaterialTexture {
 struct Material {
     std::string name;
     MaterialType type = MaterialType::Diffuse;
-    glm::vec3 kd{0.8f};      // diffuse: albedo; phong: kd
-    glm::vec3 ks{0.0f};      // phong
-    float exponent = 20.0f;  // phong
-    PbrFactors pbr;          // pbr
+    glm::vec3 kd{0.8f};                     // diffuse: albedo; phong: kd
+    glm::vec3 ks{0.0f};                     // phong
+    float exponent = 20.0f;                 // phong
+    PbrFactors pbr;                         // pbr
     std::vector<MaterialTexture> textures;  // fields given as textures, each slot at most once
 };
 

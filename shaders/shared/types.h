@@ -29,7 +29,7 @@ using uint = std::uint32_t;
 #define BINDING_LIGHT_TABLE 7  // AliasEntry[] as a texel buffer: light selection (item = light index)
 #define BINDING_MESH_TABLE 8   // AliasEntry[] as a texel buffer: mesh-light triangles (item = primitive index)
 #define BINDING_RAY_COUNT 9    // uint: rays traced, when SPEC_COUNT_RAYS is set
-#define BINDING_PRIMITIVE_TEXELS 10  // the same Primitive[] as a texel buffer: traversal
+#define BINDING_PRIMITIVE_TEXELS 10   // the same Primitive[] as a texel buffer: traversal
 #define BINDING_MATERIAL_TEXTURES 11  // texel buffer: which fields of each material are textured
 #define BINDING_TEXTURE_TEXELS 12     // texel buffer: the texels of every texture
 #define BINDING_UVS 13                // TriangleUvs[] per primitive in leaf order (textured scenes)
@@ -278,7 +278,8 @@ static_assert(PRIM_TRIANGLE < PRIM_KIND_COUNT && PRIM_SPHERE < PRIM_KIND_COUNT &
 static_assert(LIGHT_POINT < LIGHT_KIND_COUNT && LIGHT_DIRECTIONAL < LIGHT_KIND_COUNT &&
               LIGHT_ENVIRONMENT < LIGHT_KIND_COUNT && LIGHT_SPHERE < LIGHT_KIND_COUNT &&
               LIGHT_QUAD < LIGHT_KIND_COUNT && LIGHT_MESH < LIGHT_KIND_COUNT && LIGHT_SPOT < LIGHT_KIND_COUNT);
-static_assert(MATERIAL_DIFFUSE < MATERIAL_KIND_COUNT && MATERIAL_PHONG < MATERIAL_KIND_COUNT && MATERIAL_PBR < MATERIAL_KIND_COUNT);
+static_assert(MATERIAL_DIFFUSE < MATERIAL_KIND_COUNT && MATERIAL_PHONG < MATERIAL_KIND_COUNT &&
+              MATERIAL_PBR < MATERIAL_KIND_COUNT);
 static_assert(FEATURE_BIT_COUNT <= 32u, "scene feature bits no longer fit in SPEC_SCENE_FEATURES");
 #endif
 
