@@ -35,23 +35,14 @@ bool applyIntegratorAction(IntegratorSettings& settings, Action action) {
         case Action::StrategyBsdf: return setStrategy(settings, Strategy::Bsdf);
         case Action::StrategyMis: return setStrategy(settings, Strategy::Mis);
         case Action::StrategyMixture: return setStrategy(settings, Strategy::Mixture);
-        case Action::ToggleHeuristic:
-            settings.heuristic = settings.heuristic == Heuristic::Power ? Heuristic::Balance : Heuristic::Power;
-            return true;
-        case Action::CycleSphereSampling:
-            settings.sphereSampling = settings.sphereSampling == SphereSampling::Area ? SphereSampling::Cap
-                                      : settings.sphereSampling == SphereSampling::Cap ? SphereSampling::SolidAngle
-                                                                                      : SphereSampling::Area;
-            return true;
+        case Action::ToggleHeuristic: settings.heuristic = nextValue(settings.heuristic); return true;
+        case Action::CycleSphereSampling: settings.sphereSampling = nextValue(settings.sphereSampling); return true;
         case Action::ToggleQuadSampling:
-            settings.quadSampling = settings.quadSampling == QuadSampling::Area ? QuadSampling::SolidAngle
-                                                                                : QuadSampling::Area;
+            settings.quadSampling = nextValue(settings.quadSampling);
             settings.quadSamplingGiven = true;
             return true;
         case Action::ToggleTriangleSampling:
-            settings.triangleSampling = settings.triangleSampling == TriangleSampling::Area
-                                            ? TriangleSampling::SolidAngle
-                                            : TriangleSampling::Area;
+            settings.triangleSampling = nextValue(settings.triangleSampling);
             settings.triangleSamplingGiven = true;
             return true;
         default: return false;

@@ -6,6 +6,8 @@
 #include <cctype>
 #include <vector>
 
+#include "scene/enum_names.h"
+
 #ifdef PENUMBRA_HAVE_GLFW
 #include <GLFW/glfw3.h>
 #endif
@@ -17,28 +19,48 @@ struct KeyBinding {
     Action action;
     std::vector<std::string_view> names;  // script names; the first is shown in help
     std::vector<int> glfwKeys;
-    std::string_view help;
+    std::string help;
 };
 
 #ifdef PENUMBRA_HAVE_GLFW
 #define PENUMBRA_KEYS(...) std::vector<int>{__VA_ARGS__}
 #else
-#define PENUMBRA_KEYS(...) std::vector<int>{}
+#define PENUMBRA_KEYS(...) \
+    std::vector<int> {}
 #endif
+
+// The names of E's values in the order the preview steps through them (nextValue).
+template <class E>
+std::string valueCycle(const char* separator) {
+    std::string text;
+    for (const EnumName<E>& entry : enumNames(E{})) text += (text.empty() ? "" : separator) + std::string(entry.name);
+    return text;
+}
+
+std::string strategyHelp(Strategy strategy) { return std::string("strategy ") + toName(strategy); }
 
 const std::vector<KeyBinding>& bindings() {
     static const std::vector<KeyBinding> table = {
-        {Action::StrategyLight, {"1"}, PENUMBRA_KEYS(GLFW_KEY_1, GLFW_KEY_KP_1), "strategy light (direct integrator)"},
-        {Action::StrategyBsdf, {"2"}, PENUMBRA_KEYS(GLFW_KEY_2, GLFW_KEY_KP_2), "strategy bsdf"},
-        {Action::StrategyMis, {"3"}, PENUMBRA_KEYS(GLFW_KEY_3, GLFW_KEY_KP_3), "strategy mis"},
-        {Action::StrategyMixture, {"4"}, PENUMBRA_KEYS(GLFW_KEY_4, GLFW_KEY_KP_4), "strategy mixture"},
-        {Action::ToggleHeuristic, {"h"}, PENUMBRA_KEYS(GLFW_KEY_H), "MIS heuristic: balance <-> power"},
-        {Action::CycleSphereSampling, {"s"}, PENUMBRA_KEYS(GLFW_KEY_S), "sphere sampling: area -> cap -> solid_angle"},
-        {Action::ToggleQuadSampling, {"t"}, PENUMBRA_KEYS(GLFW_KEY_T), "quad sampling: area <-> solid_angle"},
+        {Action::StrategyLight,
+         {"1"},
+         PENUMBRA_KEYS(GLFW_KEY_1, GLFW_KEY_KP_1),
+         strategyHelp(Strategy::Light) + " (direct integrator)"},
+        {Action::StrategyBsdf, {"2"}, PENUMBRA_KEYS(GLFW_KEY_2, GLFW_KEY_KP_2), strategyHelp(Strategy::Bsdf)},
+        {Action::StrategyMis, {"3"}, PENUMBRA_KEYS(GLFW_KEY_3, GLFW_KEY_KP_3), strategyHelp(Strategy::Mis)},
+        {Action::StrategyMixture, {"4"}, PENUMBRA_KEYS(GLFW_KEY_4, GLFW_KEY_KP_4), strategyHelp(Strategy::Mixture)},
+        {Action::ToggleHeuristic, {"h"}, PENUMBRA_KEYS(GLFW_KEY_H), "MIS heuristic: " + valueCycle<Heuristic>(" <-> ")},
+        {Action::CycleSphereSampling,
+         {"s"},
+         PENUMBRA_KEYS(GLFW_KEY_S),
+         "sphere sampling: " + valueCycle<SphereSampling>(" -> ")},
+        {Action::ToggleQuadSampling,
+         {"t"},
+         PENUMBRA_KEYS(GLFW_KEY_T),
+         "quad sampling: " + valueCycle<QuadSampling>(" <-> ")},
         {Action::ToggleTriangleSampling,
          {"m"},
          PENUMBRA_KEYS(GLFW_KEY_M),
-         "mesh-light triangle sampling: area <-> solid_angle"},
+         "mesh-light triangle sampling: " + valueCycle<TriangleSampling>(" <-> ")},
         {Action::ExposureUp, {"+", "plus"}, PENUMBRA_KEYS(GLFW_KEY_EQUAL, GLFW_KEY_KP_ADD), "exposure +0.5 stop"},
         {Action::ExposureDown,
          {"-", "minus"},

@@ -64,6 +64,16 @@ constexpr std::optional<E> fromName(std::string_view name) {
     return std::nullopt;
 }
 
+// The value after `value` in table order, the first after the last: the order in which the
+// preview's keys step through an option's values.
+template <class E>
+constexpr E nextValue(E value) {
+    auto table = enumNames(E{});
+    for (size_t i = 0; i < table.size(); ++i)
+        if (table[i].value == value) return table[(i + 1) % table.size()].value;
+    return table[0].value;
+}
+
 // Every name of E, in table order.
 template <class E>
 std::vector<const char*> allNames() {
