@@ -5,6 +5,10 @@
 
 namespace penumbra {
 
+static_assert(uint32_t(TextureWrap::Repeat) == gpu::TEXTURE_WRAP_REPEAT &&
+              uint32_t(TextureWrap::Clamp) == gpu::TEXTURE_WRAP_CLAMP &&
+              uint32_t(TextureWrap::Mirror) == gpu::TEXTURE_WRAP_MIRROR);
+
 uint32_t gpuTextureSlot(TextureSlot slot) {
     switch (slot) {
         case TextureSlot::Kd: return gpu::TEXTURE_SLOT_KD;
@@ -44,6 +48,7 @@ TextureArrays buildTextureArrays(const Scene& scene, const Bvh& bvh) {
             ref.firstTexel = firstTexel[mt.texture];
             ref.width = t.width;
             ref.height = t.height;
+            ref.wrap = uint32_t(mt.wrapU) | uint32_t(mt.wrapV) << 2;
             glm::uvec4 words[gpu::TEXTURE_REF_TEXELS];
             static_assert(sizeof words == sizeof ref);
             std::memcpy(words, &ref, sizeof ref);

@@ -58,7 +58,17 @@ std::string GltfTextureReader::imageBytes(int index, const std::string& path) co
     return std::string(reinterpret_cast<const char*>(data.data()) + bv.byteOffset, bv.byteLength);
 }
 
-uint32_t GltfTextureReader::texture(const tinygltf::TextureInfo& info, const std::string& path, bool srgb) {
+TextureWrap GltfTextureReader::wrapMode(int glWrap, const std::string& path) const {
+    switch (glWrap) {
+        case TINYGLTF_TEXTURE_WRAP_REPEAT: return TextureWrap::Repeat;
+        case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE: return TextureWrap::Clamp;
+        case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT: return TextureWrap::Mirror;
+        default: throwInputError(m_label, path, "unknown wrap mode " + std::to_string(glWrap));
+    }
+}
+
+uint32_t GltfTextureReader::texture(const tinygltf::TextureInfo& info, const std::string& path, bool srgb,
+                                    std::pair<TextureWrap, TextureWrap>& wrap) {
     if (info.index < 0 || size_t(info.index) >= m_model.textures.size())
         throwInputError(m_label, path + ".index", "texture " + std::to_string(info.index) + " does not exist");
     // SCENE_FORMAT.md: TEXCOORD_0. Another set is read as set 0, with a note.
@@ -70,18 +80,14 @@ uint32_t GltfTextureReader::texture(const tinygltf::TextureInfo& info, const std
         throwInputError(m_label, texPath + ".source",
                         tex.source < 0 ? "texture has no source image (only PNG and JPEG sources are read)"
                                        : "image " + std::to_string(tex.source) + " does not exist");
+    wrap = {TextureWrap::Repeat, TextureWrap::Repeat};  // glTF's default without a sampler
     if (tex.sampler >= 0) {
         if (size_t(tex.sampler) >= m_model.samplers.size())
             throwInputError(m_label, texPath + ".sampler",
                             "sampler " + std::to_string(tex.sampler) + " does not exist");
-        // Penumbra's textures repeat (SCENE_FORMAT.md); clamp and mirror only differ outside
-        // [0, 1], which is where a model asking for them rarely puts its uvs.
         const tinygltf::Sampler& s = m_model.samplers[size_t(tex.sampler)];
-        for (int wrap : {s.wrapS, s.wrapT})
-            if (wrap != TINYGLTF_TEXTURE_WRAP_REPEAT)
-                noteOnce(std::string("texture samplers with ") +
-                         (wrap == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE ? "CLAMP_TO_EDGE" : "MIRRORED_REPEAT") +
-                         " wrapping are rendered with REPEAT");
+        std::string samplerPath = at("samplers", size_t(tex.sampler));
+        wrap = {wrapMode(s.wrapS, samplerPath + ".wrapS"), wrapMode(s.wrapT, samplerPath + ".wrapT")};
     }
     auto found = m_decoded.find({tex.source, srgb});
     if (found != m_decoded.end()) return found->second;
@@ -101,8 +107,9 @@ std::optional<MaterialTexture> GltfTextureReader::baseColor(const tinygltf::Mate
     glm::vec3 factor(1.0f);
     if (pbr.baseColorFactor.size() == 4)
         factor = {unit(pbr.baseColorFactor[0]), unit(pbr.baseColorFactor[1]), unit(pbr.baseColorFactor[2])};
-    uint32_t t = texture(pbr.baseColorTexture, path + ".pbrMetallicRoughness.baseColorTexture", true);
-    return MaterialTexture{TextureSlot::Kd, t, factor, 0};
+    std::pair<TextureWrap, TextureWrap> wrap;
+    uint32_t t = texture(pbr.baseColorTexture, path + ".pbrMetallicRoughness.baseColorTexture", true, wrap);
+    return MaterialTexture{TextureSlot::Kd, t, factor, 0, wrap.first, wrap.second};
 }
 
 GltfMaterialTextures GltfTextureReader::metallicRoughness(const tinygltf::Material& material, const std::string& path) {
@@ -111,10 +118,13 @@ GltfMaterialTextures GltfTextureReader::metallicRoughness(const tinygltf::Materi
     const tinygltf::PbrMetallicRoughness& pbr = material.pbrMetallicRoughness;
     if (pbr.metallicRoughnessTexture.index >= 0) {
         // glTF 2.0 section 3.9.2: metalness in the blue channel, roughness in green; linear data.
+        std::pair<TextureWrap, TextureWrap> wrap;
         uint32_t t =
-            texture(pbr.metallicRoughnessTexture, path + ".pbrMetallicRoughness.metallicRoughnessTexture", false);
-        out.metallic = MaterialTexture{TextureSlot::KsX, t, glm::vec3(unit(pbr.metallicFactor)), 2};
-        out.roughness = MaterialTexture{TextureSlot::KsY, t, glm::vec3(unit(pbr.roughnessFactor)), 1};
+            texture(pbr.metallicRoughnessTexture, path + ".pbrMetallicRoughness.metallicRoughnessTexture", false, wrap);
+        out.metallic =
+            MaterialTexture{TextureSlot::KsX, t, glm::vec3(unit(pbr.metallicFactor)), 2, wrap.first, wrap.second};
+        out.roughness =
+            MaterialTexture{TextureSlot::KsY, t, glm::vec3(unit(pbr.roughnessFactor)), 1, wrap.first, wrap.second};
     }
     return out;
 }

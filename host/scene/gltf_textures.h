@@ -8,6 +8,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <tiny_gltf.h>
@@ -45,9 +46,11 @@ public:
     GltfMaterialTextures metallicRoughness(const tinygltf::Material& material, const std::string& path);
 
 private:
-    // Index into m_textures of glTF texture `info` decoded as sRGB colour or linear data;
-    // throws InputError naming the glTF path.
-    uint32_t texture(const tinygltf::TextureInfo& info, const std::string& path, bool srgb);
+    // Index into m_textures of glTF texture `info` decoded as sRGB colour or linear data,
+    // and its sampler's wrapping along u and v; throws InputError naming the glTF path.
+    uint32_t texture(const tinygltf::TextureInfo& info, const std::string& path, bool srgb,
+                     std::pair<TextureWrap, TextureWrap>& wrap);
+    TextureWrap wrapMode(int glWrap, const std::string& path) const;
     std::string imageBytes(int index, const std::string& path) const;
     void noteOnce(const std::string& text);
 

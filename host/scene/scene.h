@@ -78,6 +78,10 @@ struct PbrFactors {
 // in shaders/shared/types.h say which material field each one is).
 enum class TextureSlot { Kd, Ks, KsX, KsY };
 
+// How a texture continues outside [0, 1] (glTF 2.0 section 5.26, samplers): REPEAT,
+// CLAMP_TO_EDGE and MIRRORED_REPEAT. Numbered as TEXTURE_WRAP_* in shaders/shared/types.h.
+enum class TextureWrap { Repeat, Clamp, Mirror };
+
 // A textured field (SCENE_FORMAT.md "Textures (v2)"): the value is scale times the
 // texture at the point's (u, v), channel `channel` alone for a number field.
 struct MaterialTexture {
@@ -85,6 +89,8 @@ struct MaterialTexture {
     uint32_t texture = 0;   // index into Scene::textures
     glm::vec3 scale{1.0f};  // a number field uses scale.x
     uint32_t channel = 0;   // number fields: which channel (0 = R ... 3 = A)
+    // Wrapping along u and v (glTF samplers; a JSON texture repeats, SCENE_FORMAT.md).
+    TextureWrap wrapU = TextureWrap::Repeat, wrapV = TextureWrap::Repeat;
 };
 
 struct Material {

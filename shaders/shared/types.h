@@ -149,9 +149,12 @@ struct TextureRef {
     uint firstTexel;   // of the texture in BINDING_TEXTURE_TEXELS, in texels
     uint width;
     uint height;
-    uint pad;
+    uint wrap;         // TEXTURE_WRAP_* along u | (along v) << 2
 };
 PENUMBRA_CONST uint TEXTURE_REF_TEXELS = 2u;
+PENUMBRA_CONST uint TEXTURE_WRAP_REPEAT = 0u;
+PENUMBRA_CONST uint TEXTURE_WRAP_CLAMP = 1u;   // glTF CLAMP_TO_EDGE
+PENUMBRA_CONST uint TEXTURE_WRAP_MIRROR = 2u;  // glTF MIRRORED_REPEAT
 
 // Per-vertex texture coordinates of a triangle (mesh `uvs`; zero without them), indexed
 // by the primitive's leaf-order index. Quads and spheres compute theirs (geometry/surface.glsl).

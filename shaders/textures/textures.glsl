@@ -1,7 +1,8 @@
 // Material textures (SCENE_FORMAT.md "Textures (v2)"): applyTextures replaces each textured
 // value slot of a Material by scale x texture(u, v), clamped to [0, 1], once per shading
-// point, before any BRDF code sees the material. Bilinear filtering with repeat wrapping on
-// texels stored as half floats in one texel buffer (layout: shared/types.h, "Textures").
+// point, before any BRDF code sees the material. Bilinear filtering with repeat wrapping (or
+// a glTF sampler's clamp or mirror) on texels stored as half floats in one texel buffer
+// (layout: shared/types.h, "Textures").
 #ifndef PENUMBRA_TEXTURES_GLSL
 #define PENUMBRA_TEXTURES_GLSL
 
@@ -20,22 +21,42 @@ vec4 fetchTexel(uint index) {
     return vec4(unpackHalf2x16(halves.x), unpackHalf2x16(halves.y));
 }
 
-// Bilinear lookup with repeat wrapping. Texel (i, j) covers [i, i+1)/W x [j, j+1)/H of the
-// unit square with its centre at ((i + 0.5)/W, (j + 0.5)/H), row j = 0 at v = 0 (the top
-// of the image); between centres the four nearest texels are blended by distance (pbrt-v4
-// Image::Bilerp, section 10.4.3). Only the fractional part of u and v matters (repeat).
-vec4 sampleTexture(uint firstTexel, uint width, uint height, vec2 uv) {
+// One axis of a bilinear lookup over n texels: the two texel indices to blend and the
+// weight of the second. Texel i covers [i, i+1)/n with its centre at (i + 0.5)/n; between
+// centres the two nearest texels are blended by distance (pbrt-v4 Image::Bilerp, section
+// 10.4.3). Outside [0, 1] the texture repeats, mirrors (every other copy flipped, so that
+// a texel meets its own copy at each integer u) or clamps to its edge texels (glTF 2.0
+// section 5.26, samplers).
+void wrapAxis(float u, uint n, uint wrap, out uint i0, out uint i1, out float f) {
+    float t = u;
+    if (wrap == TEXTURE_WRAP_REPEAT) t = fract(u);
+    else if (wrap == TEXTURE_WRAP_MIRROR) t = 1.0 - abs(u - 2.0 * floor(0.5 * u) - 1.0);
+    else t = clamp(u, -1.0, 2.0);  // beyond one texture width every lookup is the edge texel
+    float p = t * float(n) - 0.5;
+    float cell = floor(p);
+    f = p - cell;
+    int c = int(cell);  // in [-1, n - 1] for repeat and mirror, [-n - 1, 2n - 1] for clamp
+    if (wrap == TEXTURE_WRAP_REPEAT) {
+        // Adding n keeps the modulo non-negative.
+        i0 = uint(c + int(n)) % n;
+        i1 = uint(c + 1 + int(n)) % n;
+    } else {
+        // Mirror: the texel beyond an edge is the edge texel's mirror image, itself.
+        i0 = uint(clamp(c, 0, int(n) - 1));
+        i1 = uint(clamp(c + 1, 0, int(n) - 1));
+    }
+}
+
+// Bilinear lookup with wrapping `wrap` (TEXTURE_WRAP_* along u | along v << 2); row j = 0
+// is at v = 0 (the top of the image).
+vec4 sampleTexture(uint firstTexel, uint width, uint height, uint wrap, vec2 uv) {
     // Non-finite coordinates (a degenerate triangle's interpolation) read texel (0, 0)
     // instead of an undefined address.
     uv = mix(vec2(0.0), uv, lessThan(abs(uv), vec2(1e30)));
-    vec2 size = vec2(width, height);
-    vec2 p = fract(uv) * size - 0.5;
-    vec2 cell = floor(p);
-    vec2 f = p - cell;
-    // cell is in [-1, size - 1]: adding size keeps the modulo non-negative.
-    ivec2 c0 = ivec2(cell) + ivec2(width, height);
-    uint x0 = uint(c0.x) % width, x1 = (uint(c0.x) + 1u) % width;
-    uint y0 = uint(c0.y) % height, y1 = (uint(c0.y) + 1u) % height;
+    uint x0, x1, y0, y1;
+    vec2 f;
+    wrapAxis(uv.x, width, wrap & 3u, x0, x1, f.x);
+    wrapAxis(uv.y, height, (wrap >> 2u) & 3u, y0, y1, f.y);
     vec4 t00 = fetchTexel(firstTexel + y0 * width + x0), t10 = fetchTexel(firstTexel + y0 * width + x1);
     vec4 t01 = fetchTexel(firstTexel + y1 * width + x0), t11 = fetchTexel(firstTexel + y1 * width + x1);
     return mix(mix(t00, t10, f.x), mix(t01, t11, f.x), f.y);
@@ -52,7 +73,7 @@ Material applyTextures(Material m, uint materialIndex, vec2 uv) {
         int ref = int(header.x + TEXTURE_REF_TEXELS * i);
         uvec4 a = texelFetch(materialTextureTexels, ref);
         uvec4 b = texelFetch(materialTextureTexels, ref + 1);
-        vec4 t = sampleTexture(b.x, b.y, b.z, uv);
+        vec4 t = sampleTexture(b.x, b.y, b.z, b.w, uv);
         vec3 scale = uintBitsToFloat(a.xyz);
         uint slot = a.w & 0xffu;
         float channel = t[min(a.w >> 8u, 3u)];

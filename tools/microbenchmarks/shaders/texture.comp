@@ -22,7 +22,7 @@ layout(binding = BINDING_TEXTURE_TEXELS_IMAGE) uniform sampler2D image;
 vec4 lookup(vec2 uv) { return textureLod(image, uv, 0.0); }
 #else
 #include "textures/textures.glsl"
-vec4 lookup(vec2 uv) { return sampleTexture(0u, push.width, push.height, uv); }
+vec4 lookup(vec2 uv) { return sampleTexture(0u, push.width, push.height, TEXTURE_WRAP_REPEAT, uv); }
 #endif
 
 uint hash(uint x) {
