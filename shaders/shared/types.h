@@ -149,7 +149,7 @@ struct TextureRef {
     uint firstTexel;   // of the texture in BINDING_TEXTURE_TEXELS, in texels
     uint width;
     uint height;
-    uint wrap;         // TEXTURE_WRAP_* along u | (along v) << 2
+    uint wrap;  // TEXTURE_WRAP_* along u | (along v) << 2
 };
 PENUMBRA_CONST uint TEXTURE_REF_TEXELS = 2u;
 PENUMBRA_CONST uint TEXTURE_WRAP_REPEAT = 0u;
