@@ -445,6 +445,39 @@ TEST(PreviewProgram, ScreenshotMatchesRenderPng) {
     EXPECT_LE(maxLevelDifference(shown, rendered), 1) << "see " << dir;
 }
 
+TEST(PreviewProgram, TexturedModelShowsItsTextureAsRendered) {
+    REQUIRE_XVFB();
+    fs::path dir = freshDir("screenshot-textured");
+    // A pbr quad whose base colour is the glTF sample logo (assimp-testmodels, tools/setup).
+    fs::copy_file("/usr/share/assimp/models/glTF2/BoxTextured-glTF/CesiumLogoFlat.png", dir / "logo.png");
+    auto writeScene = [&](const std::string& file, const std::string& baseColor) {
+        std::ofstream(dir / file) << R"({
+            "camera": {"eye": [0, 3, 3], "target": [0, 0, 0], "up": [0, 1, 0], "fov_y": 40},
+            "film": {"width": 64, "height": 48}, "sampler": {"spp": 4},
+            "materials": {"m": {"type": "pbr", "base_color": )"
+                                  << baseColor << R"(, "roughness": 0.6}},
+            "shapes": [{"type": "quad", "origin": [-1, 0, -1], "edge_u": [2, 0, 0], "edge_v": [0, 0, 2],
+                        "material": "m"}],
+            "lights": [{"type": "environment", "radiance": 1}]})";
+    };
+    writeScene("textured.json", R"({"texture": "logo.png"})");
+    writeScene("untextured.json", "[1, 1, 1]");  // what the texture's scale alone would give
+    std::string err;
+    int status = runIn(dir, displayEnv(), "preview textured.json --frames 200 --screenshot shown.png", &err);
+    ASSERT_EQ(status, 0) << err;
+    status = runIn(dir, "", "render textured.json -o rendered.exr --png rendered.png --quiet", &err);
+    ASSERT_EQ(status, 0) << err;
+    status = runIn(dir, "", "render untextured.json -o plain.exr --png plain.png --quiet", &err);
+    ASSERT_EQ(status, 0) << err;
+    Png shown = readPng(dir / "shown.png"), rendered = readPng(dir / "rendered.png"),
+        plain = readPng(dir / "plain.png");
+    ASSERT_EQ(rendered.pixels.size(), shown.pixels.size());
+    EXPECT_LE(maxLevelDifference(shown, rendered), 1) << "see " << dir;
+    // The logo shows: the preview is far from the quad without its texture.
+    ASSERT_EQ(plain.pixels.size(), shown.pixels.size());
+    EXPECT_GT(maxLevelDifference(shown, plain), 64) << "see " << dir;
+}
+
 TEST(PreviewProgram, StrategyKeyRestartsAccumulation) {
     REQUIRE_XVFB();
     fs::path dir = freshDir("strategy-key");
