@@ -10,7 +10,7 @@
 #include "cli/commands.h"
 #include "core/errors.h"
 #include "core/exit_status.h"
-#include "scene/input_file.h"
+#include "core/input_file.h"
 
 using namespace penumbra;
 

@@ -15,7 +15,7 @@
 #include "gltf_builder.h"
 #include "gpu_fixture.h"
 #include "render_helpers.h"
-#include "scene/input_file.h"
+#include "core/input_file.h"
 #include "scene/json_parse.h"
 #include "scene/json_reader.h"
 #include "scene/load.h"

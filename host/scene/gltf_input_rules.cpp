@@ -13,7 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/errors.h"
-#include "scene/input_file.h"
+#include "core/input_file.h"
 #include "scene/json_parse.h"
 
 namespace penumbra {

@@ -19,7 +19,7 @@
 #include "scene/gltf_import.h"
 #include "scene/gltf_input_rules.h"
 #include "scene/gltf_textures.h"
-#include "scene/input_file.h"
+#include "core/input_file.h"
 #include "scene/limits.h"
 
 namespace penumbra {

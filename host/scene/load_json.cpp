@@ -10,7 +10,7 @@
 #include "core/errors.h"
 #include "scene/enum_names.h"
 #include "scene/gltf_import.h"
-#include "scene/input_file.h"
+#include "core/input_file.h"
 #include "scene/json_parse.h"
 #include "scene/json_reader.h"
 #include "scene/limits.h"

@@ -1,6 +1,6 @@
 // Bounded reads of input files with the system's own words for failures, and the rule
 // that a file named by another file lies inside the naming file's folder.
-#include "scene/input_file.h"
+#include "core/input_file.h"
 
 #include <fcntl.h>
 #include <sys/stat.h>
