@@ -254,6 +254,47 @@ TEST(ImageExr, TruncatedFilesAreInputErrors) {
     }
 }
 
+TEST(ImageExr, DecodesFromMemoryAsFromTheFile) {
+    // The bytes writeExr wrote, decoded from memory, give the file's image exactly: every
+    // pixel (67 x 45: several 16-line ZIP chunks, a width that is no power of two) and
+    // every penumbra:* attribute.
+    const fs::path dir = freshDir("memory");
+    Image image = noiseImage(67, 45, 11);
+    image.meta = {16, 3, 32, R"({"type":"direct"})", 2.25, "sobol", std::vector<SamplePiece>{{3, 0, 16}, {3, 32, 48}}};
+    writeExr(dir / "full.exr", image);
+    const Image fromFile = readExr(dir / "full.exr");
+    const Image fromMemory = decodeExr(readBytes(dir / "full.exr"), "memory.exr");
+    ASSERT_EQ(fromMemory.width, fromFile.width);
+    ASSERT_EQ(fromMemory.height, fromFile.height);
+    EXPECT_EQ(fromMemory.rgb, fromFile.rgb);
+    EXPECT_EQ(fromMemory.rgb, image.rgb);  // and both are what was written (32-bit float, lossless)
+    EXPECT_EQ(fromMemory.meta.spp, fromFile.meta.spp);
+    EXPECT_EQ(fromMemory.meta.seed, fromFile.meta.seed);
+    EXPECT_EQ(fromMemory.meta.sampleOffset, fromFile.meta.sampleOffset);
+    EXPECT_EQ(fromMemory.meta.integrator, fromFile.meta.integrator);
+    EXPECT_EQ(fromMemory.meta.renderSeconds, fromFile.meta.renderSeconds);
+    EXPECT_EQ(fromMemory.meta.sampler, fromFile.meta.sampler);
+    EXPECT_EQ(fromMemory.meta.pieces, fromFile.meta.pieces);
+    EXPECT_EQ(fromMemory.meta.pieces, image.meta.pieces);
+}
+
+TEST(ImageExr, TruncatedBytesInMemoryAreInputErrors) {
+    // Every prefix of a valid file, empty to all but the last byte, decoded from memory:
+    // each is one InputError naming the given name, never a crash, a read past the bytes
+    // or a partial image.
+    const fs::path dir = freshDir("memory-truncated");
+    Image image = noiseImage(19, 37, 13);
+    image.meta = {4, 1, 0, R"({"type":"ao"})", 0.5};
+    writeExr(dir / "full.exr", image);
+    const std::string bytes = readBytes(dir / "full.exr");
+    ASSERT_GT(bytes.size(), 1000u);
+    for (size_t n = 0; n < bytes.size(); ++n) {
+        SCOPED_TRACE("truncated to " + std::to_string(n) + " of " + std::to_string(bytes.size()) + " bytes");
+        expectInputError([&] { decodeExr(std::string_view(bytes).substr(0, n), "memory.exr"); }, "memory.exr: ");
+        if (HasFailure()) break;  // one failing length says it; thousands would drown it
+    }
+}
+
 // A smooth image, so ZIP really deflates it: OpenEXR stores incompressible chunks raw,
 // and raw float data has no checksum that could reveal a corruption.
 Image smoothImage() {

@@ -1,6 +1,7 @@
-// Reading input files (scenes, job files, glTF models and the files a model names) under
-// Penumbra's input rules: a size cap per kind of file, errno's words for what went wrong,
-// and, unless any path is allowed, only files inside the folder of the file naming them.
+// Reading input files (scenes, job files, glTF models, the files a model names, image
+// files) under Penumbra's input rules: a size cap per kind of file, errno's words for what
+// went wrong, and, unless any path is allowed, only files inside the folder of the file
+// naming them.
 #pragma once
 
 #include <cstdint>

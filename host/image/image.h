@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace penumbra {
@@ -59,6 +60,9 @@ struct Image {
 void writeExr(const std::filesystem::path& path, const Image& image);
 // Reads an EXR (R, G, B; missing channels are an error). Throws InputError("FILE: why").
 Image readExr(const std::filesystem::path& path);
+// The same for the bytes of an EXR file held in memory, with the same checks and errors;
+// `name` stands for the file in messages ("NAME: why").
+Image decodeExr(std::string_view bytes, const std::string& name);
 // sRGB 8-bit PNG of exposure-scaled, clamped radiance; atomic like writeExr.
 void writePng(const std::filesystem::path& path, const Image& image, float exposure = 0.0f);
 // 8-bit sRGB encoding of one linear value (clamped), shared with the preview's tone map.

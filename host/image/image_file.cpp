@@ -1,16 +1,15 @@
-// Image files as linear float RGBA (see image_file.h): the format from the magic bytes,
-// the size from the header (refused past the limits before decoding), then stb_image for
-// PNG, JPEG and HDR, exr.cpp's readExr for OpenEXR.
+// Image files as linear float RGBA (see image_file.h): the bytes read by readInputFile,
+// the format from the magic bytes, the size from the header (refused past the limits
+// before decoding), then stb_image for PNG, JPEG and HDR, exr.cpp's decodeExr for OpenEXR.
 #include "image/image_file.h"
 
-#include <cerrno>
 #include <cmath>
 #include <cstring>
-#include <fstream>
 #include <memory>
 
 #include "core/errors.h"
 #include "image/image.h"
+#include "core/input_file.h"
 
 // Static, so that another copy in the same program (the tests have one, tinygltf may
 // bring one) never clashes with ours; only the formats Penumbra reads are compiled in.
@@ -34,22 +33,8 @@ namespace {
 
 static_assert(STBI_MAX_DIMENSIONS == kMaxImageSide);
 
-std::string readFileBytes(const std::filesystem::path& path, const std::string& label) {
-    std::error_code ec;
-    if (!std::filesystem::exists(path, ec)) throwInputError(label, "", "no such file");
-    if (std::filesystem::is_directory(path, ec)) throwInputError(label, "", "is a directory, not an image");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throwInputError(label, "", std::string("cannot open: ") + std::strerror(errno));
-    std::string bytes;
-    char buffer[1 << 16];
-    while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
-        bytes.append(buffer, size_t(in.gcount()));
-        if (bytes.size() > kMaxImageFileBytes)
-            throwInputError(label, "", "file too large (more than " + std::to_string(kMaxImageFileBytes) + " bytes)");
-    }
-    if (in.bad()) throwInputError(label, "", std::string("read error: ") + std::strerror(errno));
-    return bytes;
-}
+// OpenEXR's magic number, the first 4 bytes of every EXR file.
+constexpr const char* kExrMagic = "\x76\x2f\x31\x01";
 
 bool startsWith(const std::string& bytes, const char* magic, size_t n) {
     return bytes.size() >= n && std::memcmp(bytes.data(), magic, n) == 0;
@@ -125,17 +110,8 @@ ImageFile decodeStb(const std::string& bytes, const std::string& label, ImageFil
     return image;
 }
 
-ImageFile decodeExr(const std::filesystem::path& path, const std::string& label) {
-    Image exr;
-    try {
-        exr = readExr(path);
-    } catch (const InputError& e) {
-        // readExr names the path; the caller's label replaces it.
-        std::string message = e.what();
-        std::string prefix = path.string() + ": ";
-        if (message.rfind(prefix, 0) == 0) message = message.substr(prefix.size());
-        throwInputError(label, "", message);
-    }
+ImageFile decodeExrFile(const std::string& bytes, const std::string& label) {
+    const Image exr = decodeExr(bytes, label);
     checkSize(exr.width, exr.height, label);
     ImageFile image;
     image.width = exr.width;
@@ -173,17 +149,19 @@ ImageFile decodeImage(const std::string& bytes, const std::string& label, ColorD
     } catch (const std::bad_alloc&) {
         throwInputError(label, "", "image too large to load");
     }
-    if (startsWith(bytes, "\x76\x2f\x31\x01", 4))
+    if (startsWith(bytes, kExrMagic, 4))
         throwInputError(label, "", "OpenEXR images are read from files only, not from memory");
     throwInputError(label, "", "unsupported image format (PNG, JPEG, Radiance HDR and OpenEXR are read)");
 }
 
 ImageFile readImageFile(const std::filesystem::path& path, const std::string& label, ColorDecode decode) {
-    std::string bytes = readFileBytes(path, label);
-    if (startsWith(bytes, "\x76\x2f\x31\x01", 4)) {
-        bytes = std::string();  // OpenEXR reads the file itself
-        return decodeExr(path, label);
-    }
+    // These two refusals keep the words image files have always had; every other failure
+    // to read is readInputFile's, as for any input file.
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) throwInputError(label, "", "no such file");
+    if (std::filesystem::is_directory(path, ec)) throwInputError(label, "", "is a directory, not an image");
+    const std::string bytes = readInputFile(path, label, kMaxImageFileBytes);
+    if (startsWith(bytes, kExrMagic, 4)) return decodeExrFile(bytes, label);
     return decodeImage(bytes, label, decode);
 }
 
