@@ -12,10 +12,10 @@
 #include <gtest/gtest.h>
 
 #include "batch/job_file.h"
+#include "core/input_file.h"
 #include "gltf_builder.h"
 #include "gpu_fixture.h"
 #include "render_helpers.h"
-#include "core/input_file.h"
 #include "scene/json_parse.h"
 #include "scene/json_reader.h"
 #include "scene/load.h"

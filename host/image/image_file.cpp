@@ -8,8 +8,8 @@
 #include <memory>
 
 #include "core/errors.h"
-#include "image/image.h"
 #include "core/input_file.h"
+#include "image/image.h"
 
 // Static, so that another copy in the same program (the tests have one, tinygltf may
 // bring one) never clashes with ours; only the formats Penumbra reads are compiled in.

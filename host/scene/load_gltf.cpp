@@ -16,10 +16,10 @@
 #include <tiny_gltf.h>
 
 #include "core/errors.h"
+#include "core/input_file.h"
 #include "scene/gltf_import.h"
 #include "scene/gltf_input_rules.h"
 #include "scene/gltf_textures.h"
-#include "core/input_file.h"
 #include "scene/limits.h"
 
 namespace penumbra {

@@ -8,9 +8,9 @@
 #include <numbers>
 
 #include "core/errors.h"
+#include "core/input_file.h"
 #include "scene/enum_names.h"
 #include "scene/gltf_import.h"
-#include "core/input_file.h"
 #include "scene/json_parse.h"
 #include "scene/json_reader.h"
 #include "scene/limits.h"

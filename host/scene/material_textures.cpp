@@ -7,8 +7,8 @@
 #include <glm/gtc/packing.hpp>
 
 #include "core/errors.h"
-#include "image/image_file.h"
 #include "core/input_file.h"
+#include "image/image_file.h"
 
 namespace penumbra {
 
