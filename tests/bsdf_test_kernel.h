@@ -1,15 +1,18 @@
-// The BSDF test kernel (shaders/tests/bsdf_sampling.comp) driven from C++, and the chart in
+// The BSDF test kernel (shaders/tests/bsdf_sampling.comp) driven from C++, the chart in
 // which the BSDF sampling tests histogram directions: (theta, phi) about the normal, each
-// squeezed by a monotone map that spends most cells on a narrow lobe. Shared by
-// test_bsdf_sampling.cpp (diffuse, phong) and test_pbr_sampling.cpp (pbr).
+// squeezed by a monotone map that spends most cells on a narrow lobe, and the chi-square
+// test's inputs in that chart. Shared by test_bsdf_sampling.cpp (diffuse, phong) and
+// test_pbr_sampling.cpp (pbr).
 #pragma once
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <vector>
 
 #include <glm/glm.hpp>
 
+#include "chi2.h"
 #include "gpu/buffer.h"
 #include "gpu/kernel.h"
 #include "gpu_fixture.h"
@@ -123,5 +126,54 @@ struct Chart {
         return frame.toWorld({std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th)});
     }
 };
+
+// The chart about the mirror direction of wo at n, for a lobe of angular radius `width`
+// (radians) about it: focused on the lobe when it is narrower than ~30 degrees (0.5 rad),
+// linear otherwise.
+inline Chart mirrorChart(glm::vec3 wo, glm::vec3 n, double width) {
+    constexpr double kPi = std::numbers::pi;
+    const Frame frame{glm::dvec3(n)};
+    const glm::dvec3 r = frame.toLocal(2.0 * glm::dot(glm::dvec3(wo), glm::dvec3(n)) * glm::dvec3(n) - glm::dvec3(wo));
+    const double thetaC = std::atan2(std::sqrt(r.x * r.x + r.y * r.y), r.z);
+    const double phiC = std::atan2(r.y, r.x);
+    const double wTheta = width < 0.5 ? width : 0.0;
+    const double wPhi = width < 0.5 && std::sin(thetaC) > width ? width / std::sin(thetaC) : 0.0;
+    return {frame, FocusMap(0.0, 0.5 * kPi, thetaC, wTheta), FocusMap(phiC - kPi, phiC + kPi, phiC, wPhi)};
+}
+
+// ---- The chi-square test in the chart ------------------------------------------------------------
+
+// bsdfSample's directions (the kernel's SAMPLE records) as chart points for chi2TestSquare;
+// a declined sample (an all-zero record) becomes NaN, the harness's mark for "no sample".
+inline std::vector<glm::dvec2> chartPoints(const Chart& chart, const std::vector<gpu::BsdfTestRecord>& samples) {
+    std::vector<glm::dvec2> points(samples.size());
+    for (size_t i = 0; i < samples.size(); ++i) {
+        const auto& s = samples[i];
+        if (s.a == glm::vec4(0.0f)) {
+            points[i] = {std::numeric_limits<double>::quiet_NaN(), 0.0};
+            continue;
+        }
+        // A direction the GPU put just above the horizon can land a rounding (1e-7
+        // radian, times F' <= 25 here) past s = 1 in double: keep it in the chart.
+        glm::dvec2 st = chart.toChart(glm::normalize(glm::dvec3(glm::vec3(s.a))));
+        if (st.x > 1.0 && st.x < 1.0 + 1e-5) st.x = 1.0;
+        points[i] = st;
+    }
+    return points;
+}
+
+// The kernel's bsdfPdf as a density in the chart, w.r.t. ds dt: the solid-angle pdf times
+// d(omega) / (ds dt), as chi2TestSquare wants it.
+inline SquarePdf chartPdf(BsdfKernel& kernel, const gpu::Material& m, glm::vec3 n, glm::vec3 wo, const Chart& chart) {
+    return [&kernel, m, n, wo, chart](const std::vector<glm::dvec2>& st) {
+        std::vector<gpu::BsdfTestRecord> in(st.size());
+        std::vector<double> jac(st.size());
+        for (size_t i = 0; i < st.size(); ++i) in[i].a = glm::vec4(glm::vec3(chart.fromChart(st[i], jac[i])), 0.0f);
+        const auto out = kernel.run(makePush(m, n, wo, gpu::BSDF_TEST_MODE_PDF, uint32_t(st.size()), 0), in);
+        std::vector<double> values(st.size());
+        for (size_t i = 0; i < st.size(); ++i) values[i] = double(out[i].a.x) * jac[i];
+        return values;
+    };
+}
 
 }  // namespace penumbra::test

@@ -24,7 +24,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <limits>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -43,7 +42,6 @@ using glm::vec3;
 using gpu::BsdfTestRecord;
 using test::bsdfKernel;
 using test::Chart;
-using test::FocusMap;
 using test::makePush;
 
 namespace {
@@ -87,17 +85,10 @@ vec3 outgoing(double cosTheta) {
 }
 
 // The chart for a material and wo: focused on the mirror direction for a glossy lobe
-// narrower than ~30 degrees, linear otherwise.
+// narrower than ~30 degrees (angular radius ~ 1/sqrt(n+1)), linear otherwise.
 Chart chartFor(const gpu::Material& m, vec3 wo, vec3 n) {
-    const test::Frame frame{dvec3(n)};
-    const dvec3 r = frame.toLocal(2.0 * glm::dot(dvec3(wo), dvec3(n)) * dvec3(n) - dvec3(wo));
-    const double thetaC = std::atan2(std::sqrt(r.x * r.x + r.y * r.y), r.z);
-    const double phiC = std::atan2(r.y, r.x);
     const bool glossy = m.type == gpu::MATERIAL_PHONG && meanOf(m.ks) > 0.0;
-    const double width = glossy ? 1.0 / std::sqrt(double(m.exponent) + 1.0) : 1.0;
-    const double wTheta = width < 0.5 ? width : 0.0;
-    const double wPhi = width < 0.5 && std::sin(thetaC) > width ? width / std::sin(thetaC) : 0.0;
-    return {frame, FocusMap(0.0, 0.5 * kPi, thetaC, wTheta), FocusMap(phiC - kPi, phiC + kPi, phiC, wPhi)};
+    return test::mirrorChart(wo, n, glossy ? 1.0 / std::sqrt(double(m.exponent) + 1.0) : 1.0);
 }
 
 // Probability that the cos^n lobe about the mirror direction r falls below the surface, r at
@@ -150,19 +141,7 @@ TEST_P(BsdfSampling, ChiSquarePdfReciprocityAndEnergy) {
 
         // Chi-square in the lobe's chart.
         const Chart chart = chartFor(m, wo, n);
-        std::vector<dvec2> points(samples.size());
-        for (size_t i = 0; i < samples.size(); ++i) {
-            const auto& s = samples[i];
-            if (s.a == glm::vec4(0.0f)) {
-                points[i] = {std::numeric_limits<double>::quiet_NaN(), 0.0};
-                continue;
-            }
-            // A direction the GPU put just above the horizon can land a rounding (1e-7
-            // radian, times F' <= 25 here) past s = 1 in double: keep it in the chart.
-            dvec2 st = chart.toChart(glm::normalize(dvec3(vec3(s.a))));
-            if (st.x > 1.0 && st.x < 1.0 + 1e-5) st.x = 1.0;
-            points[i] = st;
-        }
+        const std::vector<dvec2> points = test::chartPoints(chart, samples);
         // bsdfPdf's glossy term rounds cos(alpha) (a dot product near 1: <= 3 * 2^-24), which
         // cos^n turns into n * 3 * 2^-24 relative: a bound on its integral's float error.
         const double glossyShare = m.type == gpu::MATERIAL_PHONG && meanOf(m.ks) > 0.0
@@ -173,20 +152,7 @@ TEST_P(BsdfSampling, ChiSquarePdfReciprocityAndEnergy) {
         // The mass bsdfSample declines: the glossy lobe's part below the surface.
         const double declinedMass = glossyShare * lobeMassBelow(m.exponent, cosTheta);
         options.declinedFraction = declinedMass;
-        const auto r = test::chi2TestSquare(
-            points,
-            [&](const std::vector<dvec2>& st) {
-                std::vector<BsdfTestRecord> in(st.size());
-                std::vector<double> jac(st.size());
-                for (size_t i = 0; i < st.size(); ++i)
-                    in[i].a = glm::vec4(vec3(chart.fromChart(st[i], jac[i])), 0.0f);
-                const auto out =
-                    kernel.run(makePush(m, n, wo, gpu::BSDF_TEST_MODE_PDF, uint32_t(st.size()), 0), in);
-                std::vector<double> values(st.size());
-                for (size_t i = 0; i < st.size(); ++i) values[i] = double(out[i].a.x) * jac[i];
-                return values;
-            },
-            options);
+        const auto r = test::chi2TestSquare(points, test::chartPdf(kernel, m, n, wo, chart), options);
         EXPECT_TRUE(r.passed) << name << ": " << r.message;
         // <= 1; 1 for diffuse and at normal incidence (declinedMass = 0 there); else 1 minus
         // the glossy mass below the surface.

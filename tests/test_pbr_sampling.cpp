@@ -17,7 +17,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <limits>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -83,16 +82,7 @@ double vDotH(dvec3 wo, dvec3 wi) { return 0.5 * glm::length(glm::normalize(wo) +
 
 // Focused on the mirror direction when the specular lobe (angular radius ~ 2 alpha in wi)
 // is narrower than ~30 degrees, linear otherwise.
-Chart chartFor(double alpha, vec3 wo, vec3 n) {
-    const test::Frame frame{dvec3(n)};
-    const dvec3 r = frame.toLocal(2.0 * glm::dot(dvec3(wo), dvec3(n)) * dvec3(n) - dvec3(wo));
-    const double thetaC = std::atan2(std::sqrt(r.x * r.x + r.y * r.y), r.z);
-    const double phiC = std::atan2(r.y, r.x);
-    const double width = 2.0 * alpha;
-    const double wTheta = width < 0.5 ? width : 0.0;
-    const double wPhi = width < 0.5 && std::sin(thetaC) > width ? width / std::sin(thetaC) : 0.0;
-    return {frame, FocusMap(0.0, 0.5 * kPi, thetaC, wTheta), FocusMap(phiC - kPi, phiC + kPi, phiC, wPhi)};
-}
+Chart chartFor(double alpha, vec3 wo, vec3 n) { return test::mirrorChart(wo, n, 2.0 * alpha); }
 
 // Channel 0 of the albedo, the integral of f cos over the hemisphere, in the chart (midpoint
 // rule, N x N cells): the horizon is the chart's edge s = 1 and a narrow lobe gets most
@@ -187,28 +177,8 @@ TEST_P(PbrSampling, ChiSquarePdfFormulaReciprocityAndFurnace) {
         EXPECT_EQ(pdfMismatch, 0u) << name << ": bsdfPdf differs from the documented mixture density";
 
         const Chart chart = chartFor(alpha, wo, n);
-        std::vector<dvec2> points(samples.size());
-        for (size_t i = 0; i < samples.size(); ++i) {
-            const auto& s = samples[i];
-            if (s.a == glm::vec4(0.0f)) {
-                points[i] = {std::numeric_limits<double>::quiet_NaN(), 0.0};
-                continue;
-            }
-            // A direction just above the horizon can round past s = 1 in double (as in
-            // test_bsdf_sampling.cpp): keep it in the chart.
-            dvec2 st = chart.toChart(glm::normalize(dvec3(vec3(s.a))));
-            if (st.x > 1.0 && st.x < 1.0 + 1e-5) st.x = 1.0;
-            points[i] = st;
-        }
-        auto gpuPdf = [&](const std::vector<dvec2>& st) {
-            std::vector<BsdfTestRecord> in(st.size());
-            std::vector<double> jac(st.size());
-            for (size_t i = 0; i < st.size(); ++i) in[i].a = glm::vec4(vec3(chart.fromChart(st[i], jac[i])), 0.0f);
-            const auto out = kernel.run(makePush(m, n, wo, gpu::BSDF_TEST_MODE_PDF, uint32_t(st.size()), 0), in);
-            std::vector<double> values(st.size());
-            for (size_t i = 0; i < st.size(); ++i) values[i] = double(out[i].a.x) * jac[i];
-            return values;
-        };
+        const std::vector<dvec2> points = test::chartPoints(chart, samples);
+        const test::SquarePdf gpuPdf = test::chartPdf(kernel, m, n, wo, chart);
         // The pdf's float evaluation error: D's relative error from the half vector's, at the
         // smallest wo.h of the lobe (about cos(theta_o) at the mirror direction, halved for margin).
         test::SquareChi2Options options{64, kAlpha, kChi2Tests, "chi2_" + name, dRelativeError(alpha, 0.5 * cosTheta)};
