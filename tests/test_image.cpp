@@ -254,6 +254,12 @@ TEST(ImageExr, TruncatedFilesAreInputErrors) {
     }
 }
 
+// The bytes of `image` as writeExr writes it, to dir/full.exr.
+std::string writtenExr(const fs::path& dir, const Image& image) {
+    writeExr(dir / "full.exr", image);
+    return readBytes(dir / "full.exr");
+}
+
 TEST(ImageExr, DecodesFromMemoryAsFromTheFile) {
     // The bytes writeExr wrote, decoded from memory, give the file's image exactly: every
     // pixel (67 x 45: several 16-line ZIP chunks, a width that is no power of two) and
@@ -261,9 +267,8 @@ TEST(ImageExr, DecodesFromMemoryAsFromTheFile) {
     const fs::path dir = freshDir("memory");
     Image image = noiseImage(67, 45, 11);
     image.meta = {16, 3, 32, R"({"type":"direct"})", 2.25, "sobol", std::vector<SamplePiece>{{3, 0, 16}, {3, 32, 48}}};
-    writeExr(dir / "full.exr", image);
+    const Image fromMemory = decodeExr(writtenExr(dir, image), "memory.exr");
     const Image fromFile = readExr(dir / "full.exr");
-    const Image fromMemory = decodeExr(readBytes(dir / "full.exr"), "memory.exr");
     ASSERT_EQ(fromMemory.width, fromFile.width);
     ASSERT_EQ(fromMemory.height, fromFile.height);
     EXPECT_EQ(fromMemory.rgb, fromFile.rgb);
@@ -282,11 +287,9 @@ TEST(ImageExr, TruncatedBytesInMemoryAreInputErrors) {
     // Every prefix of a valid file, empty to all but the last byte, decoded from memory:
     // each is one InputError naming the given name, never a crash, a read past the bytes
     // or a partial image.
-    const fs::path dir = freshDir("memory-truncated");
     Image image = noiseImage(19, 37, 13);
     image.meta = {4, 1, 0, R"({"type":"ao"})", 0.5};
-    writeExr(dir / "full.exr", image);
-    const std::string bytes = readBytes(dir / "full.exr");
+    const std::string bytes = writtenExr(freshDir("memory-truncated"), image);
     ASSERT_GT(bytes.size(), 1000u);
     for (size_t n = 0; n < bytes.size(); ++n) {
         SCOPED_TRACE("truncated to " + std::to_string(n) + " of " + std::to_string(bytes.size()) + " bytes");
