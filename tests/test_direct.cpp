@@ -106,6 +106,28 @@ void expectAreaLightMatches(const json& doc, const std::vector<json>& integrator
     }
 }
 
+// An irregular hexagon at height h, counter-clockwise seen from below (its front faces
+// the plane), for a fan of triangles of different areas.
+std::vector<glm::dvec3> hexagonOutline(double h) {
+    return {{0.9, h, 0.0}, {0.3, h, 0.7}, {-0.4, h, 0.5}, {-0.8, h, 0.0}, {-0.3, h, -0.9}, {0.5, h, -0.6}};
+}
+
+// An emitting mesh (radiance Le, black) of the triangles from the outline's centre
+// (0, h, 0) to each of its edges, wound as the outline is.
+json fanMesh(const std::vector<glm::dvec3>& outline, double Le) {
+    const double h = outline[0].y;
+    json positions = json::array({0.0, h, 0.0});
+    for (auto& v : outline) positions.insert(positions.end(), {v.x, v.y, v.z});
+    json indices = json::array();
+    const int n = int(outline.size());
+    for (int i = 0; i < n; ++i) indices.insert(indices.end(), {0, 1 + i, 1 + (i + 1) % n});
+    return {{"type", "mesh"},
+            {"positions", positions},
+            {"indices", indices},
+            {"emission", {Le, Le, Le}},
+            {"material", "black"}};
+}
+
 std::vector<json> allStrategies(json extra = json::object()) {
     std::vector<json> out;
     for (const std::string& s : kStrategies) out.push_back(direct(s, extra));
@@ -282,19 +304,11 @@ TEST(DirectClosedForm, SphereLightEverySamplingAndStrategy) {
 }
 
 TEST(DirectClosedForm, MeshLightIsSumOfItsTriangles) {
-    // An irregular hexagon fan (triangles of different areas), counter-clockwise seen from
-    // below, so its front faces the plane; the polygon formula over the outline equals the
-    // sum over the triangles.
+    // The polygon formula over the fan's outline equals the sum over its triangles.
     const double Le = 5.0, h = 1.2;
-    std::vector<glm::dvec3> outline = {{0.9, h, 0.0}, {0.3, h, 0.7}, {-0.4, h, 0.5},
-                                       {-0.8, h, 0.0}, {-0.3, h, -0.9}, {0.5, h, -0.6}};
-    json positions = json::array({0.0, h, 0.0});
-    for (auto& v : outline) positions.insert(positions.end(), {v.x, v.y, v.z});
-    json indices = json::array();
-    for (int i = 0; i < 6; ++i) indices.insert(indices.end(), {0, 1 + i, 1 + (i + 1) % 6});
+    const std::vector<glm::dvec3> outline = hexagonOutline(h);
     json doc = planeScene(256, direct("light"));
-    doc["shapes"].push_back({{"type", "mesh"}, {"positions", positions}, {"indices", indices},
-                             {"emission", {Le, Le, Le}}, {"material", "black"}});
+    doc["shapes"].push_back(fanMesh(outline, Le));
     expectAreaLightMatches(doc, allStrategies(), [&](glm::dvec3 x) {
         return kAlbedo / M_PI * polygonIrradiance(outline, x, Le);
     }, "mesh");
@@ -304,18 +318,9 @@ TEST(DirectClosedForm, MeshLightTrianglesInSolidAngleEveryStrategy) {
     // The fan of MeshLightIsSumOfItsTriangles, lower (large solid angles), each triangle
     // sampled in its spherical triangle.
     const double Le = 5.0, h = 0.6;
-    std::vector<glm::dvec3> outline = {{0.9, h, 0.0},  {0.3, h, 0.7},   {-0.4, h, 0.5},
-                                       {-0.8, h, 0.0}, {-0.3, h, -0.9}, {0.5, h, -0.6}};
-    json positions = json::array({0.0, h, 0.0});
-    for (auto& v : outline) positions.insert(positions.end(), {v.x, v.y, v.z});
-    json indices = json::array();
-    for (int i = 0; i < 6; ++i) indices.insert(indices.end(), {0, 1 + i, 1 + (i + 1) % 6});
+    const std::vector<glm::dvec3> outline = hexagonOutline(h);
     json doc = planeScene(256, direct("light"));
-    doc["shapes"].push_back({{"type", "mesh"},
-                             {"positions", positions},
-                             {"indices", indices},
-                             {"emission", {Le, Le, Le}},
-                             {"material", "black"}});
+    doc["shapes"].push_back(fanMesh(outline, Le));
     expectAreaLightMatches(
         doc, allStrategies({{"triangle_sampling", "solid_angle"}}),
         [&](glm::dvec3 x) { return kAlbedo / M_PI * polygonIrradiance(outline, x, Le); }, "mesh-solid-angle");
