@@ -97,20 +97,29 @@ struct SceneBuffers {
     }
 };
 
-std::vector<TraceResult> traceOnGpu(const Bvh& bvh, const std::vector<TraceRay>& rays) {
+// Runs the test kernel `name` over the scene's buffers: one invocation per input (binding
+// 0, 64 per workgroup), each writing one Result (binding 1).
+template <class Result, class Input>
+std::vector<Result> runSceneKernel(const char* name, const Bvh& bvh,
+                                   const std::vector<gpu::TriangleNormals>& shadingNormals,
+                                   const std::vector<Input>& inputs) {
     auto& ctx = test::gpuContext();
-    auto rayBuffer = gpu::Buffer::fromVector(ctx, rays);
-    gpu::Buffer results(ctx, rays.size() * sizeof(TraceResult), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-    SceneBuffers scene(ctx, bvh, {});
-    gpu::Kernel kernel(ctx, "tests/bvh_trace", sceneBindings(), sizeof(uint32_t));
-    kernel.bind(0, rayBuffer);
+    auto inputBuffer = gpu::Buffer::fromVector(ctx, inputs);
+    gpu::Buffer results(ctx, inputs.size() * sizeof(Result), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    SceneBuffers scene(ctx, bvh, shadingNormals);
+    gpu::Kernel kernel(ctx, name, sceneBindings(), sizeof(uint32_t));
+    kernel.bind(0, inputBuffer);
     kernel.bind(1, results);
     scene.bind(kernel);
-    uint32_t count = uint32_t(rays.size());
+    uint32_t count = uint32_t(inputs.size());
     kernel.run((count + 63) / 64, 1, 1, &count);
-    auto out = results.read<TraceResult>();
-    out.resize(rays.size());
+    auto out = results.read<Result>();
+    out.resize(inputs.size());
     return out;
+}
+
+std::vector<TraceResult> traceOnGpu(const Bvh& bvh, const std::vector<TraceRay>& rays) {
+    return runSceneKernel<TraceResult>("tests/bvh_trace", bvh, {}, rays);
 }
 
 // Origins uniform in [-originExtent, originExtent]^3, directions uniform on the sphere; with
@@ -618,17 +627,7 @@ TEST(Bvh, SecondaryRaysNeverReHitTheirOwnSurface) {
         }
     }
 
-    auto& ctx = test::gpuContext();
-    auto caseBuffer = gpu::Buffer::fromVector(ctx, cases);
-    gpu::Buffer resultBuffer(ctx, cases.size() * sizeof(SurfaceResult), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-    SceneBuffers sceneBuffers(ctx, bvh, shadingNormals);
-    gpu::Kernel kernel(ctx, "tests/bvh_surface", sceneBindings(), sizeof(uint32_t));
-    kernel.bind(0, caseBuffer);
-    kernel.bind(1, resultBuffer);
-    sceneBuffers.bind(kernel);
-    uint32_t count = uint32_t(cases.size());
-    kernel.run((count + 63) / 64, 1, 1, &count);
-    auto results = resultBuffer.read<SurfaceResult>();
+    const auto results = runSceneKernel<SurfaceResult>("tests/bvh_surface", bvh, shadingNormals, cases);
 
     uint32_t valid = 0, selfHits = 0, largeOffsets = 0, badNormals = 0;
     std::ostringstream log;
