@@ -1,10 +1,12 @@
 // Texture lookups in a divergent dependent chain: each invocation starts at its own uv and
 // takes the next uv from the texel it just read, so no lookup can be hoisted and the lanes
 // of a SIMD group read scattered texels. TEX_IMAGE: a sampled image (RGBA16F, linear
-// filter, repeat) through textureLod; otherwise the renderer's own texel-buffer path
-// (shaders/textures/textures.glsl: half texels in an RGBA32UI texel buffer, bilinear and
-// repeat in the shader). The same texture: each invocation's first lookup is written out
-// (with the chain's sum, so that no lookup is optimized away) and compared between the two.
+// filter, repeat) through textureLod; TEX_ATLAS: the texture inside a larger RGBA16F atlas
+// image with a 1-texel gutter holding its repeat neighbours, the uv wrapped in the shader
+// and the atlas sampled at unnormalized coordinates (linear filter, clamp to edge);
+// otherwise half texels in an RGBA32UI texel buffer, bilinear and repeat in the shader
+// (textures/textures.glsl). The same texture: each invocation's first lookup is written out
+// (with the chain's sum, so that no lookup is optimized away) and compared between them.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 64) in;
@@ -14,12 +16,20 @@ layout(push_constant) uniform Push {
     uint width;
     uint height;
     uint steps;
-    uint pad;
+    uint atlasX;  // TEX_ATLAS: the texture's texel (0, 0) is at (atlasX, 1) in the atlas
 } push;
 
 #ifdef TEX_IMAGE
 layout(binding = BINDING_TEXTURE_TEXELS_IMAGE) uniform sampler2D image;
 vec4 lookup(vec2 uv) { return textureLod(image, uv, 0.0); }
+#elif defined(TEX_ATLAS)
+layout(binding = BINDING_TEXTURE_TEXELS_IMAGE) uniform sampler2D atlas;
+vec4 lookup(vec2 uv) {
+    // Repeat: the continuous texel coordinate in [0, n]; the gutter supplies the wrapped
+    // neighbour of the edge texels, so the sampler's footprint never needs wrapping.
+    vec2 p = fract(uv) * vec2(push.width, push.height);
+    return textureLod(atlas, p + vec2(push.atlasX, 1u), 0.0);
+}
 #else
 #include "textures/textures.glsl"
 vec4 lookup(vec2 uv) { return sampleTexture(0u, push.width, push.height, TEXTURE_WRAP_REPEAT, uv); }
