@@ -1,15 +1,16 @@
 #!/usr/bin/env python3
 """What textures cost a render: CPU seconds of the Cornell box (scenes/cornell.json, 200 x 200)
-untextured under two builds (A and B, e.g. main's and this one's: the untextured kernels
-should cost the same) and textured under B (every albedo times a 1024 x 1024 noise PNG: the
-worst case, a lookup at every shading point into a texture far larger than the caches).
+untextured and textured (every albedo times a 1024 x 1024 noise PNG: the worst case, a
+lookup at every shading point into a texture far larger than the caches) under two builds
+A and B (e.g. main's and this one's, to compare two texture paths; untextured kernels
+should cost the same). A build without textures is given with --a-untextured-only.
 
 CPU time (user + system of the render process and its llvmpipe threads) is measured rather
 than wall time, which varies 3x between identical runs on a shared machine; the difference
 between a 68-spp and a 4-spp render removes start-up and kernel compilation. The builds
 alternate within each round; medians of the rounds and of the per-round ratios.
 
-Usage: tools/texture_cost.py [--a A/penumbra] [--b B/penumbra] [--rounds N]
+Usage: tools/texture_cost.py [--a A/penumbra] [--b B/penumbra] [--rounds N] [--a-untextured-only]
 """
 import argparse
 import glob
@@ -48,7 +49,8 @@ def cpu_seconds(exe, scene, spp, out, env):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--a", default="/work/main/build/penumbra", help="build A's penumbra (untextured only)")
+    parser.add_argument("--a", default="/work/main/build/penumbra", help="build A's penumbra")
+    parser.add_argument("--a-untextured-only", action="store_true", help="build A cannot render textures")
     parser.add_argument("--b", default=os.path.join(ROOT, "build", "penumbra"), help="build B's penumbra")
     parser.add_argument("--rounds", type=int, default=9)
     args = parser.parse_args()
@@ -69,7 +71,10 @@ def main():
         with open(textured, "w") as f:
             json.dump(scene, f)
         out = os.path.join(tmp, "out.exr")
-        configs = [("A, untextured", args.a, plain), ("B, untextured", args.b, plain), ("B, textured", args.b, textured)]
+        configs = [("A, untextured", args.a, plain), ("B, untextured", args.b, plain)]
+        if not args.a_untextured_only:
+            configs.append(("A, textured", args.a, textured))
+        configs.append(("B, textured", args.b, textured))
         results = {name: [] for name, _, _ in configs}
         for _ in range(args.rounds):
             for name, exe, path in configs:
@@ -78,6 +83,10 @@ def main():
     for name, values in results.items():
         ratio = statistics.median(v / b for v, b in zip(values, base))
         print(f"{name}: {statistics.median(values):.2f} CPU s per 64 spp; per-round ratio to A: median {ratio:.3f}")
+    if "A, textured" in results:
+        # The texture paths against each other: B textured / A textured, round by round.
+        ratio = statistics.median(b / a for a, b in zip(results["A, textured"], results["B, textured"]))
+        print(f"B textured / A textured, per round: median {ratio:.3f}")
     with open("/proc/loadavg") as f:
         print("load average:", " ".join(f.read().split()[:3]))
 

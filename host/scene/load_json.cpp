@@ -285,8 +285,9 @@ private:
             for (Texture& t : model.textures) {
                 std::string key = t.file;
                 bool srgb = t.srgb;
-                textureIndex.push_back(m_textures.table().add(
-                    key, srgb, [&] { return std::move(t); }, [&](const std::string& why) { fileField.fail(why); }));
+                auto fail = [&](const std::string& why) { fileField.fail(why); };
+                textureIndex.push_back(m_textures.table().add(key, srgb, [&] { return std::move(t); }, fail));
+                m_textures.table().checkAtlas(fail);
             }
             for (Material& m : model.materials)
                 for (MaterialTexture& mt : m.textures) mt.texture = textureIndex[mt.texture];

@@ -22,15 +22,21 @@
 
 #include <vulkan/vulkan.h>
 
+#include "bench_harness.h"
 #include "gpu/context.h"
 #include "gpu/vk_check.h"
 
 namespace {
 
+using penumbra::bench::BenchBinding;
+using penumbra::bench::BenchKernel;
+using penumbra::bench::kWorkgroup;
+using penumbra::bench::loadAverage;
+using penumbra::bench::median;
+using penumbra::bench::readSpirv;
 using penumbra::gpu::Context;
 using penumbra::gpu::vkCheck;
 
-constexpr uint32_t kWorkgroup = 64;     // local_size_x of every kernel
 constexpr uint32_t kSmallNodes = 1024;  // SMALL_NODES in fetch.comp: 32 KiB of 32-byte nodes
 constexpr uint32_t kLargeNodes = 1u << 20;
 
@@ -107,118 +113,24 @@ private:
     void* m_mapped = nullptr;
 };
 
-std::vector<uint32_t> readSpirv(const std::string& path) {
-    std::ifstream in(path, std::ios::binary | std::ios::ate);
-    if (!in) throw std::runtime_error("cannot read " + path + " (build the penumbra_microbench target)");
-    std::vector<uint32_t> words(size_t(in.tellg()) / 4);
-    in.seekg(0);
-    in.read(reinterpret_cast<char*>(words.data()), std::streamsize(words.size() * 4));
-    return words;
+// One kernel variant reading `nodes` at binding 1 (when it reads them through a
+// descriptor) and writing `results` at binding 0; STEPS (constant_id 0) = `steps`.
+std::unique_ptr<BenchKernel> makeBench(const Context& context, const std::string& spirv, uint32_t steps,
+                                       VkDescriptorType nodeType, const HostBuffer& nodes, const HostBuffer& results,
+                                       const Push& push, uint32_t invocations) {
+    BenchBinding resultBinding;
+    resultBinding.binding = 0;
+    resultBinding.buffer = results.buffer();
+    BenchBinding nodeBinding;
+    nodeBinding.binding = 1;
+    nodeBinding.type = nodeType;
+    nodeBinding.buffer = nodes.buffer();
+    nodeBinding.texelView = nodes.view();
+    return std::make_unique<BenchKernel>(context, readSpirv(spirv, "penumbra_microbench"),
+                                         std::vector<BenchBinding>{resultBinding, nodeBinding}, &push,
+                                         uint32_t(sizeof(Push)), invocations / kWorkgroup,
+                                         std::vector<uint32_t>{steps});
 }
-
-// One kernel variant: pipeline, descriptor set (binding 0 = results, binding 1 = nodes
-// when the variant reads them through a descriptor) and what a run dispatches.
-class Bench {
-public:
-    Bench(const Context& context, const std::string& spirv, uint32_t steps, VkDescriptorType nodeType,
-          const HostBuffer& nodes, const HostBuffer& results, const Push& push, uint32_t invocations)
-        : m_context(context), m_push(push), m_groups(invocations / kWorkgroup) {
-        VkDevice device = context.device();
-        auto code = readSpirv(spirv);
-        VkShaderModuleCreateInfo moduleInfo{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-        moduleInfo.codeSize = code.size() * 4;
-        moduleInfo.pCode = code.data();
-        vkCheck(vkCreateShaderModule(device, &moduleInfo, nullptr, &m_module), "create shader module");
-        VkDescriptorSetLayoutBinding bindings[2] = {
-            {0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
-            {1, nodeType, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr}};
-        VkDescriptorSetLayoutCreateInfo setInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-        setInfo.bindingCount = 2;
-        setInfo.pBindings = bindings;
-        vkCheck(vkCreateDescriptorSetLayout(device, &setInfo, nullptr, &m_setLayout), "create set layout");
-        VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(Push)};
-        VkPipelineLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-        layoutInfo.setLayoutCount = 1;
-        layoutInfo.pSetLayouts = &m_setLayout;
-        layoutInfo.pushConstantRangeCount = 1;
-        layoutInfo.pPushConstantRanges = &range;
-        vkCheck(vkCreatePipelineLayout(device, &layoutInfo, nullptr, &m_layout), "create pipeline layout");
-        VkSpecializationMapEntry entry{0, 0, sizeof(uint32_t)};
-        VkSpecializationInfo spec{1, &entry, sizeof(uint32_t), &steps};
-        VkComputePipelineCreateInfo pipelineInfo{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-        pipelineInfo.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
-        pipelineInfo.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-        pipelineInfo.stage.module = m_module;
-        pipelineInfo.stage.pName = "main";
-        pipelineInfo.stage.pSpecializationInfo = &spec;
-        pipelineInfo.layout = m_layout;
-        vkCheck(vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &pipelineInfo, nullptr, &m_pipeline),
-                "create compute pipeline");
-
-        VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1}, {nodeType, 1}};
-        VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-        poolInfo.maxSets = 1;
-        poolInfo.poolSizeCount = 2;
-        poolInfo.pPoolSizes = sizes;
-        vkCheck(vkCreateDescriptorPool(device, &poolInfo, nullptr, &m_pool), "create descriptor pool");
-        VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-        alloc.descriptorPool = m_pool;
-        alloc.descriptorSetCount = 1;
-        alloc.pSetLayouts = &m_setLayout;
-        vkCheck(vkAllocateDescriptorSets(device, &alloc, &m_set), "allocate descriptor set");
-        VkDescriptorBufferInfo resultInfo{results.buffer(), 0, VK_WHOLE_SIZE};
-        VkDescriptorBufferInfo nodeInfo{nodes.buffer(), 0, VK_WHOLE_SIZE};
-        VkBufferView view = nodes.view();
-        VkWriteDescriptorSet writes[2] = {{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET},
-                                          {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}};
-        writes[0].dstSet = m_set;
-        writes[0].dstBinding = 0;
-        writes[0].descriptorCount = 1;
-        writes[0].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-        writes[0].pBufferInfo = &resultInfo;
-        writes[1].dstSet = m_set;
-        writes[1].dstBinding = 1;
-        writes[1].descriptorCount = 1;
-        writes[1].descriptorType = nodeType;
-        if (nodeType == VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER || nodeType == VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER)
-            writes[1].pTexelBufferView = &view;
-        else writes[1].pBufferInfo = &nodeInfo;
-        vkUpdateDescriptorSets(device, 2, writes, 0, nullptr);
-    }
-    ~Bench() {
-        VkDevice device = m_context.device();
-        vkDestroyDescriptorPool(device, m_pool, nullptr);
-        vkDestroyPipeline(device, m_pipeline, nullptr);
-        vkDestroyPipelineLayout(device, m_layout, nullptr);
-        vkDestroyDescriptorSetLayout(device, m_setLayout, nullptr);
-        vkDestroyShaderModule(device, m_module, nullptr);
-    }
-    Bench(const Bench&) = delete;
-    Bench& operator=(const Bench&) = delete;
-
-    // Seconds for one dispatch over all invocations, submitted and waited for.
-    double run() const {
-        auto start = std::chrono::steady_clock::now();
-        m_context.submitAndWait([&](VkCommandBuffer cmd) {
-            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_pipeline);
-            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_layout, 0, 1, &m_set, 0, nullptr);
-            vkCmdPushConstants(cmd, m_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(Push), &m_push);
-            vkCmdDispatch(cmd, m_groups, 1, 1);
-        });
-        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    }
-
-private:
-    const Context& m_context;
-    Push m_push;
-    uint32_t m_groups;
-    VkShaderModule m_module = VK_NULL_HANDLE;
-    VkDescriptorSetLayout m_setLayout = VK_NULL_HANDLE;
-    VkPipelineLayout m_layout = VK_NULL_HANDLE;
-    VkPipeline m_pipeline = VK_NULL_HANDLE;
-    VkDescriptorPool m_pool = VK_NULL_HANDLE;
-    VkDescriptorSet m_set = VK_NULL_HANDLE;
-};
 
 // The node tables of one size, in every layout the kernels read.
 struct Tables {
@@ -260,28 +172,13 @@ Tables makeTables(uint32_t count, uint32_t seed) {
     return t;
 }
 
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-std::string loadAverage() {
-    std::ifstream in("/proc/loadavg");
-    double a = 0, b = 0, c = 0;
-    in >> a >> b >> c;
-    char text[64];
-    std::snprintf(text, sizeof text, "%.2f, %.2f, %.2f", a, b, c);
-    return text;
-}
-
 // One row of a table: a kernel variant with its data, timed in alternation with the others.
 struct Case {
     std::string table;     // "small" / "large"
     std::string label;     // the row's name
     std::string group;     // rows whose results must agree exactly ("32", "16", "8", "stack")
     std::string baseline;  // label of the row this one is compared with (same table)
-    std::unique_ptr<Bench> bench;
+    std::unique_ptr<BenchKernel> bench;
     const HostBuffer* results = nullptr;
     double work = 0;           // node fetches (fetch kernels) or traversals (stack kernels) per run
     double createSeconds = 0;  // vkCreateComputePipelines and the rest of Bench's set-up
@@ -380,8 +277,8 @@ int main(int argc, char** argv) {
             c.baseline = baseline;
             c.results = buffers.back().get();
             auto created = std::chrono::steady_clock::now();
-            c.bench = std::make_unique<Bench>(context, spirvDir + "/" + kernel + ".spv", specSteps, type, nodes,
-                                              *c.results, p, threads);
+            c.bench = makeBench(context, spirvDir + "/" + kernel + ".spv", specSteps, type, nodes, *c.results, p,
+                                threads);
             c.createSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - created).count();
             c.work = work;
             cases.push_back(std::move(c));

@@ -1,14 +1,14 @@
 // penumbra_texture_bench: how fast a compute kernel on this Vulkan device does bilinear,
 // repeating texture lookups from (a) a sampled image (RGBA16F, linear filter, repeat,
-// textureLod) and (b) the renderer's path, half texels in an RGBA32UI texel buffer filtered
-// in the shader (shaders/textures/textures.glsl). The two alternate, runs times each, for
-// a small and a large texture; medians of lookups per second. Kernel: shaders/texture.comp.
+// textureLod), (b) half texels in an RGBA32UI texel buffer filtered in the shader and (c)
+// the renderer's path (shaders/textures/textures.glsl): the texture inside an atlas image
+// with wrap gutters, wrapped in the shader and sampled at unnormalized coordinates. The three alternate, runs times each, for a small and a large
+// texture; medians of lookups per second. Kernel: shaders/texture.comp.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
+#include <memory>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -17,6 +17,7 @@
 #include <vulkan/vulkan.h>
 #include <glm/gtc/packing.hpp>
 
+#include "bench_harness.h"
 #include "gpu/buffer.h"
 #include "gpu/context.h"
 #include "gpu/vk_check.h"
@@ -24,30 +25,27 @@
 
 namespace {
 
+using penumbra::bench::BenchBinding;
+using penumbra::bench::BenchKernel;
+using penumbra::bench::kWorkgroup;
+using penumbra::bench::loadAverage;
+using penumbra::bench::median;
+using penumbra::bench::readSpirv;
 using penumbra::gpu::Buffer;
 using penumbra::gpu::Context;
 using penumbra::gpu::vkCheck;
 
-constexpr uint32_t kWorkgroup = 64;
-
 struct Push {
-    uint32_t width, height, steps, pad;
+    uint32_t width, height, steps, atlasX;
 };
 
-std::vector<uint32_t> readSpirv(const std::string& path) {
-    std::ifstream in(path, std::ios::binary | std::ios::ate);
-    if (!in) throw std::runtime_error("cannot read " + path + " (build the penumbra_texture_bench target)");
-    std::vector<uint32_t> words(size_t(in.tellg()) / 4);
-    in.seekg(0);
-    in.read(reinterpret_cast<char*>(words.data()), std::streamsize(words.size() * 4));
-    return words;
-}
-
-// An RGBA16F sampled image with its view and a linear, repeating sampler, filled from
-// `halves` through a staging buffer.
+// An RGBA16F sampled image with its view and a linear sampler, filled from `halves`
+// through a staging buffer. The sampler repeats at normalized coordinates, or
+// (`unnormalized`) clamps to the edge at unnormalized ones.
 class SampledImage {
 public:
-    SampledImage(const Context& context, uint32_t width, uint32_t height, const std::vector<uint16_t>& halves)
+    SampledImage(const Context& context, uint32_t width, uint32_t height, const std::vector<uint16_t>& halves,
+                 bool unnormalized = false)
         : m_device(context.device()) {
         VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
         info.imageType = VK_IMAGE_TYPE_2D;
@@ -105,8 +103,10 @@ public:
         VkSamplerCreateInfo sampler{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
         sampler.magFilter = sampler.minFilter = VK_FILTER_LINEAR;
         sampler.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
-        sampler.addressModeU = sampler.addressModeV = sampler.addressModeW = VK_SAMPLER_ADDRESS_MODE_REPEAT;
+        sampler.addressModeU = sampler.addressModeV = sampler.addressModeW =
+            unnormalized ? VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE : VK_SAMPLER_ADDRESS_MODE_REPEAT;
         sampler.maxLod = 0.0f;
+        sampler.unnormalizedCoordinates = unnormalized ? VK_TRUE : VK_FALSE;
         vkCheck(vkCreateSampler(m_device, &sampler, nullptr, &m_sampler), "create sampler");
     }
     ~SampledImage() {
@@ -128,129 +128,42 @@ private:
     VkSampler m_sampler = VK_NULL_HANDLE;
 };
 
-// One kernel variant: binding 0 = results, BINDING_TEXTURE_TEXELS = the texture (a sampled
-// image or the texel buffer's RGBA32UI view), BINDING_MATERIAL_TEXTURES declared by
-// textures.glsl but never read (bound to the same texel buffer).
-class Variant {
-public:
-    Variant(const Context& context, const std::string& spirv, const SampledImage* image, VkBufferView texels,
-            const Buffer& results, Push push, uint32_t invocations)
-        : m_context(context), m_push(push), m_groups(invocations / kWorkgroup) {
-        VkDevice device = context.device();
-        auto code = readSpirv(spirv);
-        VkShaderModuleCreateInfo moduleInfo{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-        moduleInfo.codeSize = code.size() * 4;
-        moduleInfo.pCode = code.data();
-        vkCheck(vkCreateShaderModule(device, &moduleInfo, nullptr, &m_module), "create shader module");
-        const VkDescriptorType textureType = image ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
-                                                   : VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
-        VkDescriptorSetLayoutBinding bindings[3] = {
-            {0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
-            {BINDING_TEXTURE_TEXELS, textureType, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
-            {BINDING_MATERIAL_TEXTURES, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT,
-             nullptr}};
-        VkDescriptorSetLayoutCreateInfo setInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-        setInfo.bindingCount = 3;
-        setInfo.pBindings = bindings;
-        vkCheck(vkCreateDescriptorSetLayout(device, &setInfo, nullptr, &m_setLayout), "create set layout");
-        VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(Push)};
-        VkPipelineLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-        layoutInfo.setLayoutCount = 1;
-        layoutInfo.pSetLayouts = &m_setLayout;
-        layoutInfo.pushConstantRangeCount = 1;
-        layoutInfo.pPushConstantRanges = &range;
-        vkCheck(vkCreatePipelineLayout(device, &layoutInfo, nullptr, &m_layout), "create pipeline layout");
-        VkComputePipelineCreateInfo pipelineInfo{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-        pipelineInfo.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
-        pipelineInfo.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-        pipelineInfo.stage.module = m_module;
-        pipelineInfo.stage.pName = "main";
-        pipelineInfo.layout = m_layout;
-        vkCheck(vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &pipelineInfo, nullptr, &m_pipeline),
-                "create compute pipeline");
-
-        VkDescriptorPoolSize sizes[3] = {
-            {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1}, {textureType, 1}, {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 1}};
-        VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-        poolInfo.maxSets = 1;
-        poolInfo.poolSizeCount = 3;
-        poolInfo.pPoolSizes = sizes;
-        vkCheck(vkCreateDescriptorPool(device, &poolInfo, nullptr, &m_pool), "create descriptor pool");
-        VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-        alloc.descriptorPool = m_pool;
-        alloc.descriptorSetCount = 1;
-        alloc.pSetLayouts = &m_setLayout;
-        vkCheck(vkAllocateDescriptorSets(device, &alloc, &m_set), "allocate descriptor set");
-        VkDescriptorBufferInfo resultInfo{results.handle(), 0, VK_WHOLE_SIZE};
-        VkDescriptorImageInfo imageInfo{};
-        if (image) imageInfo = image->descriptor();
-        VkWriteDescriptorSet writes[3] = {{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET},
-                                          {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET},
-                                          {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}};
-        writes[0].dstSet = m_set;
-        writes[0].dstBinding = 0;
-        writes[0].descriptorCount = 1;
-        writes[0].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-        writes[0].pBufferInfo = &resultInfo;
-        writes[1].dstSet = m_set;
-        writes[1].dstBinding = BINDING_TEXTURE_TEXELS;
-        writes[1].descriptorCount = 1;
-        writes[1].descriptorType = textureType;
-        if (image) writes[1].pImageInfo = &imageInfo;
-        else writes[1].pTexelBufferView = &texels;
-        writes[2].dstSet = m_set;
-        writes[2].dstBinding = BINDING_MATERIAL_TEXTURES;
-        writes[2].descriptorCount = 1;
-        writes[2].descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
-        writes[2].pTexelBufferView = &texels;
-        vkUpdateDescriptorSets(device, 3, writes, 0, nullptr);
-    }
-    ~Variant() {
-        VkDevice device = m_context.device();
-        vkDestroyDescriptorPool(device, m_pool, nullptr);
-        vkDestroyPipeline(device, m_pipeline, nullptr);
-        vkDestroyPipelineLayout(device, m_layout, nullptr);
-        vkDestroyDescriptorSetLayout(device, m_setLayout, nullptr);
-        vkDestroyShaderModule(device, m_module, nullptr);
-    }
-    Variant(const Variant&) = delete;
-    Variant& operator=(const Variant&) = delete;
-
-    // Seconds for one dispatch over all invocations, submitted and waited for.
-    double run() const {
-        auto start = std::chrono::steady_clock::now();
-        m_context.submitAndWait([&](VkCommandBuffer cmd) {
-            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_pipeline);
-            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_layout, 0, 1, &m_set, 0, nullptr);
-            vkCmdPushConstants(cmd, m_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(Push), &m_push);
-            vkCmdDispatch(cmd, m_groups, 1, 1);
-        });
-        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    }
-
-private:
-    const Context& m_context;
-    Push m_push;
-    uint32_t m_groups;
-    VkShaderModule m_module = VK_NULL_HANDLE;
-    VkDescriptorSetLayout m_setLayout = VK_NULL_HANDLE;
-    VkPipelineLayout m_layout = VK_NULL_HANDLE;
-    VkPipeline m_pipeline = VK_NULL_HANDLE;
-    VkDescriptorPool m_pool = VK_NULL_HANDLE;
-    VkDescriptorSet m_set = VK_NULL_HANDLE;
-};
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+// The texture (size x size RGBA halves) in an atlas of (2 size + 2) x (size + 2) texels
+// at (size + 1, 1), surrounded by a 1-texel gutter of its repeat neighbours (the opposite
+// edge; corners the opposite corner); the left half of the atlas is empty. The offset makes
+// the kernel add a large coordinate, as it would for a texture far into a real atlas.
+std::vector<uint16_t> atlasOf(const std::vector<uint16_t>& halves, uint32_t size, uint32_t& atlasWidth) {
+    atlasWidth = 2 * size + 2;
+    std::vector<uint16_t> atlas(size_t(atlasWidth) * (size + 2) * 4, 0);
+    for (uint32_t y = 0; y < size + 2; ++y)
+        for (uint32_t x = 0; x < size + 2; ++x) {
+            uint32_t sx = (x + size - 1) % size, sy = (y + size - 1) % size;  // gutter: wrapped
+            std::memcpy(&atlas[(size_t(y) * atlasWidth + size + x) * 4], &halves[(size_t(sy) * size + sx) * 4], 8);
+        }
+    return atlas;
 }
 
-std::string loadAverage() {
-    std::ifstream in("/proc/loadavg");
-    std::string a, b, c;
-    in >> a >> b >> c;
-    return a + ", " + b + ", " + c;
+// One kernel variant: binding 0 = results, BINDING_TEXTURE_ATLAS = the texture (a sampled
+// image or the texel buffer's RGBA32UI view), BINDING_MATERIAL_TEXTURES declared by
+// textures.glsl but never read (bound to the texel buffer).
+std::unique_ptr<BenchKernel> makeVariant(const Context& context, const std::string& spirv, const SampledImage* image,
+                                         VkBufferView texels, const Buffer& results, Push push, uint32_t invocations) {
+    std::vector<BenchBinding> bindings(3);
+    bindings[0].binding = 0;
+    bindings[0].buffer = results.handle();
+    bindings[1].binding = BINDING_TEXTURE_ATLAS;
+    if (image) {
+        bindings[1].type = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+        bindings[1].image = image->descriptor();
+    } else {
+        bindings[1].type = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+        bindings[1].texelView = texels;
+    }
+    bindings[2].binding = BINDING_MATERIAL_TEXTURES;
+    bindings[2].type = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+    bindings[2].texelView = texels;
+    return std::make_unique<BenchKernel>(context, readSpirv(spirv, "penumbra_texture_bench"), bindings, &push,
+                                         uint32_t(sizeof(Push)), invocations / kWorkgroup);
 }
 
 }  // namespace
@@ -276,16 +189,19 @@ int main(int argc, char** argv) {
         std::printf("%u invocations x %u dependent lookups per run, %d runs alternating, medians\n\n", invocations,
                     steps, runs);
         std::printf(
-            "| texture | (a) sampled image: M lookups/s | (b) texel buffer, bilinear in shader: M lookups/s | b / a | "
-            "max |a - b|, first lookup |\n");
-        std::printf("|---|---|---|---|---|\n");
+            "| texture | (a) sampled image: M lookups/s | (b) texel buffer, bilinear in shader: M lookups/s | (c) "
+            "atlas image, unnormalized, wrap in shader: M lookups/s | b / a | c / a | c / b | max |a - b|, |a - c|, "
+            "first lookup |\n");
+        std::printf("|---|---|---|---|---|---|---|---|\n");
         for (uint32_t size : {64u, 2048u}) {
-            // Random RGBA in [0, 1) as half floats: the texture both variants read.
+            // Random RGBA in [0, 1) as half floats: the texture every variant reads.
             std::mt19937 rng(size);
             std::uniform_real_distribution<float> unit(0.0f, 1.0f);
             std::vector<uint16_t> halves(size_t(size) * size * 4);
             for (uint16_t& h : halves) h = glm::packHalf1x16(unit(rng));
             SampledImage image(context, size, size, halves);
+            uint32_t atlasWidth = 0;
+            SampledImage atlas(context, 2 * size + 2, size + 2, atlasOf(halves, size, atlasWidth), true);
             Buffer texels(context, halves.size() * 2, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT, 0,
                           VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, "texels");
             texels.upload(halves.data(), halves.size() * 2);
@@ -295,27 +211,38 @@ int main(int argc, char** argv) {
             viewInfo.range = VK_WHOLE_SIZE;
             VkBufferView view = VK_NULL_HANDLE;
             vkCheck(vkCreateBufferView(context.device(), &viewInfo, nullptr, &view), "create texel view");
-            Buffer resultsA(context, VkDeviceSize(invocations) * 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-            Buffer resultsB(context, VkDeviceSize(invocations) * 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-            Push push{size, size, steps, 0};
+            const VkDeviceSize resultBytes = VkDeviceSize(invocations) * 16;
+            Buffer resultsA(context, resultBytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+            Buffer resultsB(context, resultBytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+            Buffer resultsC(context, resultBytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+            Push push{size, size, steps, size + 1};
             std::string dir = PENUMBRA_MICROBENCH_SPIRV_DIR;
-            Variant a(context, dir + "/texture_image.spv", &image, view, resultsA, push, invocations);
-            Variant b(context, dir + "/texture_texel.spv", nullptr, view, resultsB, push, invocations);
-            a.run();  // llvmpipe compiles on the first dispatch
-            b.run();
-            std::vector<double> ta, tb;
+            auto a = makeVariant(context, dir + "/texture_image.spv", &image, view, resultsA, push, invocations);
+            auto b = makeVariant(context, dir + "/texture_texel.spv", nullptr, view, resultsB, push, invocations);
+            auto c = makeVariant(context, dir + "/texture_atlas.spv", &atlas, view, resultsC, push, invocations);
+            a->run();  // llvmpipe compiles on the first dispatch
+            b->run();
+            c->run();
+            std::vector<double> ta, tb, tc;
             for (int r = 0; r < runs; ++r) {
-                ta.push_back(a.run());
-                tb.push_back(b.run());
+                ta.push_back(a->run());
+                tb.push_back(b->run());
+                tc.push_back(c->run());
             }
-            auto sa = resultsA.read<float>(), sb = resultsB.read<float>();
-            double diff = 0;
+            auto sa = resultsA.read<float>(), sb = resultsB.read<float>(), sc = resultsC.read<float>();
+            double diffB = 0, diffC = 0;
             for (size_t i = 0; i < sa.size(); ++i)
-                if (i % 4 != 3) diff = std::max(diff, double(std::fabs(sa[i] - sb[i])));
+                if (i % 4 != 3) {
+                    diffB = std::max(diffB, double(std::fabs(sa[i] - sb[i])));
+                    diffC = std::max(diffC, double(std::fabs(sa[i] - sc[i])));
+                }
             double lookups = double(invocations) * steps;
-            double ra = lookups / median(ta) * 1e-6, rb = lookups / median(tb) * 1e-6;
-            std::printf("| %u x %u RGBA16F (%.1f MiB) | %.1f | %.1f | %.2f | %.3g |\n", size, size,
-                        double(halves.size()) * 2 / (1 << 20), ra, rb, rb / ra, diff);
+            double ra = lookups / median(ta) * 1e-6, rb = lookups / median(tb) * 1e-6,
+                   rc = lookups / median(tc) * 1e-6;
+            std::printf("| %u x %u RGBA16F (%.1f MiB) | %.1f | %.1f | %.1f | %.2f | %.2f | %.2f | %.3g, %.3g |\n", size,
+                        size, double(halves.size()) * 2 / (1 << 20), ra, rb, rc, rb / ra, rc / ra, rc / rb, diffB,
+                        diffC);
+            std::fflush(stdout);
             vkDestroyBufferView(context.device(), view, nullptr);
         }
         std::printf("\nload average at end: %s\n", loadAverage().c_str());
