@@ -14,6 +14,10 @@
 // `penumbra render` times it, its submissions, the same passes in one submission, and an
 // empty submission (the fixed cost of one).
 // --spp N renders every scene at N samples per pixel (throughput does not depend on spp).
+// --emitter-first rule|off|exact: how BRDF-sampled rays find emitters (render/emitter_first.h,
+// EmitterFirst; default rule), so that one build measures both paths on any scene.
+// --brdf-ray-fates prints, per scene, what the emitter-first rule sees (the fractions of
+// probe rays that hit an emitter, something else, or nothing) and what it chooses.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -188,15 +192,27 @@ void lowSppBreakdown(const gpu::Context& context, Scene scene, int runs) {
 
 int main(int argc, char** argv) {
     int runs = 5;
-    bool countOnly = false, lowSpp = false;
+    bool countOnly = false, lowSpp = false, fatesOnly = false;
     uint32_t spp = 0;
+    EmitterFirst emitterFirst = EmitterFirst::Rule;
     std::vector<std::string> scenes;
     for (int i = 1; i < argc; ++i) {
         if (!std::strcmp(argv[i], "--runs") && i + 1 < argc) runs = std::atoi(argv[++i]);
         else if (!std::strcmp(argv[i], "--count-rays")) countOnly = true;
         else if (!std::strcmp(argv[i], "--low-spp")) lowSpp = true;
+        else if (!std::strcmp(argv[i], "--brdf-ray-fates")) fatesOnly = true;
         else if (!std::strcmp(argv[i], "--spp") && i + 1 < argc) spp = uint32_t(std::max(1, std::atoi(argv[++i])));
-        else if (!std::strcmp(argv[i], "--write-mesh") && i + 2 < argc)
+        else if (!std::strcmp(argv[i], "--emitter-first") && i + 1 < argc) {
+            const std::string mode = argv[++i];
+            if (mode != "rule" && mode != "off" && mode != "exact") {
+                std::fprintf(stderr, "penumbra_bench: --emitter-first takes rule, off or exact, not %s\n",
+                             mode.c_str());
+                return 2;
+            }
+            emitterFirst = mode == "off"     ? EmitterFirst::Off
+                           : mode == "exact" ? EmitterFirst::Exact
+                                             : EmitterFirst::Rule;
+        } else if (!std::strcmp(argv[i], "--write-mesh") && i + 2 < argc)
             return writeMesh(std::atoi(argv[i + 1]), argv[i + 2]);
         else scenes.push_back(argv[i]);
     }
@@ -206,7 +222,9 @@ int main(int argc, char** argv) {
     }
     if (scenes.empty()) {
         std::fprintf(stderr,
-                     "usage: penumbra_bench [--runs N] [--spp N] [--count-rays | --low-spp] SCENE|procedural:N ...\n"
+                     "usage: penumbra_bench [--runs N] [--spp N] [--emitter-first rule|off|exact]\n"
+                     "                      [--count-rays | --low-spp | --brdf-ray-fates]\n"
+                     "                      SCENE|procedural:N ...\n"
                      "       penumbra_bench --write-mesh N FILE\n");
         return 2;
     }
@@ -216,10 +234,22 @@ int main(int argc, char** argv) {
             for (const std::string& name : scenes) lowSppBreakdown(context, benchScene(name), runs);
             return 0;
         }
+        if (fatesOnly) {
+            std::printf("%-28s %8s %8s %8s %6s %6s\n", "scene", "emitter", "other", "escape", "exact", "pays");
+            for (const std::string& name : scenes) {
+                Scene scene = benchScene(name);
+                SceneArrays arrays = buildSceneArrays(scene);
+                BrdfRayFates f = brdfRayFates(scene, arrays);
+                std::printf("%-28s %8.3f %8.3f %8.3f %6d %6d\n", name.c_str(), f.emitter, f.other, f.escape,
+                            int(emitterFirstExact(scene.integrator, arrays)), int(emitterFirstPays(scene, arrays)));
+            }
+            return 0;
+        }
         if (countOnly) {
             for (const std::string& name : scenes) {
                 Scene scene = benchScene(name);
                 Renderer renderer(context, scene);
+                renderer.setEmitterFirst(emitterFirst);
                 std::printf("%s %.4f\n", name.c_str(), raysPerSample(renderer, scene));
             }
             return 0;
@@ -235,6 +265,7 @@ int main(int argc, char** argv) {
             double bvhSeconds = secondsSince(t0);
             t0 = Clock::now();
             Renderer renderer(context, scene);
+            renderer.setEmitterFirst(emitterFirst);
             double upload = secondsSince(t0);
             t0 = Clock::now();
             context.submitAndWait([&](VkCommandBuffer cmd) { renderer.recordPasses(cmd, 0, 1, 0, scene.film.height); });

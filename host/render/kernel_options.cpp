@@ -42,6 +42,7 @@ std::vector<uint32_t> KernelOptions::specialization() const {
     values[SPEC_QUAD_SAMPLING] = uint32_t(direct.quadSampling);
     values[SPEC_TRIANGLE_SAMPLING] = uint32_t(direct.triangleSampling);
     values[SPEC_TEXTURES] = textures;
+    values[SPEC_EMITTER_FIRST] = ao ? 0u : emitterFirstLights;
     return values;
 }
 
@@ -73,12 +74,20 @@ uint32_t sceneFeatures(const SceneArrays& arrays) {
     return bits;
 }
 
-KernelOptions makeKernelOptions(const Scene& scene, const SceneArrays& arrays) {
+// SPEC_EMITTER_FIRST holds the light count, which the kernel loops over: every light, at
+// most kEmitterFirstMaxLights of them.
+static_assert(kEmitterFirstMaxLights > 0 && SPEC_EMITTER_FIRST < SPEC_COUNT);
+
+KernelOptions makeKernelOptions(const Scene& scene, const SceneArrays& arrays, EmitterFirst emitterFirst) {
     KernelOptions o;
     o.integrator = scene.integrator;
     o.sampler = scene.sampler.type;
     o.sceneFeatures = sceneFeatures(arrays);
     o.textures = arrays.textures.textured ? 1u : 0u;
+    const bool on = emitterFirst == EmitterFirst::Exact  ? emitterFirstExact(scene.integrator, arrays)
+                    : emitterFirst == EmitterFirst::Rule ? emitterFirstPays(scene, arrays)
+                                                         : false;
+    o.emitterFirstLights = on ? uint32_t(arrays.lights.size()) : 0u;
     return o;
 }
 

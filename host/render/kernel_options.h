@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "render/emitter_first.h"
 #include "render/scene_arrays.h"
 #include "scene/scene.h"
 
@@ -17,6 +18,7 @@ struct KernelOptions {
     uint32_t sceneFeatures = gpu::FEATURES_ALL;
     uint32_t countRays = 0;
     uint32_t textures = 0;  // 1: some material is textured
+    uint32_t emitterFirstLights = 0;  // 0, or the light count: emitter-first BRDF rays
 
     // Values in constant_id order, for gpu::Pipeline.
     std::vector<uint32_t> specialization() const;
@@ -26,8 +28,10 @@ struct KernelOptions {
     bool operator==(const KernelOptions& other) const { return specialization() == other.specialization(); }
 };
 
-// The integrator and sampler settings of `scene` and the features of `arrays`.
-KernelOptions makeKernelOptions(const Scene& scene, const SceneArrays& arrays);
+// The integrator and sampler settings of `scene`, the features of `arrays`, and whether
+// BRDF-sampled rays go emitter first (render/emitter_first.h).
+KernelOptions makeKernelOptions(const Scene& scene, const SceneArrays& arrays,
+                                EmitterFirst emitterFirst = EmitterFirst::Rule);
 
 // FEATURE_* bits of what `arrays` contains.
 uint32_t sceneFeatures(const SceneArrays& arrays);

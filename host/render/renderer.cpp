@@ -98,8 +98,13 @@ std::unique_ptr<gpu::Kernel> Renderer::createKernel(const KernelOptions& options
     return kernel;
 }
 
+void Renderer::setEmitterFirst(EmitterFirst mode) {
+    m_emitterFirst = mode;
+    updateKernel();
+}
+
 void Renderer::updateKernel() {
-    KernelOptions options = makeKernelOptions(m_scene, m_arrays);
+    KernelOptions options = makeKernelOptions(m_scene, m_arrays, m_emitterFirst);
     if (m_kernel && options == m_options) return;
     m_options = options;
     m_kernel = createKernel(m_options);

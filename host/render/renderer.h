@@ -55,6 +55,9 @@ public:
     // `type` or `lightSelection` differ from the scene's.
     void setCamera(const Camera& camera);
     void setIntegrator(const IntegratorSettings& integrator);
+    // How BRDF-sampled rays find emitters (render/emitter_first.h); EmitterFirst::Rule
+    // unless set. Tests and benchmarks set Off or Exact to compare the two paths.
+    void setEmitterFirst(EmitterFirst mode);
     // Makes the driver compile the current kernel now, with a dispatch that covers no
     // pixels: llvmpipe compiles on the first dispatch, and callers that time the render
     // (penumbra:render_seconds) count that compilation as start-up, not as rendering.
@@ -94,6 +97,7 @@ private:
     Scene m_scene;
     SceneArrays m_arrays;
     gpu::RenderParams m_params;
+    EmitterFirst m_emitterFirst = EmitterFirst::Rule;
     KernelOptions m_options;
     // Declaration order is teardown order in reverse: the kernel goes before the buffers.
     gpu::Buffer m_paramsBuffer, m_accum, m_nodes, m_primitives, m_normals, m_materials, m_lights, m_lightTable,

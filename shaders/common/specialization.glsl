@@ -20,6 +20,8 @@ layout(constant_id = SPEC_QUAD_SAMPLING) const uint kQuadSampling = QUAD_SOLID_A
 layout(constant_id = SPEC_TRIANGLE_SAMPLING) const uint kTriangleSampling = TRIANGLE_AREA;
 // Off unless set: kernels without the texture bindings (the shader tests) never read them.
 layout(constant_id = SPEC_TEXTURES) const uint kTextures = 0u;
+// Off unless set: the emitter-first path is exact only for scenes the host's rule checked.
+layout(constant_id = SPEC_EMITTER_FIRST) const uint kEmitterFirstLights = 0u;
 
 // Whether the scene has a primitive / light / material of this type; false compiles the
 // code that handles it out of the kernel.

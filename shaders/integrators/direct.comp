@@ -20,6 +20,7 @@
 #include "lights/lights.glsl"
 #include "bsdf/bsdf.glsl"
 #include "integrators/mis.glsl"
+#include "integrators/emitter_first.glsl"
 
 #include "bsdf/materials.glsl"
 #include "textures/textures.glsl"
@@ -89,10 +90,13 @@ vec3 lightSampleEstimate(Shading s, uint index, float pmf, uint weighting, float
 // Emitted radiance reaching x along wi (first hit, or the environment when nothing is
 // hit), and the light-selection-times-light density of that direction, with `selection`
 // turning Light::selectionProb into the probability in the table actually sampled.
+// With the emitter-first path (integrators/emitter_first.glsl; only in scenes without an
+// environment light) the hit is the nearest emitter, checked for occluders once it is known
+// to emit toward x.
 vec3 incidentEmission(Shading s, vec3 wi, float selectionScale, out float pLight) {
     pLight = 0.0;
     Hit hit;
-    if (!traceClosest(s.origin, wi, FLOAT_MAX, hit)) {
+    if (!traceForEmission(s.origin, wi, hit)) {
         if (params.environmentLight == NO_LIGHT) return vec3(0.0);
         Light env = loadLight(params.environmentLight);
         pLight = env.selectionProb * selectionScale *
@@ -103,7 +107,7 @@ vec3 incidentEmission(Shading s, vec3 wi, float selectionScale, out float pLight
     if (y.light == NO_LIGHT) return vec3(0.0);
     Light light = loadLight(y.light);
     vec3 Le = emittedRadiance(light, y.geometricNormal, wi);
-    if (Le == vec3(0.0)) return Le;
+    if (Le == vec3(0.0) || emitterHidden(s.origin, wi, hit)) return vec3(0.0);
     pLight = light.selectionProb * selectionScale *
              lightPdf(y.light, s.origin, s.ns, wi, y.position, y.geometricNormal, hit.t, hit.primitive, lightModes());
     return Le;

@@ -261,7 +261,8 @@ PENUMBRA_CONST uint SAMPLER_SOBOL = 1u;        // padded Owen-scrambled Sobol' (
 #define SPEC_QUAD_SAMPLING 9     // QUAD_*
 #define SPEC_TRIANGLE_SAMPLING 10  // TRIANGLE_*
 #define SPEC_TEXTURES 11           // 1: some material is textured (uvs computed, textures read)
-#define SPEC_COUNT 12
+#define SPEC_EMITTER_FIRST 12      // 0 or the light count: BRDF rays go emitter first (render/emitter_first.h)
+#define SPEC_COUNT 13
 
 // Scene feature bits: bit FEATURE_PRIMITIVE + PRIM_*, FEATURE_LIGHT + LIGHT_*,
 // FEATURE_MATERIAL + MATERIAL_* is set when the scene has such a primitive, light or

@@ -1,0 +1,143 @@
+// Emitter-first BRDF-sampled rays (shaders/integrators/emitter_first.glsl): where the host's
+// rule turns them on (render/emitter_first.cpp), and that they are the same estimator as the
+// closest-hit path. The scenes put an occluder between the emitters and the floor, so that
+// a BRDF-sampled ray often finds an emitter behind something: a path that let such a ray
+// through, or hid an emitter behind itself, would brighten or darken the shadow.
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "gpu_fixture.h"
+#include "render/renderer.h"
+#include "render_helpers.h"
+
+using namespace penumbra;
+using nlohmann::json;
+
+namespace {
+
+constexpr int kSize = 32;
+
+// A closed room 4 x 3 x 4 (so that every BRDF-sampled ray hits something, as in the scenes
+// the rule takes) seen from under its ceiling: a one-sided quad light facing down just below
+// the ceiling, a blocker quad at half height under part of the light (its shadow crosses
+// the view), a point light (a delta light the emitter loop must skip) and, with `sphere`, a
+// sphere light between blocker and quad light, which hides part of the quad light.
+// With `open`, only the floor, blocker and lights: most rays leave the scene.
+json occludedScene(const std::string& strategy, int spp, int seed, bool sphere, bool open = false) {
+    auto quad = [](json origin, json u, json v) {
+        return json{{"type", "quad"}, {"origin", origin}, {"edge_u", u}, {"edge_v", v}, {"material", "walls"}};
+    };
+    json shapes = json::array({quad({-2, 0, -2}, {0, 0, 4}, {4, 0, 0}),
+                               quad({-0.1, 1.5, -1}, {2, 0, 0}, {0, 0, 2}),
+                               {{"type", "quad"},
+                                {"origin", {-0.3, 2.9, -0.3}},
+                                {"edge_u", {0.6, 0, 0}},
+                                {"edge_v", {0, 0, 0.6}},
+                                {"emission", {8, 8, 8}}}});
+    if (!open)
+        for (json wall : {quad({-2, 3, -2}, {4, 0, 0}, {0, 0, 4}), quad({-2, 0, -2}, {0, 3, 0}, {0, 0, 4}),
+                          quad({2, 0, -2}, {0, 3, 0}, {0, 0, 4}), quad({-2, 0, -2}, {4, 0, 0}, {0, 3, 0}),
+                          quad({-2, 0, 2}, {4, 0, 0}, {0, 3, 0})})
+            shapes.push_back(wall);
+    if (sphere)
+        shapes.push_back({{"type", "sphere"}, {"center", {-0.2, 2.3, 0}}, {"radius", 0.2}, {"emission", {3, 2, 1}}});
+    return {
+        {"camera", {{"eye", {0, 2.7, 1.9}}, {"target", {0, 0, -0.5}}, {"up", {0, 1, 0}}, {"fov_y", 70}}},
+        {"film", {{"width", kSize}, {"height", kSize}}},
+        {"sampler", {{"spp", spp}, {"seed", seed}}},
+        {"integrator", {{"type", "direct"}, {"strategy", strategy}}},
+        {"materials",
+         {{"walls", {{"type", "phong"}, {"kd", {0.5, 0.5, 0.5}}, {"ks", {0.3, 0.3, 0.3}}, {"exponent", 8}}}}},
+        {"shapes", shapes},
+        {"lights", {{{"type", "point"}, {"position", {1.5, 1.0, 1.5}}, {"power", 2}}}},
+    };
+}
+
+Image render(const json& doc, const std::string& name, EmitterFirst mode, KernelOptions* options = nullptr) {
+    Scene scene = test::sceneFromJson(doc, name);
+    Renderer renderer(test::gpuContext(), scene);
+    renderer.setEmitterFirst(mode);
+    if (options) *options = makeKernelOptions(scene, renderer.arrays(), mode);
+    renderer.renderAll();
+    return renderer.readback(0.0);
+}
+
+// Channel 0 of an image as the "expected" values of test::blockTTest.
+std::vector<double> channel0(const Image& image) {
+    std::vector<double> v;
+    for (size_t i = 0; i < image.rgb.size(); i += 3) v.push_back(image.rgb[i]);
+    return v;
+}
+
+}  // namespace
+
+TEST(EmitterFirst, RuleTakesTheScenesItWasMeasuredOn) {
+    auto pays = [](const json& doc, const std::string& name) {
+        Scene scene = test::sceneFromJson(doc, name);
+        return emitterFirstPays(scene, buildSceneArrays(scene));
+    };
+    EXPECT_TRUE(pays(occludedScene("mis", 1, 1, false), "ef-rule-quad"));
+    EXPECT_TRUE(pays(occludedScene("bsdf", 1, 1, false), "ef-rule-bsdf"));
+    // Most rays leave an open scene, cheaply for the closest hit: measured to lose.
+    EXPECT_FALSE(pays(occludedScene("mis", 1, 1, false, true), "ef-rule-open"));
+    // Light sampling alone traces no BRDF-sampled ray: nothing to gain.
+    EXPECT_FALSE(pays(occludedScene("light", 1, 1, false), "ef-rule-light"));
+    // An environment is hit by every escaping ray; a mesh emitter is no sphere or quad.
+    json env = occludedScene("mis", 1, 1, false);
+    env["lights"].push_back({{"type", "environment"}, {"radiance", 0.1}});
+    EXPECT_FALSE(pays(env, "ef-rule-env"));
+    json mesh = occludedScene("mis", 1, 1, false);
+    mesh["shapes"][2] = {{"type", "mesh"},
+                         {"positions", {-0.5, 2, -0.5, 0.5, 2, -0.5, 0.5, 2, 0.5}},
+                         {"indices", {0, 1, 2}},
+                         {"emission", {4, 4, 4}}};
+    EXPECT_FALSE(pays(mesh, "ef-rule-mesh"));
+    // Ambient occlusion has no emitters to look for.
+    json ao = occludedScene("mis", 1, 1, false);
+    ao["integrator"] = {{"type", "ao"}};
+    EXPECT_FALSE(pays(ao, "ef-rule-ao"));
+}
+
+TEST(EmitterFirst, SameSamplesGiveTheSameImageAsTheClosestHit) {
+    // Same seed, same random numbers: every BRDF-sampled ray is the same ray on both paths,
+    // so the images agree to rounding wherever the estimators agree. With two emitters the
+    // nearer must hide the farther (the sphere case, taken with EmitterFirst::Exact). Each
+    // strategy weighs BRDF-sampled rays its own way (alone, MIS, mixture density).
+    const std::pair<std::string, bool> cases[] = {{"bsdf", false}, {"mixture", false}, {"mis", true}};
+    for (const auto& [strategy, sphere] : cases) {
+        SCOPED_TRACE(strategy + (sphere ? " with the sphere light" : ""));
+        const json doc = occludedScene(strategy, 16, 7, sphere);
+        const std::string name = "ef-same-" + strategy + (sphere ? "-sphere" : "");
+        KernelOptions on;
+        Image first = render(doc, name, EmitterFirst::Exact, &on);
+        ASSERT_GT(on.emitterFirstLights, 0u);
+        Image closest = render(doc, name, EmitterFirst::Off);
+        ASSERT_EQ(first.rgb.size(), closest.rgb.size());
+        int differing = 0;
+        double worst = 0;
+        for (size_t i = 0; i < first.rgb.size(); ++i) {
+            double d = std::abs(double(first.rgb[i]) - double(closest.rgb[i]));
+            worst = std::max(worst, d);
+            differing += d > 1e-4 * (1.0 + std::abs(double(closest.rgb[i])));
+        }
+        EXPECT_EQ(differing, 0) << "largest difference " << worst;
+    }
+}
+
+TEST(EmitterFirst, IndependentRendersAgreeWithTheClosestHitWithinMonteCarloError) {
+    // Different seeds: the per-pixel differences have mean zero if the two paths are the
+    // same estimator; test::blockTTest checks that on 8x8 blocks and on the whole image,
+    // with the variance estimated from the differences themselves (it shrinks as 1/spp).
+    const int spp = 64;
+    KernelOptions options;
+    Image first = render(occludedScene("bsdf", spp, 3, false), "ef-mc-first", EmitterFirst::Rule, &options);
+    ASSERT_GT(options.emitterFirstLights, 0u) << "the rule no longer takes this scene";
+    Image closest = render(occludedScene("bsdf", spp, 4, false), "ef-mc-closest", EmitterFirst::Off);
+    std::string report;
+    EXPECT_EQ(test::blockTTest(first, channel0(closest), 8, 1e-3, 1, &report), 0) << report;
+}
