@@ -3,6 +3,7 @@
 // PNG, JPEG and HDR, exr.cpp's readExr for OpenEXR.
 #include "image/image_file.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -55,12 +56,14 @@ bool startsWith(const std::string& bytes, const char* magic, size_t n) {
     return bytes.size() >= n && std::memcmp(bytes.data(), magic, n) == 0;
 }
 
-void checkSize(int64_t width, int64_t height, const std::string& label) {
+void checkSize(int64_t width, int64_t height, const std::string& label, uint64_t maxPixels) {
     if (width <= 0 || height <= 0) throwInputError(label, "", "image has no pixels");
-    if (width > kMaxImageSide || height > kMaxImageSide || uint64_t(width) * uint64_t(height) > kMaxImagePixels)
+    maxPixels = std::min(maxPixels, kMaxImagePixels);
+    if (width > kMaxImageSide || height > kMaxImageSide || uint64_t(width) * uint64_t(height) > maxPixels)
         throwInputError(label, "",
                         "image is " + std::to_string(width) + "x" + std::to_string(height) +
-                            ", larger than the limit (each side <= 16384, at most 67108864 pixels)");
+                            ", larger than the limit (each side <= 16384, at most " + std::to_string(maxPixels) +
+                            " pixels)");
 }
 
 // stb's failure reason is a short phrase ("bad huffman code", "corrupt PNG").
@@ -73,7 +76,8 @@ struct StbFree {
     void operator()(void* p) const { stbi_image_free(p); }
 };
 
-ImageFile decodeStb(const std::string& bytes, const std::string& label, ImageFileFormat format, ColorDecode decode) {
+ImageFile decodeStb(const std::string& bytes, const std::string& label, ImageFileFormat format, ColorDecode decode,
+                    uint64_t maxPixels) {
     const char* what = format == ImageFileFormat::Png ? "PNG" : format == ImageFileFormat::Jpeg ? "JPEG" : "HDR";
     const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
     if (bytes.size() > size_t(INT32_MAX)) throwInputError(label, "", "file too large");
@@ -87,7 +91,7 @@ ImageFile decodeStb(const std::string& bytes, const std::string& label, ImageFil
                 : format == ImageFileFormat::Jpeg ? stbi__jpeg_info(&context, &w, &h, &n)
                                                   : stbi__hdr_info(&context, &w, &h, &n);
     if (!known) stbFailed(label, what);
-    checkSize(w, h, label);
+    checkSize(w, h, label, maxPixels);
 
     ImageFile image;
     image.width = uint32_t(w);
@@ -125,7 +129,7 @@ ImageFile decodeStb(const std::string& bytes, const std::string& label, ImageFil
     return image;
 }
 
-ImageFile decodeExr(const std::filesystem::path& path, const std::string& label) {
+ImageFile decodeExr(const std::filesystem::path& path, const std::string& label, uint64_t maxPixels) {
     Image exr;
     try {
         exr = readExr(path);
@@ -136,7 +140,7 @@ ImageFile decodeExr(const std::filesystem::path& path, const std::string& label)
         if (message.rfind(prefix, 0) == 0) message = message.substr(prefix.size());
         throwInputError(label, "", message);
     }
-    checkSize(exr.width, exr.height, label);
+    checkSize(exr.width, exr.height, label, maxPixels);
     ImageFile image;
     image.width = exr.width;
     image.height = exr.height;
@@ -164,12 +168,14 @@ float srgbToLinear(float encoded) {
     return float(x <= 0.04045 ? x / 12.92 : std::pow((x + 0.055) / 1.055, 2.4));
 }
 
-ImageFile decodeImage(const std::string& bytes, const std::string& label, ColorDecode decode) {
+ImageFile decodeImage(const std::string& bytes, const std::string& label, ColorDecode decode, uint64_t maxPixels) {
     try {
-        if (startsWith(bytes, "\x89PNG\r\n\x1a\n", 8)) return decodeStb(bytes, label, ImageFileFormat::Png, decode);
-        if (startsWith(bytes, "\xff\xd8\xff", 3)) return decodeStb(bytes, label, ImageFileFormat::Jpeg, decode);
+        if (startsWith(bytes, "\x89PNG\r\n\x1a\n", 8))
+            return decodeStb(bytes, label, ImageFileFormat::Png, decode, maxPixels);
+        if (startsWith(bytes, "\xff\xd8\xff", 3))
+            return decodeStb(bytes, label, ImageFileFormat::Jpeg, decode, maxPixels);
         if (startsWith(bytes, "#?RADIANCE", 10) || startsWith(bytes, "#?RGBE", 6))
-            return decodeStb(bytes, label, ImageFileFormat::Hdr, decode);
+            return decodeStb(bytes, label, ImageFileFormat::Hdr, decode, maxPixels);
     } catch (const std::bad_alloc&) {
         throwInputError(label, "", "image too large to load");
     }
@@ -178,13 +184,14 @@ ImageFile decodeImage(const std::string& bytes, const std::string& label, ColorD
     throwInputError(label, "", "unsupported image format (PNG, JPEG, Radiance HDR and OpenEXR are read)");
 }
 
-ImageFile readImageFile(const std::filesystem::path& path, const std::string& label, ColorDecode decode) {
+ImageFile readImageFile(const std::filesystem::path& path, const std::string& label, ColorDecode decode,
+                        uint64_t maxPixels) {
     std::string bytes = readFileBytes(path, label);
     if (startsWith(bytes, "\x76\x2f\x31\x01", 4)) {
         bytes = std::string();  // OpenEXR reads the file itself
-        return decodeExr(path, label);
+        return decodeExr(path, label, maxPixels);
     }
-    return decodeImage(bytes, label, decode);
+    return decodeImage(bytes, label, decode, maxPixels);
 }
 
 }  // namespace penumbra
