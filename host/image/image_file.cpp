@@ -76,6 +76,50 @@ struct StbFree {
     void operator()(void* p) const { stbi_image_free(p); }
 };
 
+// Walks Radiance HDR pixel data as stb_image will read it, and refuses data that ends early
+// or holds a run of length 0: stb reads past the end as zeros and, in a run-length encoded
+// scanline, loops forever on a count of 0 (a truncated file hung the program). `bytes` is the
+// whole file, `w` x `h` its size from the header (Greg Ward's format: header lines, an empty
+// line, the resolution line, then scanlines, each flat RGBE or "2 2 w_hi w_lo" and runs).
+void checkHdrData(const std::string& bytes, int64_t w, int64_t h, const std::string& label) {
+    auto corrupt = [&](const char* why) { throwInputError(label, "", std::string("cannot decode HDR image: ") + why); };
+    size_t blank = bytes.find("\n\n");
+    size_t at = blank == std::string::npos ? std::string::npos : bytes.find('\n', blank + 2);
+    if (at == std::string::npos) corrupt("no resolution line");
+    ++at;
+    auto left = [&] { return bytes.size() - at; };
+    auto byte = [&](size_t i) { return uint8_t(bytes[at + i]); };
+    const uint64_t pixels = uint64_t(w) * uint64_t(h);
+    // stb reads flat pixels when the width cannot be run-length encoded.
+    if (w < 8 || w >= 32768) {
+        if (left() < 4 * pixels) corrupt("pixel data ends early");
+        return;
+    }
+    for (int64_t row = 0; row < h; ++row) {
+        if (left() < 4) corrupt("pixel data ends early");
+        if (byte(0) != 2 || byte(1) != 2 || (byte(2) & 0x80)) {
+            // Not run-length encoded: stb reads the rest of the image as flat pixels, from
+            // these 4 bytes on, restarting at the first row.
+            if (left() < 4 * pixels) corrupt("pixel data ends early");
+            return;
+        }
+        if ((int64_t(byte(2)) << 8 | byte(3)) != w) corrupt("scanline length differs from the width");
+        at += 4;
+        for (int component = 0; component < 4; ++component)
+            for (int64_t x = 0; x < w;) {
+                if (left() < 1) corrupt("pixel data ends early");
+                int count = byte(0);
+                bool run = count > 128;
+                if (run) count -= 128;
+                if (count == 0 || count > w - x) corrupt("bad run length");
+                size_t need = 1 + (run ? 1 : size_t(count));
+                if (left() < need) corrupt("pixel data ends early");
+                at += need;
+                x += count;
+            }
+    }
+}
+
 ImageFile decodeStb(const std::string& bytes, const std::string& label, ImageFileFormat format, ColorDecode decode,
                     uint64_t maxPixels) {
     const char* what = format == ImageFileFormat::Png ? "PNG" : format == ImageFileFormat::Jpeg ? "JPEG" : "HDR";
@@ -102,6 +146,7 @@ ImageFile decodeStb(const std::string& bytes, const std::string& label, ImageFil
     image.rgba.resize(count);
     // Requesting 4 channels makes stb expand grey to RGB and add an opaque alpha.
     if (format == ImageFileFormat::Hdr) {
+        checkHdrData(bytes, w, h, label);
         std::unique_ptr<float, StbFree> pixels(stbi_loadf_from_memory(data, length, &w, &h, &n, 4));
         if (!pixels) stbFailed(label, what);
         std::memcpy(image.rgba.data(), pixels.get(), count * sizeof(float));
