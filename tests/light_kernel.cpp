@@ -17,7 +17,8 @@ namespace {
 std::vector<VkDescriptorType> lightTestBindings() {
     std::vector<VkDescriptorType> types(LIGHT_TEST_BINDING_COUNT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
     for (uint32_t b : {uint32_t(BINDING_NODES), uint32_t(BINDING_PRIMITIVE_TEXELS), uint32_t(BINDING_LIGHTS),
-                       uint32_t(BINDING_LIGHT_TABLE), uint32_t(BINDING_MESH_TABLE)})
+                       uint32_t(BINDING_LIGHT_TABLE), uint32_t(BINDING_MESH_TABLE), uint32_t(BINDING_ENV_TEXELS),
+                       uint32_t(BINDING_ENV_TABLE)})
         types[b] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
     return types;
 }
@@ -38,7 +39,11 @@ LightKernel::LightKernel(const SceneArrays& arrays)
       m_normals(gpu::Buffer::fromVector(m_ctx, arrays.normals)),
       m_lights(gpu::Buffer::fromVector(m_ctx, arrays.lights, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT)),
       m_lightTable(gpu::Buffer::fromVector(m_ctx, arrays.lightTable, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT)),
-      m_meshTable(gpu::Buffer::fromVector(m_ctx, arrays.meshTable, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT)) {}
+      m_meshTable(gpu::Buffer::fromVector(m_ctx, arrays.meshTable, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT)),
+      m_environmentTexels(
+          gpu::Buffer::fromVector(m_ctx, arrays.environmentTexels, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT)),
+      m_environmentTable(
+          gpu::Buffer::fromVector(m_ctx, arrays.environmentTable, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT)) {}
 
 std::vector<gpu::LightTestRecord> LightKernel::run(gpu::LightTestPush push, const gpu::Buffer& in) {
     gpu::Buffer out(m_ctx, VkDeviceSize(push.count) * sizeof(gpu::LightTestRecord),
@@ -55,6 +60,8 @@ std::vector<gpu::LightTestRecord> LightKernel::run(gpu::LightTestPush push, cons
     kernel.bind(BINDING_LIGHTS, m_lights);
     kernel.bind(BINDING_LIGHT_TABLE, m_lightTable);
     kernel.bind(BINDING_MESH_TABLE, m_meshTable);
+    kernel.bind(BINDING_ENV_TEXELS, m_environmentTexels);
+    kernel.bind(BINDING_ENV_TABLE, m_environmentTable);
     kernel.bind(LIGHT_TEST_BINDING_IN, in);
     kernel.bind(LIGHT_TEST_BINDING_OUT, out);
     kernel.run((push.count + gpu::LIGHT_TEST_WORKGROUP_SIZE - 1) / gpu::LIGHT_TEST_WORKGROUP_SIZE, 1, 1, &push);

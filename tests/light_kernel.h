@@ -47,7 +47,8 @@ private:
     gpu::Context& m_ctx;
     float m_minSolidAngle = gpu::SPHERICAL_MIN_SOLID_ANGLE;
     float m_minElevationSine = gpu::SPHERICAL_MIN_ELEVATION_SINE;
-    gpu::Buffer m_dummy, m_nodes, m_primitives, m_normals, m_lights, m_lightTable, m_meshTable;
+    gpu::Buffer m_dummy, m_nodes, m_primitives, m_normals, m_lights, m_lightTable, m_meshTable, m_environmentTexels,
+        m_environmentTable;
 };
 
 }  // namespace penumbra::test

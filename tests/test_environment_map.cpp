@@ -14,53 +14,20 @@
 #include <gtest/gtest.h>
 
 #include "chi2.h"
+#include "environment_test_maps.h"
 #include "render/environment_map.h"
 
 using namespace penumbra;
 
 namespace {
 
+using test::cellOf;
+using test::cellProbabilities;
+using test::kH;
+using test::kW;
+using test::makeMap;
 constexpr double kPi = std::numbers::pi;
-constexpr uint32_t kW = 32, kH = 16;
 constexpr size_t kSamples = 1u << 20;
-
-EnvironmentImage makeMap(const std::string& kind) {
-    EnvironmentImage image{kW, kH, std::vector<glm::vec3>(size_t(kW) * kH, glm::vec3(0.0f))};
-    for (uint32_t row = 0; row < kH; ++row)
-        for (uint32_t col = 0; col < kW; ++col) {
-            glm::vec3& t = image.texels[size_t(row) * kW + col];
-            if (kind == "sun")
-                t = (row == 5 && col == 20) ? glm::vec3(2e4f, 1.5e4f, 1e4f) : glm::vec3(0.1f, 0.2f, 0.4f);
-            if (kind == "gradient")
-                t = glm::vec3(0.1f + float(row) / kH, 0.5f + 0.4f * float(std::sin(2 * kPi * col / kW)), 0.3f);
-            if (kind == "pole") t = (row == 0 && col == 7) ? glm::vec3(1e5f) : glm::vec3(0.01f);
-        }
-    return image;
-}
-
-// The cell (texel, quarter) of a direction: texel by the contract's lookup, then which half
-// of the texel's phi range and of its cos(theta) range.
-size_t cellOf(glm::dvec3 d) {
-    glm::uvec2 t = environmentTexel(d, kW, kH);
-    double u = std::atan2(d.x, -d.z) / (2 * kPi);
-    u -= std::floor(u);
-    double fu = u * kW - t.x;
-    double cos0 = std::cos(kPi * t.y / kH), cos1 = std::cos(kPi * (t.y + 1) / kH);
-    double fv = (cos0 - d.y) / (cos0 - cos1);
-    size_t q = (fu >= 0.5 ? 1 : 0) + (fv >= 0.5 ? 2 : 0);
-    return (size_t(t.y) * kW + t.x) * 4 + q;
-}
-
-// The centre direction of cell (texel i, quarter q), for evaluating a pdf there.
-glm::dvec3 cellCentre(size_t cell) {
-    size_t i = cell / 4, q = cell % 4;
-    uint32_t col = uint32_t(i % kW), row = uint32_t(i / kW);
-    double phi = 2 * kPi * (col + (q & 1 ? 0.75 : 0.25)) / kW;
-    double cos0 = std::cos(kPi * row / kH), cos1 = std::cos(kPi * (row + 1) / kH);
-    double c = cos0 - (q & 2 ? 0.75 : 0.25) * (cos0 - cos1);
-    double s = std::sqrt(std::max(0.0, 1 - c * c));
-    return {s * std::sin(phi), c, -s * std::cos(phi)};
-}
 
 struct Drawn {
     std::vector<double> counts;
@@ -79,14 +46,6 @@ Drawn draw(const EnvironmentDistribution& dist, uint64_t seed) {
         if (!(std::abs(pdf - environmentMapPdf(dist, d)) <= 1e-9 * pdf)) ++out.pdfMismatches;
     }
     return out;
-}
-
-// Probability of every cell from a pdf evaluated at its centre (constant over a texel).
-std::vector<double> cellProbabilities(const std::function<double(glm::dvec3)>& pdf) {
-    std::vector<double> p(size_t(kW) * kH * 4);
-    for (size_t cell = 0; cell < p.size(); ++cell)
-        p[cell] = pdf(cellCentre(cell)) * environmentTexelSolidAngle(uint32_t(cell / 4 / kW), kW, kH) / 4;
-    return p;
 }
 
 }  // namespace

@@ -162,6 +162,39 @@ TEST(ImageFile, HdrIsLinearAndNeverSrgbDecoded) {
     }
 }
 
+TEST(ImageFile, HdrDataThatEndsEarlyOrHasEmptyRunsIsRefusedNotHung) {
+    // stb_image reads past the end of HDR pixel data as zeros, and loops forever on a
+    // run-length encoded scanline whose run count is 0 (as a truncated file gives).
+    fs::path d = dir("hdr-truncated");
+    std::vector<float> rgb;
+    for (int i = 0; i < 40 * 4 * 3; ++i) rgb.push_back(float((i * 37) % 11) * 0.25f + (i % 3 == 0 ? 0.0f : 0.5f));
+    ASSERT_TRUE(stbi_write_hdr((d / "rle.hdr").c_str(), 40, 4, 3, rgb.data()));  // width >= 8: run-length encoded
+    ASSERT_TRUE(stbi_write_hdr((d / "flat.hdr").c_str(), 4, 2, 3, rgb.data()));  // width < 8: flat
+    std::ifstream in(d / "rle.hdr", std::ios::binary);
+    std::string rle((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::ifstream inFlat(d / "flat.hdr", std::ios::binary);
+    std::string flat((std::istreambuf_iterator<char>(inFlat)), std::istreambuf_iterator<char>());
+    // The whole files read, with their values.
+    ImageFile whole = readImageFile(d / "rle.hdr", ColorDecode::Linear);
+    EXPECT_FLOAT_EQ(whole.texel(39, 3)[1], rgb[(3 * 40 + 39) * 3 + 1]);
+    EXPECT_EQ(readImageFile(d / "flat.hdr", ColorDecode::Linear).width, 4u);
+    // Cut anywhere in the pixel data: refused, never hung.
+    size_t header = rle.find("+X 40\n") + 6;
+    for (size_t cut : {header, header + 1, header + 4, header + 5, (header + rle.size()) / 2, rle.size() - 1}) {
+        writeBytes(d / "cut.hdr", rle.substr(0, cut));
+        std::string error = readError(d / "cut.hdr");
+        EXPECT_NE(error.find("cut.hdr: cannot decode HDR image"), std::string::npos)
+            << "cut at " << cut << ": " << error;
+    }
+    writeBytes(d / "cut-flat.hdr", flat.substr(0, flat.size() - 3));
+    EXPECT_NE(readError(d / "cut-flat.hdr").find("pixel data ends early"), std::string::npos);
+    // A run count of 0 in a whole file.
+    std::string empty = rle;
+    empty[header + 4] = 0;
+    writeBytes(d / "empty-run.hdr", empty);
+    EXPECT_NE(readError(d / "empty-run.hdr").find("bad run length"), std::string::npos);
+}
+
 TEST(ImageFile, ExrIsLinearWithRowZeroAtTheTop) {
     fs::path file = dir("exr") / "e.exr";
     Image exr;

@@ -3,6 +3,8 @@
 // raising its *_KIND_COUNT is refused instead of setting another group's bit.
 #include <gtest/gtest.h>
 
+#include <memory>
+#include <numbers>
 #include <set>
 #include <stdexcept>
 
@@ -35,4 +37,41 @@ TEST(LightArrays, DeltaLightsArePointSpotAndDirectionalOnly) {
     for (uint32_t k = 0; k < LIGHT_KIND_COUNT; ++k)
         EXPECT_EQ(isDeltaLight(k), k == gpu::LIGHT_POINT || k == gpu::LIGHT_SPOT || k == gpu::LIGHT_DIRECTIONAL)
             << "kind " << k;
+}
+
+TEST(LightArrays, EnvironmentMapHasItsFeatureBitSizeTablesAndPower) {
+    // A 4 x 2 map: the top row 3, the bottom row 1 (each hemisphere 2 pi sr), radiance [2, 1, 1]:
+    // mean over solid angle (3 + 1) / 2 = 2 times the factor, mean of RGB (4 + 2 + 2) / 3.
+    Scene scene;
+    scene.materials.push_back(Material{});
+    Light env;
+    env.type = LightType::Environment;
+    env.intensity = glm::vec3(2, 1, 1);
+    auto map = std::make_shared<EnvironmentImage>();
+    map->width = 4;
+    map->height = 2;
+    for (int i = 0; i < 8; ++i) map->texels.push_back(env.intensity * (i < 4 ? 3.0f : 1.0f));
+    env.map = map;
+    scene.lights.push_back(env);
+    SceneArrays arrays = buildSceneArrays(scene);
+    ASSERT_EQ(arrays.lights.size(), 1u);
+    const gpu::Light& light = arrays.lights[0];
+    EXPECT_EQ(light.type, gpu::LIGHT_ENVIRONMENT);
+    EXPECT_EQ(light.flags, gpu::LIGHT_ENVIRONMENT_MAP);
+    EXPECT_EQ(light.first, 4u);
+    EXPECT_EQ(light.count, 2u);
+    EXPECT_EQ(arrays.environmentTexels.size(), 8u);
+    EXPECT_EQ(arrays.environmentTexels[0], glm::vec4(6, 3, 3, 0));
+    EXPECT_EQ(arrays.environmentTable.size(), 8u);
+    const double pi = std::numbers::pi, r = 3.0;
+    EXPECT_NEAR(lightPower(light, float(r)), 4 * pi * pi * r * r * (8.0 / 3.0), 1e-2);
+    EXPECT_NE(sceneFeatures(arrays) & (1u << FEATURE_ENVIRONMENT_MAP), 0u);
+    // A constant sky has neither the bit nor the tables, and its power is unchanged.
+    scene.lights[0].map = nullptr;
+    SceneArrays constant = buildSceneArrays(scene);
+    EXPECT_EQ(sceneFeatures(constant) & (1u << FEATURE_ENVIRONMENT_MAP), 0u);
+    EXPECT_TRUE(constant.environmentTexels.empty());
+    EXPECT_NEAR(lightPower(constant.lights[0], float(r)), 4 * pi * pi * r * r * (4.0 / 3.0), 1e-2);
+    EXPECT_LT(FEATURE_ENVIRONMENT_MAP, 32u);
+    EXPECT_GE(FEATURE_ENVIRONMENT_MAP, FEATURE_MATERIAL + MATERIAL_KIND_COUNT);
 }

@@ -478,6 +478,46 @@ TEST(PreviewProgram, TexturedModelShowsItsTextureAsRendered) {
     EXPECT_GT(maxLevelDifference(shown, plain), 64) << "see " << dir;
 }
 
+TEST(PreviewProgram, EnvironmentMapShowsInTheBackgroundAsRendered) {
+    REQUIRE_XVFB();
+    fs::path dir = freshDir("screenshot-environment");
+    // A 16 x 8 sky whose columns change hue and whose rows darken towards the ground, behind
+    // a diffuse sphere it lights: camera rays that escape must read the map in the preview too.
+    Image map;
+    map.width = 16;
+    map.height = 8;
+    for (uint32_t row = 0; row < map.height; ++row)
+        for (uint32_t col = 0; col < map.width; ++col) {
+            float fade = 1.0f - float(row) / float(map.height);
+            map.rgb.insert(map.rgb.end(), {fade * float(col % 4) / 3.0f, fade * float(col / 4) / 3.0f, 0.8f * fade});
+        }
+    writeExr(dir / "sky.exr", map);
+    auto writeScene = [&](const std::string& file, const std::string& environment) {
+        std::ofstream(dir / file) << R"({
+            "camera": {"eye": [0, 0.5, 3], "target": [0, 0.8, 0], "up": [0, 1, 0], "fov_y": 70},
+            "film": {"width": 64, "height": 48}, "sampler": {"spp": 4},
+            "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 0.6}],
+            "lights": [)" << environment
+                                  << "]}";
+    };
+    writeScene("mapped.json", R"({"type": "environment", "file": "sky.exr"})");
+    writeScene("constant.json", R"({"type": "environment", "radiance": 0.5})");
+    std::string err;
+    int status = runIn(dir, displayEnv(), "preview mapped.json --frames 200 --screenshot shown.png", &err);
+    ASSERT_EQ(status, 0) << err;
+    status = runIn(dir, "", "render mapped.json -o rendered.exr --png rendered.png --quiet", &err);
+    ASSERT_EQ(status, 0) << err;
+    status = runIn(dir, "", "render constant.json -o constant.exr --png constant.png --quiet", &err);
+    ASSERT_EQ(status, 0) << err;
+    Png shown = readPng(dir / "shown.png"), rendered = readPng(dir / "rendered.png"),
+        constant = readPng(dir / "constant.png");
+    ASSERT_EQ(rendered.pixels.size(), shown.pixels.size());
+    EXPECT_LE(maxLevelDifference(shown, rendered), 1) << "see " << dir;
+    // The map shows: the preview is far from the same scene under a constant sky.
+    ASSERT_EQ(constant.pixels.size(), shown.pixels.size());
+    EXPECT_GT(maxLevelDifference(shown, constant), 64) << "see " << dir;
+}
+
 TEST(PreviewProgram, StrategyKeyRestartsAccumulation) {
     REQUIRE_XVFB();
     fs::path dir = freshDir("strategy-key");

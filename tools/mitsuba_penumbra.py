@@ -18,7 +18,7 @@ Mapping (see docs/PERFORMANCE.md, "Scene translation"):
   emission    -> area emitter (one-sided, front face), radiance = emission or converted power
   point       -> point, intensity = power/(4 pi) or intensity
   directional -> directional, direction, irradiance
-  environment -> constant, radiance
+  environment -> constant, radiance (with `file`: unsupported)
   direct      -> direct, emitter_samples = light_samples, bsdf_samples = bsdf_samples
                  (strategy light: bsdf_samples 0; bsdf: emitter_samples 0); Mitsuba always
                  uses the power heuristic on n_i * p_i, which is Penumbra's "mis"+"power".
@@ -374,6 +374,10 @@ def translate(scene, spp=None, seed=None, sampler="independent"):
             out[name] = {"type": "directional", "direction": _v(l["direction"]), "irradiance": _rgb(E),
                          "sampling_weight": weight([math.pi * radius ** 2 * e for e in E])}
         elif t == "environment":
+            if "file" in l:
+                # Mitsuba's envmap has the contract's orientation but one scalar `scale`, and
+                # its selection weight would need the map's mean: not translated yet.
+                raise Unsupported("environment light with a map file")
             L = _v(l.get("radiance", [1, 1, 1]))
             out[name] = {"type": "constant", "radiance": _rgb(L),
                          "sampling_weight": weight([4 * math.pi ** 2 * radius ** 2 * x for x in L])}

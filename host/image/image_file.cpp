@@ -3,6 +3,7 @@
 // before decoding), then stb_image for PNG, JPEG and HDR, exr.cpp's decodeExr for OpenEXR.
 #include "image/image_file.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <memory>
@@ -40,12 +41,14 @@ bool startsWith(const std::string& bytes, const char* magic, size_t n) {
     return bytes.size() >= n && std::memcmp(bytes.data(), magic, n) == 0;
 }
 
-void checkSize(int64_t width, int64_t height, const std::string& label) {
+void checkSize(int64_t width, int64_t height, const std::string& label, uint64_t maxPixels) {
     if (width <= 0 || height <= 0) throwInputError(label, "", "image has no pixels");
-    if (width > kMaxImageSide || height > kMaxImageSide || uint64_t(width) * uint64_t(height) > kMaxImagePixels)
+    maxPixels = std::min(maxPixels, kMaxImagePixels);
+    if (width > kMaxImageSide || height > kMaxImageSide || uint64_t(width) * uint64_t(height) > maxPixels)
         throwInputError(label, "",
                         "image is " + std::to_string(width) + "x" + std::to_string(height) +
-                            ", larger than the limit (each side <= 16384, at most 67108864 pixels)");
+                            ", larger than the limit (each side <= 16384, at most " + std::to_string(maxPixels) +
+                            " pixels)");
 }
 
 // stb's failure reason is a short phrase ("bad huffman code", "corrupt PNG").
@@ -58,7 +61,52 @@ struct StbFree {
     void operator()(void* p) const { stbi_image_free(p); }
 };
 
-ImageFile decodeStb(const std::string& bytes, const std::string& label, ImageFileFormat format, ColorDecode decode) {
+// Walks Radiance HDR pixel data as stb_image will read it, and refuses data that ends early
+// or holds a run of length 0: stb reads past the end as zeros and, in a run-length encoded
+// scanline, loops forever on a count of 0 (a truncated file hung the program). `bytes` is the
+// whole file, `w` x `h` its size from the header (Greg Ward's format: header lines, an empty
+// line, the resolution line, then scanlines, each flat RGBE or "2 2 w_hi w_lo" and runs).
+void checkHdrData(const std::string& bytes, int64_t w, int64_t h, const std::string& label) {
+    auto corrupt = [&](const char* why) { throwInputError(label, "", std::string("cannot decode HDR image: ") + why); };
+    size_t blank = bytes.find("\n\n");
+    size_t at = blank == std::string::npos ? std::string::npos : bytes.find('\n', blank + 2);
+    if (at == std::string::npos) corrupt("no resolution line");
+    ++at;
+    auto left = [&] { return bytes.size() - at; };
+    auto byte = [&](size_t i) { return uint8_t(bytes[at + i]); };
+    const uint64_t pixels = uint64_t(w) * uint64_t(h);
+    // stb reads flat pixels when the width cannot be run-length encoded.
+    if (w < 8 || w >= 32768) {
+        if (left() < 4 * pixels) corrupt("pixel data ends early");
+        return;
+    }
+    for (int64_t row = 0; row < h; ++row) {
+        if (left() < 4) corrupt("pixel data ends early");
+        if (byte(0) != 2 || byte(1) != 2 || (byte(2) & 0x80)) {
+            // Not run-length encoded: stb reads the rest of the image as flat pixels, from
+            // these 4 bytes on, restarting at the first row.
+            if (left() < 4 * pixels) corrupt("pixel data ends early");
+            return;
+        }
+        if ((int64_t(byte(2)) << 8 | byte(3)) != w) corrupt("scanline length differs from the width");
+        at += 4;
+        for (int component = 0; component < 4; ++component)
+            for (int64_t x = 0; x < w;) {
+                if (left() < 1) corrupt("pixel data ends early");
+                int count = byte(0);
+                bool run = count > 128;
+                if (run) count -= 128;
+                if (count == 0 || count > w - x) corrupt("bad run length");
+                size_t need = 1 + (run ? 1 : size_t(count));
+                if (left() < need) corrupt("pixel data ends early");
+                at += need;
+                x += count;
+            }
+    }
+}
+
+ImageFile decodeStb(const std::string& bytes, const std::string& label, ImageFileFormat format, ColorDecode decode,
+                    uint64_t maxPixels) {
     const char* what = format == ImageFileFormat::Png ? "PNG" : format == ImageFileFormat::Jpeg ? "JPEG" : "HDR";
     const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
     if (bytes.size() > size_t(INT32_MAX)) throwInputError(label, "", "file too large");
@@ -72,7 +120,7 @@ ImageFile decodeStb(const std::string& bytes, const std::string& label, ImageFil
                 : format == ImageFileFormat::Jpeg ? stbi__jpeg_info(&context, &w, &h, &n)
                                                   : stbi__hdr_info(&context, &w, &h, &n);
     if (!known) stbFailed(label, what);
-    checkSize(w, h, label);
+    checkSize(w, h, label, maxPixels);
 
     ImageFile image;
     image.width = uint32_t(w);
@@ -83,6 +131,7 @@ ImageFile decodeStb(const std::string& bytes, const std::string& label, ImageFil
     image.rgba.resize(count);
     // Requesting 4 channels makes stb expand grey to RGB and add an opaque alpha.
     if (format == ImageFileFormat::Hdr) {
+        checkHdrData(bytes, w, h, label);
         std::unique_ptr<float, StbFree> pixels(stbi_loadf_from_memory(data, length, &w, &h, &n, 4));
         if (!pixels) stbFailed(label, what);
         std::memcpy(image.rgba.data(), pixels.get(), count * sizeof(float));
@@ -110,9 +159,9 @@ ImageFile decodeStb(const std::string& bytes, const std::string& label, ImageFil
     return image;
 }
 
-ImageFile decodeExrFile(const std::string& bytes, const std::string& label) {
+ImageFile decodeExrFile(const std::string& bytes, const std::string& label, uint64_t maxPixels) {
     const Image exr = decodeExr(bytes, label);
-    checkSize(exr.width, exr.height, label);
+    checkSize(exr.width, exr.height, label, maxPixels);
     ImageFile image;
     image.width = exr.width;
     image.height = exr.height;
@@ -140,12 +189,14 @@ float srgbToLinear(float encoded) {
     return float(x <= 0.04045 ? x / 12.92 : std::pow((x + 0.055) / 1.055, 2.4));
 }
 
-ImageFile decodeImage(const std::string& bytes, const std::string& label, ColorDecode decode) {
+ImageFile decodeImage(const std::string& bytes, const std::string& label, ColorDecode decode, uint64_t maxPixels) {
     try {
-        if (startsWith(bytes, "\x89PNG\r\n\x1a\n", 8)) return decodeStb(bytes, label, ImageFileFormat::Png, decode);
-        if (startsWith(bytes, "\xff\xd8\xff", 3)) return decodeStb(bytes, label, ImageFileFormat::Jpeg, decode);
+        if (startsWith(bytes, "\x89PNG\r\n\x1a\n", 8))
+            return decodeStb(bytes, label, ImageFileFormat::Png, decode, maxPixels);
+        if (startsWith(bytes, "\xff\xd8\xff", 3))
+            return decodeStb(bytes, label, ImageFileFormat::Jpeg, decode, maxPixels);
         if (startsWith(bytes, "#?RADIANCE", 10) || startsWith(bytes, "#?RGBE", 6))
-            return decodeStb(bytes, label, ImageFileFormat::Hdr, decode);
+            return decodeStb(bytes, label, ImageFileFormat::Hdr, decode, maxPixels);
     } catch (const std::bad_alloc&) {
         throwInputError(label, "", "image too large to load");
     }
@@ -154,15 +205,16 @@ ImageFile decodeImage(const std::string& bytes, const std::string& label, ColorD
     throwInputError(label, "", "unsupported image format (PNG, JPEG, Radiance HDR and OpenEXR are read)");
 }
 
-ImageFile readImageFile(const std::filesystem::path& path, const std::string& label, ColorDecode decode) {
+ImageFile readImageFile(const std::filesystem::path& path, const std::string& label, ColorDecode decode,
+                        uint64_t maxPixels) {
     // These two refusals keep the words image files have always had; every other failure
     // to read is readInputFile's, as for any input file.
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) throwInputError(label, "", "no such file");
     if (std::filesystem::is_directory(path, ec)) throwInputError(label, "", "is a directory, not an image");
     const std::string bytes = readInputFile(path, label, kMaxImageFileBytes);
-    if (startsWith(bytes, kExrMagic, 4)) return decodeExrFile(bytes, label);
-    return decodeImage(bytes, label, decode);
+    if (startsWith(bytes, kExrMagic, 4)) return decodeExrFile(bytes, label, maxPixels);
+    return decodeImage(bytes, label, decode, maxPixels);
 }
 
 }  // namespace penumbra

@@ -39,14 +39,18 @@ struct ImageFile {
 };
 
 // Throws InputError("<label>: <why>") for a missing or unreadable file, an unsupported
-// format, corrupt data, or dimensions beyond the limits above.
-ImageFile readImageFile(const std::filesystem::path& path, const std::string& label, ColorDecode decode);
+// format, corrupt data, or dimensions beyond the limits above; `maxPixels` (at most
+// kMaxImagePixels) lowers the pixel limit for a caller with a smaller one (PNG, JPEG and
+// HDR: checked from the header; OpenEXR: once read, as the other limits are).
+ImageFile readImageFile(const std::filesystem::path& path, const std::string& label, ColorDecode decode,
+                        uint64_t maxPixels = kMaxImagePixels);
 inline ImageFile readImageFile(const std::filesystem::path& path, ColorDecode decode) {
     return readImageFile(path, path.string(), decode);
 }
 
 // The same for an image held in memory (e.g. embedded in a glTF model): PNG, JPEG and HDR.
-ImageFile decodeImage(const std::string& bytes, const std::string& label, ColorDecode decode);
+ImageFile decodeImage(const std::string& bytes, const std::string& label, ColorDecode decode,
+                      uint64_t maxPixels = kMaxImagePixels);
 
 // The sRGB decoding curve for one value in [0, 1] (IEC 61966-2-1), the inverse of
 // linearToSrgb8's encoding.

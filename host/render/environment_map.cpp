@@ -60,18 +60,30 @@ EnvironmentDistribution buildEnvironmentDistribution(EnvironmentImage image) {
     return dist;
 }
 
+uint32_t environmentAliasSlot(glm::dvec2 u, uint32_t count, double* coin) {
+    // slot + coin = (a 2^24 + b) count / 2^48 in exact integers; the coin keeps the top 24
+    // bits of the fraction, as the GPU's umulExtended version does.
+    uint64_t a = uint64_t(u.x * 16777216.0), b = uint64_t(u.y * 16777216.0);
+    unsigned __int128 x = (unsigned __int128)((a << 24) | b) * count;
+    uint64_t slot = uint64_t(x >> 48);
+    *coin = double(uint64_t(x >> 24) & 0xffffffu) / 16777216.0;
+    return uint32_t(std::min<uint64_t>(slot, count - 1));
+}
+
 glm::dvec3 sampleEnvironmentMap(const EnvironmentDistribution& dist, glm::dvec3 u, double* pdf) {
     const uint32_t w = dist.image.width, h = dist.image.height;
-    // Alias draw as in shaders/lights/alias.glsl: integer part of u n picks the slot, its
-    // fraction flips the slot's coin.
-    const uint32_t count = uint32_t(dist.table.size());
-    double scaled = u.x * count;
-    uint32_t slot = std::min(uint32_t(scaled), count - 1);
-    double coin = scaled - slot;
-    gpu::AliasEntry e = dist.table[slot];
-    if (coin >= e.probability) e = dist.table[e.alias];
+    double coin = 0.0;
+    gpu::AliasEntry e = dist.table[environmentAliasSlot({u.x, u.y}, uint32_t(dist.table.size()), &coin)];
+    // The coin, rescaled within the side it fell on, is uniform again: phi within the column.
+    double within;
+    if (coin < e.probability) {
+        within = coin / e.probability;
+    } else {
+        within = (coin - e.probability) / (1.0 - e.probability);
+        e = dist.table[e.alias];
+    }
     uint32_t col = e.item % w, row = e.item / w;
-    double phi = 2.0 * kPi * (col + u.y) / w;
+    double phi = 2.0 * kPi * (col + std::min(within, 1.0 - 1e-16)) / w;
     double cos0 = std::cos(kPi * row / h), cos1 = std::cos(kPi * (row + 1) / h);
     double cosTheta = cos0 - u.z * (cos0 - cos1);
     double sinTheta = std::sqrt(std::max(0.0, 1.0 - cosTheta * cosTheta));

@@ -2,7 +2,8 @@
 // contract's radiance lookup (Mitsuba 3's orientation, texels constant over their area) and
 // the piecewise-constant distribution that samples it in proportion to texel luminance times
 // texel solid angle, with an alias table over texels (O(1) per draw). The GPU sampler is to
-// mirror sampleEnvironmentMap / environmentMapPdf here; the tests check these against each other.
+// mirror sampleEnvironmentMap / environmentMapPdf here (shaders/lights/environment_map.glsl);
+// the tests check these against each other.
 #pragma once
 
 #include <cstdint>
@@ -10,15 +11,10 @@
 
 #include <glm/glm.hpp>
 
+#include "scene/scene.h"
 #include "shared/types.h"
 
 namespace penumbra {
-
-// Linear RGB radiance, row 0 at the top (+y), `width` columns around the vertical axis.
-struct EnvironmentImage {
-    uint32_t width = 0, height = 0;
-    std::vector<glm::vec3> texels;  // width * height, row by row
-};
 
 struct EnvironmentDistribution {
     EnvironmentImage image;
@@ -42,9 +38,15 @@ glm::vec3 environmentMapRadiance(const EnvironmentImage& image, glm::dvec3 d);
 // every pdf stays finite; it delivers no light either way.
 EnvironmentDistribution buildEnvironmentDistribution(EnvironmentImage image);
 
-// Draws a direction: a texel from the alias table with u.x (slot and coin, as the GPU draws),
-// then uniform in that texel's solid angle (phi uniform in its columns' range, cos theta
-// uniform in its row's range). `pdf`: the solid-angle density, pmf(texel) / solid angle.
+// The slot of an alias draw over `count` entries and its coin, from the 48 bits of two
+// uniform numbers of 24 bits each (the GPU's resolution): one 24-bit number reaches only 2^24
+// slots, and unevenly for counts that do not divide 2^24 (an 8k x 4k map has 2^25 texels).
+uint32_t environmentAliasSlot(glm::dvec2 u, uint32_t count, double* coin);
+
+// Draws a direction: a texel from the alias table with u.x, u.y (environmentAliasSlot, as the
+// GPU draws), then uniform in that texel's solid angle (phi uniform in its column's range from
+// the coin rescaled within its side, cos theta uniform in its row's range from u.z). `pdf`:
+// the solid-angle density, pmf(texel) / solid angle.
 glm::dvec3 sampleEnvironmentMap(const EnvironmentDistribution& dist, glm::dvec3 u, double* pdf);
 
 // The solid-angle density of d under sampleEnvironmentMap: pmf of the texel d is looked up

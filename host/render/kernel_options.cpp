@@ -69,7 +69,11 @@ uint32_t sceneFeatures(const SceneArrays& arrays) {
     uint32_t bits = 0;
     for (const gpu::Primitive& p : arrays.bvh.primitives)
         bits |= featureBit(FEATURE_PRIMITIVE, PRIM_KIND_COUNT, p.typeAndNormals & gpu::PRIM_TYPE_MASK);
-    for (const gpu::Light& l : arrays.lights) bits |= featureBit(FEATURE_LIGHT, LIGHT_KIND_COUNT, l.type);
+    for (const gpu::Light& l : arrays.lights) {
+        bits |= featureBit(FEATURE_LIGHT, LIGHT_KIND_COUNT, l.type);
+        if (l.type == gpu::LIGHT_ENVIRONMENT && (l.flags & gpu::LIGHT_ENVIRONMENT_MAP))
+            bits |= 1u << FEATURE_ENVIRONMENT_MAP;
+    }
     for (const gpu::Material& m : arrays.materials) bits |= featureBit(FEATURE_MATERIAL, MATERIAL_KIND_COUNT, m.type);
     return bits;
 }

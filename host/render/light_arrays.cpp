@@ -5,8 +5,10 @@
 #include <bit>
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 
 #include "render/alias_table.h"
+#include "render/environment_map.h"
 #include "render/scene_arrays.h"
 
 namespace penumbra {
@@ -42,6 +44,30 @@ gpu::Light makeSpotLight(const Light& l) {
     return light;
 }
 
+// An environment with a map: its texels and sampling table go to out.environmentTexels and
+// out.environmentTable; the light holds the map's size and its mean radiance over solid
+// angle (position), L in the power 4 pi^2 R^2 L (pbrt-v4 ImageInfiniteLight::Phi sums its
+// equal-area texels the same way).
+gpu::Light makeEnvironmentMapLight(const Light& l, SceneArrays& out) {
+    const EnvironmentImage& map = *l.map;
+    gpu::Light light = makeLight(gpu::LIGHT_ENVIRONMENT, l.intensity);
+    light.flags = gpu::LIGHT_ENVIRONMENT_MAP;
+    light.first = map.width;
+    light.count = map.height;
+    glm::dvec3 sum(0.0);
+    for (uint32_t row = 0; row < map.height; ++row) {
+        double omega = environmentTexelSolidAngle(row, map.width, map.height);
+        for (uint32_t col = 0; col < map.width; ++col)
+            sum += glm::dvec3(map.texels[size_t(row) * map.width + col]) * omega;
+    }
+    light.position = glm::vec3(sum / (4.0 * std::numbers::pi));
+    EnvironmentDistribution dist = buildEnvironmentDistribution(map);
+    out.environmentTable = std::move(dist.table);
+    out.environmentTexels.resize(map.texels.size());
+    for (size_t i = 0; i < map.texels.size(); ++i) out.environmentTexels[i] = glm::vec4(map.texels[i], 0.0f);
+    return light;
+}
+
 }  // namespace
 
 bool isDeltaLight(uint32_t type) {
@@ -56,15 +82,22 @@ double lightPower(const gpu::Light& light, float sceneRadius) {
         case gpu::LIGHT_POINT: return 4.0 * pi * mean;
         case gpu::LIGHT_SPOT: return mean * spotFalloffIntegral(std::bit_cast<float>(light.flags), light.area);
         case gpu::LIGHT_DIRECTIONAL: return pi * r2 * mean;
-        case gpu::LIGHT_ENVIRONMENT: return 4.0 * pi * pi * r2 * mean;
+        case gpu::LIGHT_ENVIRONMENT: {
+            // A map's L is its mean radiance over solid angle (makeEnvironmentMapLight).
+            if (light.flags & gpu::LIGHT_ENVIRONMENT_MAP)
+                mean = (double(light.position.x) + light.position.y + light.position.z) / 3.0;
+            return 4.0 * pi * pi * r2 * mean;
+        }
         default: return pi * mean * light.area * ((light.flags & gpu::LIGHT_TWO_SIDED) ? 2.0 : 1.0);
     }
 }
 
 void appendLightsWithoutGeometry(const std::vector<Light>& lights, SceneArrays& out) {
     // Several constant environments add up to one: a ray escaping the scene sees their sum.
+    // A map is the scene's only environment (the loaders allow one).
     glm::vec3 environment(0.0f);
     bool hasEnvironment = false;
+    const Light* mapped = nullptr;
     for (const Light& l : lights) {
         switch (l.type) {
             case LightType::Point: out.lights.push_back(makeLight(gpu::LIGHT_POINT, l.intensity, l.position)); break;
@@ -73,6 +106,8 @@ void appendLightsWithoutGeometry(const std::vector<Light>& lights, SceneArrays& 
                 out.lights.push_back(makeLight(gpu::LIGHT_DIRECTIONAL, l.intensity, glm::normalize(l.direction)));
                 break;
             case LightType::Environment:
+                if (l.map) mapped = &l;
+                if (hasEnvironment && mapped) throw std::logic_error("an environment map beside another environment");
                 environment += l.intensity;
                 hasEnvironment = true;
                 break;
@@ -80,7 +115,8 @@ void appendLightsWithoutGeometry(const std::vector<Light>& lights, SceneArrays& 
     }
     if (hasEnvironment) {
         out.environmentLight = uint32_t(out.lights.size());
-        out.lights.push_back(makeLight(gpu::LIGHT_ENVIRONMENT, environment));
+        out.lights.push_back(mapped ? makeEnvironmentMapLight(*mapped, out)
+                                    : makeLight(gpu::LIGHT_ENVIRONMENT, environment));
     }
 }
 

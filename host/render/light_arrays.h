@@ -20,11 +20,13 @@ bool isDeltaLight(uint32_t type);
 
 // Power (mean of RGB, watts) used for light selection "power" (SCENE_FORMAT.md): area
 // lights pi * Le * area (twice for two-sided), points 4 pi I, spots I spotFalloffIntegral (scene.h), directional pi R^2 E and the
-// environment 4 pi^2 R^2 L for the scene's bounding radius R (as pbrt-v4 does).
+// environment 4 pi^2 R^2 L for the scene's bounding radius R (as pbrt-v4 does; for a map, L is
+// its mean radiance over solid angle).
 double lightPower(const gpu::Light& light, float sceneRadius);
 
 // Appends the lights that have no geometry (point, spot, directional; several environments merged
-// into one, whose index becomes out.environmentLight), in scene order.
+// into one, whose index becomes out.environmentLight), in scene order. An environment map's
+// texels and sampling table go to out.environmentTexels and out.environmentTable.
 void appendLightsWithoutGeometry(const std::vector<Light>& lights, SceneArrays& out);
 
 // The gpu::Light of an emitting sphere or quad whose primitive has input index `primitive`,

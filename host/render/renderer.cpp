@@ -34,6 +34,8 @@ std::vector<VkDescriptorType> renderBindings() {
     types[BINDING_MESH_TABLE] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
     types[BINDING_MATERIAL_TEXTURES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
     types[BINDING_TEXTURE_ATLAS] = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+    types[BINDING_ENV_TEXELS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+    types[BINDING_ENV_TABLE] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
     return types;
 }
 
@@ -70,6 +72,9 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
     m_textureAtlas = std::make_unique<gpu::SampledImage>(context, textures.atlasWidth, textures.atlasHeight,
                                                          std::span<const uint16_t>(textures.atlas), "texture atlas");
     m_uvs = Buffer::fromVector(context, textures.uvs, "texture coordinates");
+    // Scenes without an environment map get placeholders too (hasEnvironmentMap()).
+    m_environmentTexels = Buffer::fromVector(context, m_arrays.environmentTexels, "environment map texels", texels);
+    m_environmentTable = Buffer::fromVector(context, m_arrays.environmentTable, "environment map table", texels);
 
     m_kernel = createKernel(m_options);
     reset();
@@ -95,6 +100,8 @@ std::unique_ptr<gpu::Kernel> Renderer::createKernel(const KernelOptions& options
     kernel->bind(BINDING_MATERIAL_TEXTURES, m_materialTextures);
     kernel->bind(BINDING_TEXTURE_ATLAS, *m_textureAtlas);
     kernel->bind(BINDING_UVS, m_uvs);
+    kernel->bind(BINDING_ENV_TEXELS, m_environmentTexels);
+    kernel->bind(BINDING_ENV_TABLE, m_environmentTable);
     return kernel;
 }
 

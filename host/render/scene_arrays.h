@@ -23,6 +23,10 @@ struct SceneArrays {
     uint32_t continuousTableOffset = 0, continuousCount = 0;
     float deltaScale = 0.0f, continuousScale = 0.0f;
     uint32_t environmentLight = gpu::NO_LIGHT;
+    // The environment's map (render/environment_map.h), if it has one: radiance per texel
+    // (alpha unused) and the alias table that samples the texels. Empty for a constant sky.
+    std::vector<glm::vec4> environmentTexels;
+    std::vector<gpu::AliasEntry> environmentTable;
     TextureArrays textures;                     // material textures and mesh uvs
     glm::vec3 boundsCenter{0.0f};               // bounding sphere of the geometry
     float boundsRadius = 0.0f;

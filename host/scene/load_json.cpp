@@ -10,6 +10,7 @@
 #include "core/errors.h"
 #include "core/input_file.h"
 #include "scene/enum_names.h"
+#include "scene/environment_file.h"
 #include "scene/gltf_import.h"
 #include "scene/json_parse.h"
 #include "scene/json_reader.h"
@@ -384,7 +385,7 @@ private:
     }
 
     Light readEnvironmentLight(const JsonReader& r) const {
-        r.expectKeys({"type", "radiance"}, "an environment light");
+        r.expectKeys({"type", "radiance", "file"}, "an environment light");
         Light light;
         light.type = LightType::Environment;
         light.intensity = r.has("radiance") ? radiometric(r.at("radiance"), r.at("radiance").color(), "radiance")
@@ -392,6 +393,7 @@ private:
         bool second = std::any_of(m_scene.lights.begin(), m_scene.lights.end(),
                                   [](const Light& l) { return l.type == LightType::Environment; });
         if (second) r.fail("only one environment light is allowed");
+        if (auto file = r.find("file")) light.map = readEnvironmentFile(*file, m_baseDir, light.intensity);
         return light;
     }
 

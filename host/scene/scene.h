@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -137,6 +138,13 @@ struct Shape {
 
 enum class LightType { Point, Directional, Environment, Spot };
 
+// An equirectangular environment map (SCENE_FORMAT.md `environment` with `file`) as loaded:
+// linear RGB radiance, row 0 at the top (+y), `width` columns around the vertical axis.
+struct EnvironmentImage {
+    uint32_t width = 0, height = 0;
+    std::vector<glm::vec3> texels;  // width * height, row by row
+};
+
 // Lights without geometry. Area lights are Shapes with emission.
 struct Light {
     LightType type = LightType::Point;
@@ -146,6 +154,10 @@ struct Light {
                                 // environment: radiance
     float cosInner = 1.0f;      // spot: cosines of the inner and outer angles, cosOuter < cosInner
     float cosOuter = 0.0f;
+    // environment with `file`: the map, its texels already multiplied by `intensity` (the
+    // radiance; finite and non-negative), shared so that copies of the scene do not copy
+    // it; null for a constant sky.
+    std::shared_ptr<const EnvironmentImage> map;
 };
 
 // Integral over the sphere of a spot light's falloff s^2 (SCENE_FORMAT.md `spot`): the full

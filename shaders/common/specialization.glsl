@@ -28,6 +28,8 @@ layout(constant_id = SPEC_EMITTER_FIRST) const uint kEmitterFirstLights = 0u;
 bool hasPrimitive(uint type) { return (kSceneFeatures & (1u << (FEATURE_PRIMITIVE + type))) != 0u; }
 bool hasLight(uint type) { return (kSceneFeatures & (1u << (FEATURE_LIGHT + type))) != 0u; }
 bool hasMaterial(uint type) { return (kSceneFeatures & (1u << (FEATURE_MATERIAL + type))) != 0u; }
+// Whether the scene's environment has a map; false compiles the map's lookup and sampling out.
+bool hasEnvironmentMap() { return (kSceneFeatures & (1u << FEATURE_ENVIRONMENT_MAP)) != 0u; }
 // Whether any material is textured; false compiles texture coordinates and lookups out.
 bool hasTextures() { return kTextures != 0u; }
 

@@ -101,7 +101,7 @@ vec3 incidentEmission(Shading s, vec3 wi, float selectionScale, out float pLight
         Light env = loadLight(params.environmentLight);
         pLight = env.selectionProb * selectionScale *
                  lightPdf(params.environmentLight, s.origin, s.ns, wi, vec3(0.0), vec3(0.0), 0.0, NO_HIT, lightModes());
-        return env.emission;
+        return environmentRadiance(env, wi);
     }
     SurfacePoint y = surfaceAt(hit, s.origin, wi);
     if (y.light == NO_LIGHT) return vec3(0.0);
@@ -190,7 +190,8 @@ void main() {
     cameraRay(pixel, rand2(rng), origin, dir);
     Hit hit;
     if (!traceClosest(origin, dir, FLOAT_MAX, hit)) {
-        accumulate(pixel, params.environmentLight == NO_LIGHT ? vec3(0.0) : loadLight(params.environmentLight).emission);
+        accumulate(pixel,
+                   params.environmentLight == NO_LIGHT ? vec3(0.0) : environmentRadiance(loadLight(params.environmentLight), dir));
         return;
     }
     SurfacePoint sp = surfaceAt(hit, origin, dir);

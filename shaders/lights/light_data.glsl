@@ -1,5 +1,5 @@
-// Where the light-sampling code reads its scene data: the lights, the two alias tables and
-// the primitives of area lights. Every read in lights/ and the integrators goes through
+// Where the light-sampling code reads its scene data: the lights, the alias tables, the
+// environment map and the primitives of area lights. Every read in lights/ and the integrators goes through
 // these functions, so that how the data is stored on the GPU (which buffer kind, which
 // layout) is decided in this file alone.
 #ifndef PENUMBRA_LIGHT_DATA_GLSL
@@ -18,6 +18,9 @@
 layout(binding = BINDING_LIGHTS) uniform usamplerBuffer lightTexels;
 layout(binding = BINDING_LIGHT_TABLE) uniform usamplerBuffer lightTableTexels;
 layout(binding = BINDING_MESH_TABLE) uniform usamplerBuffer meshTableTexels;
+// The environment map: texel i is (radiance RGB, 0), entry i of its alias table is texel i.
+layout(binding = BINDING_ENV_TEXELS) uniform usamplerBuffer environmentTexels;
+layout(binding = BINDING_ENV_TABLE) uniform usamplerBuffer environmentTableTexels;
 
 Light loadLight(uint index) {
     uvec4 a = texelFetch(lightTexels, int(LIGHT_TEXELS * index));
@@ -36,6 +39,12 @@ AliasEntry loadLightAlias(uint index) { return aliasEntry(texelFetch(lightTableT
 
 // Entry `index` of the per-mesh triangle tables (area-proportional, lecture "Mesh Lights").
 AliasEntry loadMeshAlias(uint index) { return aliasEntry(texelFetch(meshTableTexels, int(index))); }
+
+// Radiance of environment-map texel `index` (row-major from the top row).
+vec3 loadEnvironmentTexel(uint index) { return uintBitsToFloat(texelFetch(environmentTexels, int(index)).xyz); }
+
+// Entry `index` of the environment map's alias table (item = texel index).
+AliasEntry loadEnvironmentAlias(uint index) { return aliasEntry(texelFetch(environmentTableTexels, int(index))); }
 
 // The primitive (sphere, quad or triangle) of an area light: the traversal's texel view.
 Primitive loadLightPrimitive(uint index) { return loadPrimitive(index); }

@@ -1,6 +1,6 @@
 // Lights (lecture, "Light Sources"; SCENE_FORMAT.md): choosing a light, and the dispatch to
 // each kind's sampler, density and emitted radiance (one file per kind: point.glsl,
-// spot.glsl, directional.glsl, environment.glsl, sphere.glsl, quad.glsl, mesh.glsl). Every pdf returned
+// spot.glsl, directional.glsl, environment.glsl with environment_map.glsl, sphere.glsl, quad.glsl, mesh.glsl). Every pdf returned
 // here is in SOLID ANGLE at the shading point x, for the given light alone (selection
 // probability not included): area-measure densities are converted by areaToSolidAngle
 // (light_sample.glsl) and nowhere else. Delta lights have no density: their samples carry
@@ -37,7 +37,7 @@ vec3 emittedRadiance(Light light, vec3 nFront, vec3 wi) {
 }
 
 // Samples a direction toward light `index` from x (shading normal n, used by the
-// environment's cosine sampling). u: three uniform numbers; modes: how area lights are
+// constant environment's cosine sampling). u: three uniform numbers; modes: how area lights are
 // sampled. Returns false when the sample carries nothing (back side of a one-sided light,
 // x inside a sphere light, ...).
 bool sampleLight(uint index, vec3 x, vec3 n, vec3 u, LightSamplingModes modes, out LightSample ls) {
@@ -46,7 +46,7 @@ bool sampleLight(uint index, vec3 x, vec3 n, vec3 u, LightSamplingModes modes, o
     if (lightIs(light, LIGHT_POINT)) return samplePointLight(light, x, ls);
     if (lightIs(light, LIGHT_SPOT)) return sampleSpotLight(light, x, ls);
     if (lightIs(light, LIGHT_DIRECTIONAL)) return sampleDirectionalLight(light, ls);
-    if (lightIs(light, LIGHT_ENVIRONMENT)) return sampleEnvironmentLight(light, n, u.xy, ls);
+    if (lightIs(light, LIGHT_ENVIRONMENT)) return sampleEnvironmentLight(light, n, u, ls);
     if (lightIs(light, LIGHT_SPHERE)) return sampleSphereLight(light, x, u.xy, modes.sphere, ls);
     if (lightIs(light, LIGHT_QUAD)) return sampleQuadLight(light, x, u, modes, ls);
     if (lightIs(light, LIGHT_MESH)) return sampleMeshLight(light, x, u, modes, ls);

@@ -33,7 +33,9 @@ using uint = std::uint32_t;
 #define BINDING_MATERIAL_TEXTURES 11  // texel buffer: which fields of each material are textured
 #define BINDING_TEXTURE_ATLAS 12      // sampled image: the texels of every texture
 #define BINDING_UVS 13                // TriangleUvs[] per primitive in leaf order (textured scenes)
-#define BINDING_COUNT 14
+#define BINDING_ENV_TEXELS 14         // texel buffer: environment map radiance, RGB32F + pad per texel
+#define BINDING_ENV_TABLE 15          // AliasEntry[] as a texel buffer: environment map texels (item = texel)
+#define BINDING_COUNT 16
 
 // ---- BVH ------------------------------------------------------------------------------
 // Flattened depth-first: an interior node's left child is the next node, `offset` is the
@@ -174,13 +176,22 @@ PENUMBRA_CONST float PBR_MIN_ALPHA = 1e-4f;
 // ---- Lights -----------------------------------------------------------------------------
 PENUMBRA_CONST uint LIGHT_POINT = 0u;        // position, emission = intensity (W/sr)
 PENUMBRA_CONST uint LIGHT_DIRECTIONAL = 1u;  // position = unit direction of travel, emission = irradiance
-PENUMBRA_CONST uint LIGHT_ENVIRONMENT = 2u;  // emission = constant radiance
+PENUMBRA_CONST uint LIGHT_ENVIRONMENT = 2u;  // emission = constant radiance, or a map (LIGHT_ENVIRONMENT_MAP)
 PENUMBRA_CONST uint LIGHT_SPHERE = 3u;       // first = primitive index, emission = radiance
 PENUMBRA_CONST uint LIGHT_QUAD = 4u;         // first = primitive index, emission = radiance
 PENUMBRA_CONST uint LIGHT_MESH = 5u;         // meshTable[first, first + count), emission = radiance
 PENUMBRA_CONST uint LIGHT_SPOT = 6u;         // position, emission = intensity on the axis (W/sr); see below
 #define LIGHT_KIND_COUNT 7u                  // one more than the last LIGHT_*: scene feature bits (below)
 PENUMBRA_CONST uint LIGHT_TWO_SIDED = 1u;    // flags bit: quad / mesh emit from both faces
+PENUMBRA_CONST uint LIGHT_ENVIRONMENT_MAP = 2u;  // flags bit: the environment reads its map (below)
+
+// An environment with a map (SCENE_FORMAT.md `environment` with `file`) has no area or mesh
+// table: `first` and `count` hold the map's width and height, and its radiance is the texel
+// (BINDING_ENV_TEXELS, already multiplied by the light's `radiance`), sampled by the alias
+// table at BINDING_ENV_TABLE (shaders/lights/environment_map.glsl mirrors
+// host/render/environment_map.cpp). `emission` keeps the `radiance` factor, and `position`
+// the map's mean radiance over solid angle (the texels already multiplied), which sets its
+// power for light selection.
 
 // A spot light has no area, mesh table or sides; its axis and cone use those fields:
 // `first` and `count` hold the float bits (floatBitsToUint) of the unit axis in octahedral
@@ -274,7 +285,10 @@ PENUMBRA_CONST uint SAMPLER_SOBOL = 1u;        // padded Owen-scrambled Sobol' (
 #define FEATURE_PRIMITIVE 0u
 #define FEATURE_LIGHT (FEATURE_PRIMITIVE + PRIM_KIND_COUNT)
 #define FEATURE_MATERIAL (FEATURE_LIGHT + LIGHT_KIND_COUNT)
-#define FEATURE_BIT_COUNT (FEATURE_MATERIAL + MATERIAL_KIND_COUNT)
+// One more bit after the groups: the scene's environment has a map (LIGHT_ENVIRONMENT_MAP);
+// without it the map lookup and sampling are compiled out and the constant sky stays as it was.
+#define FEATURE_ENVIRONMENT_MAP (FEATURE_MATERIAL + MATERIAL_KIND_COUNT)
+#define FEATURE_BIT_COUNT (FEATURE_ENVIRONMENT_MAP + 1u)
 PENUMBRA_CONST uint FEATURES_ALL = 0xffffffffu;
 #ifdef __cplusplus
 static_assert(PRIM_TRIANGLE < PRIM_KIND_COUNT && PRIM_SPHERE < PRIM_KIND_COUNT && PRIM_QUAD < PRIM_KIND_COUNT &&
