@@ -8,7 +8,7 @@
 
 #include "core/errors.h"
 #include "image/image_file.h"
-#include "scene/input_file.h"
+#include "core/input_file.h"
 #include "scene/limits.h"
 
 namespace penumbra {
