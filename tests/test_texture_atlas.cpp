@@ -179,8 +179,8 @@ TEST(TextureAtlas, TextureFarIntoTheAtlasRendersAsAtItsCorner) {
     // checkerboard after it on the first shelf, at atlas column 8003.
     const uint32_t fillerWidth = 8000;
     writePngRgb8(dir / "filler.png", fillerWidth, 3, std::vector<uint8_t>(size_t(fillerWidth) * 3 * 3, 200));
-    json quad = {{"type", "quad"},     {"origin", {-1, 0, -1}}, {"edge_u", {2, 0, 0}},
-                 {"edge_v", {0, 0, 2}}, {"material", "m"}};
+    json quad = {
+        {"type", "quad"}, {"origin", {-1, 0, -1}}, {"edge_u", {2, 0, 0}}, {"edge_v", {0, 0, 2}}, {"material", "m"}};
     json scene = {{"camera", test::topDownCamera(0, 0, 0.95)},
                   {"film", {{"width", 32}, {"height", 32}}},
                   {"sampler", {{"spp", 16}, {"seed", 5}, {"type", "independent"}}},

@@ -8,15 +8,16 @@
 
 namespace penumbra::gpu {
 
-SampledImage::SampledImage(const Context& context, uint32_t width, uint32_t height,
-                           std::span<const uint16_t> halves, std::string_view name)
+SampledImage::SampledImage(const Context& context, uint32_t width, uint32_t height, std::span<const uint16_t> halves,
+                           std::string_view name)
     : m_context(context) {
     const uint32_t maxSide = context.limits().maxImageDimension2D;
     if (width > maxSide || height > maxSide)
         throw GpuError("the " + std::string(name) + " image needs " + std::to_string(width) + " x " +
                        std::to_string(height) + " texels, more than this device's maxImageDimension2D (" +
                        std::to_string(maxSide) + "); use fewer or smaller textures, or a device with a larger limit");
-    if (halves.size() != size_t(width) * height * 4) throw GpuError("the " + std::string(name) + " texels are not W x H RGBA");
+    if (halves.size() != size_t(width) * height * 4)
+        throw GpuError("the " + std::string(name) + " texels are not W x H RGBA");
     VkDevice device = context.device();
     // The staging buffer first: it checks the size against maxMemoryAllocationSize.
     const VkDeviceSize bytes = halves.size_bytes();

@@ -38,9 +38,9 @@ TextureAtlas buildTextureAtlas(const std::vector<Texture>& textures) {
             const int64_t sy = (y + h) % h;  // the gutter rows -1 and h: rows h - 1 and 0
             uint16_t* row = &atlas.texels[size_t(((int64_t(origin.y) + y) * atlas.width + origin.x - 1) * 4)];
             const uint16_t* src = &t.texels[size_t(sy * w * 4)];
-            std::memcpy(row, src + (w - 1) * 4, 8);           // left gutter: the last column
-            std::memcpy(row + 4, src, size_t(w) * 8);         // the row itself
-            std::memcpy(row + (w + 1) * 4, src, 8);           // right gutter: the first column
+            std::memcpy(row, src + (w - 1) * 4, 8);    // left gutter: the last column
+            std::memcpy(row + 4, src, size_t(w) * 8);  // the row itself
+            std::memcpy(row + (w + 1) * 4, src, 8);    // right gutter: the first column
         }
     }
     return atlas;

@@ -11,7 +11,7 @@
 namespace penumbra {
 
 struct TextureAtlas {
-    uint32_t width = 1, height = 1;                      // 1 x 1 (zero) without textures
+    uint32_t width = 1, height = 1;                              // 1 x 1 (zero) without textures
     std::vector<uint16_t> texels = std::vector<uint16_t>(4, 0);  // RGBA halves, row 0 first
     std::vector<uint32_t> origins;  // per texture: its texel (0, 0) in the atlas, x | y << 16
 };

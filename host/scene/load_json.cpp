@@ -286,7 +286,8 @@ private:
                 std::string key = t.file;
                 bool srgb = t.srgb;
                 auto fail = [&](const std::string& why) { fileField.fail(why); };
-                textureIndex.push_back(m_textures.table().add(key, srgb, [&] { return std::move(t); }, fail));
+                textureIndex.push_back(m_textures.table().add(
+                    key, srgb, [&] { return std::move(t); }, fail));
                 m_textures.table().checkAtlas(fail);
             }
             for (Material& m : model.materials)

@@ -58,7 +58,7 @@ void TextureTable::checkAtlas(const std::function<void(const std::string&)>& fai
              " texels; at most " + std::to_string(kAtlasMaxTextureSide) + " on a side fit the " + side + " x " + side +
              " texture atlas (README: texture limits)");
     else
-            fail("the scene's " + std::to_string(m_textures.size()) + " textures do not fit one " + side + " x " + side +
+        fail("the scene's " + std::to_string(m_textures.size()) + " textures do not fit one " + side + " x " + side +
              " texture atlas (README: texture limits)");
 }
 

@@ -22,7 +22,7 @@ inline constexpr uint32_t kAtlasGutter = 1;
 inline constexpr uint32_t kAtlasMaxTextureSide = kAtlasMaxSize - 2 * kAtlasGutter;
 
 struct AtlasLayout {
-    uint32_t width = 0, height = 0;  // of the atlas image, in texels (0 x 0: no textures)
+    uint32_t width = 0, height = 0;   // of the atlas image, in texels (0 x 0: no textures)
     std::vector<glm::uvec2> origins;  // per texture: the atlas texel of its texel (0, 0)
 };
 

@@ -237,8 +237,7 @@ int main(int argc, char** argv) {
                     diffC = std::max(diffC, double(std::fabs(sa[i] - sc[i])));
                 }
             double lookups = double(invocations) * steps;
-            double ra = lookups / median(ta) * 1e-6, rb = lookups / median(tb) * 1e-6,
-                   rc = lookups / median(tc) * 1e-6;
+            double ra = lookups / median(ta) * 1e-6, rb = lookups / median(tb) * 1e-6, rc = lookups / median(tc) * 1e-6;
             std::printf("| %u x %u RGBA16F (%.1f MiB) | %.1f | %.1f | %.1f | %.2f | %.2f | %.2f | %.3g, %.3g |\n", size,
                         size, double(halves.size()) * 2 / (1 << 20), ra, rb, rc, rb / ra, rc / ra, rc / rb, diffB,
                         diffC);
