@@ -136,21 +136,6 @@ void Kernel::bind(uint32_t binding, const Buffer& buffer) {
     vkUpdateDescriptorSets(m_context.device(), 1, &write, 0, nullptr);
 }
 
-void Kernel::bind(uint32_t binding, const SampledImage& image) {
-    const auto& bindings = m_pipeline->bindings();
-    if (binding >= bindings.size() || bindings[binding] != VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER)
-        throw GpuError("binding " + std::to_string(binding) + " of shader " + m_pipeline->name() +
-                       " is not a combined image sampler");
-    VkDescriptorImageInfo info = image.descriptor();
-    VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-    write.dstSet = m_set;
-    write.dstBinding = binding;
-    write.descriptorCount = 1;
-    write.descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-    write.pImageInfo = &info;
-    vkUpdateDescriptorSets(m_context.device(), 1, &write, 0, nullptr);
-}
-
 void Kernel::record(VkCommandBuffer cmd, uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ,
                     const void* push) const {
     const Pipeline& p = *m_pipeline;

@@ -14,7 +14,6 @@
 
 #include "gpu/buffer.h"
 #include "gpu/context.h"
-#include "gpu/sampled_image.h"
 
 namespace penumbra::gpu {
 
@@ -64,9 +63,6 @@ public:
     // buffer as RGBA32UI texels, owned by this kernel; such a buffer needs
     // VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT.
     void bind(uint32_t binding, const Buffer& buffer);
-    // Points a VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER binding at `image` and its sampler
-    // (kept by handle: the image must outlive use).
-    void bind(uint32_t binding, const SampledImage& image);
 
     // Records a dispatch of `groups` workgroups; `push` must hold pushConstantBytes bytes.
     void record(VkCommandBuffer cmd, uint32_t groupsX, uint32_t groupsY = 1, uint32_t groupsZ = 1,

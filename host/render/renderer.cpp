@@ -33,7 +33,7 @@ std::vector<VkDescriptorType> renderBindings() {
     types[BINDING_LIGHT_TABLE] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
     types[BINDING_MESH_TABLE] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
     types[BINDING_MATERIAL_TEXTURES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
-    types[BINDING_TEXTURE_ATLAS] = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+    types[BINDING_TEXTURE_TEXELS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
     types[BINDING_ENV_TEXELS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
     types[BINDING_ENV_TABLE] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
     return types;
@@ -65,12 +65,10 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
     m_lightTable = Buffer::fromVector(context, m_arrays.lightTable, "light selection table", texels);
     m_meshTable = Buffer::fromVector(context, m_arrays.meshTable, "mesh light table", texels);
     m_rayCount = Buffer(context, sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-    // Untextured scenes get 16-byte placeholders and a 1 x 1 atlas: the kernel never reads
-    // them (hasTextures()).
+    // Untextured scenes get 16-byte placeholders: the kernel never reads them (hasTextures()).
     const TextureArrays& textures = m_arrays.textures;
     m_materialTextures = Buffer::fromVector(context, textures.materialTextures, "material textures", texels);
-    m_textureAtlas = std::make_unique<gpu::SampledImage>(context, textures.atlasWidth, textures.atlasHeight,
-                                                         std::span<const uint16_t>(textures.atlas), "texture atlas");
+    m_textureTexels = Buffer::fromVector(context, textures.texels, "texture texels", texels);
     m_uvs = Buffer::fromVector(context, textures.uvs, "texture coordinates");
     // Scenes without an environment map get placeholders too (hasEnvironmentMap()).
     m_environmentTexels = Buffer::fromVector(context, m_arrays.environmentTexels, "environment map texels", texels);
@@ -98,7 +96,7 @@ std::unique_ptr<gpu::Kernel> Renderer::createKernel(const KernelOptions& options
     kernel->bind(BINDING_MESH_TABLE, m_meshTable);
     kernel->bind(BINDING_RAY_COUNT, m_rayCount);
     kernel->bind(BINDING_MATERIAL_TEXTURES, m_materialTextures);
-    kernel->bind(BINDING_TEXTURE_ATLAS, *m_textureAtlas);
+    kernel->bind(BINDING_TEXTURE_TEXELS, m_textureTexels);
     kernel->bind(BINDING_UVS, m_uvs);
     kernel->bind(BINDING_ENV_TEXELS, m_environmentTexels);
     kernel->bind(BINDING_ENV_TABLE, m_environmentTable);

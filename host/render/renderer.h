@@ -102,9 +102,8 @@ private:
     // Declaration order is teardown order in reverse: the kernel goes before the buffers.
     gpu::Buffer m_paramsBuffer, m_accum, m_nodes, m_primitives, m_normals, m_materials, m_lights, m_lightTable,
         m_meshTable, m_rayCount;
-    gpu::Buffer m_materialTextures, m_uvs;                // textured scenes (render/texture_arrays.h)
-    std::unique_ptr<gpu::SampledImage> m_textureAtlas;
-    gpu::Buffer m_environmentTexels, m_environmentTable;  // environment map (render/environment_map.h)
+    gpu::Buffer m_materialTextures, m_textureTexels, m_uvs;  // textured scenes (render/texture_arrays.h)
+    gpu::Buffer m_environmentTexels, m_environmentTable;     // environment map (render/environment_map.h)
     std::unique_ptr<gpu::Kernel> m_kernel;
 };
 

@@ -2,9 +2,6 @@
 #include "render/texture_arrays.h"
 
 #include <cstring>
-#include <utility>
-
-#include "render/texture_atlas.h"
 
 namespace penumbra {
 
@@ -27,11 +24,16 @@ TextureArrays buildTextureArrays(const Scene& scene, const Bvh& bvh) {
     for (const Material& m : scene.materials) out.textured |= !m.textures.empty();
     if (!out.textured) return out;
 
-    TextureAtlas atlas = buildTextureAtlas(scene.textures);
-    out.atlasWidth = atlas.width;
-    out.atlasHeight = atlas.height;
-    out.atlas = std::move(atlas.texels);
-    const std::vector<uint32_t>& origins = atlas.origins;
+    // Texels: every texture after the previous one, two RGBA half texels per uvec4.
+    std::vector<uint32_t> firstTexel;
+    std::vector<uint16_t> halves;
+    for (const Texture& t : scene.textures) {
+        firstTexel.push_back(uint32_t(halves.size() / 4));
+        halves.insert(halves.end(), t.texels.begin(), t.texels.end());
+    }
+    halves.resize((halves.size() + 7) / 8 * 8, 0);  // whole uvec4s
+    out.texels.resize(halves.size() / 8);
+    std::memcpy(out.texels.data(), halves.data(), halves.size() * sizeof(uint16_t));
 
     // One header texel per material, then the references.
     out.materialTextures.resize(scene.materials.size(), glm::uvec4(0));
@@ -43,7 +45,7 @@ TextureArrays buildTextureArrays(const Scene& scene, const Bvh& bvh) {
             gpu::TextureRef ref{};
             ref.scale = mt.scale;
             ref.slotChannel = gpuTextureSlot(mt.slot) | mt.channel << 8;
-            ref.origin = origins[mt.texture];
+            ref.firstTexel = firstTexel[mt.texture];
             ref.width = t.width;
             ref.height = t.height;
             ref.wrap = uint32_t(mt.wrapU) | uint32_t(mt.wrapV) << 2;

@@ -286,9 +286,8 @@ private:
             for (Texture& t : model.textures) {
                 std::string key = t.file;
                 bool srgb = t.srgb;
-                auto fail = [&](const std::string& why) { fileField.fail(why); };
-                textureIndex.push_back(m_textures.table().add(key, srgb, [&] { return std::move(t); }, fail));
-                m_textures.table().checkAtlas(fail);
+                textureIndex.push_back(m_textures.table().add(
+                    key, srgb, [&] { return std::move(t); }, [&](const std::string& why) { fileField.fail(why); }));
             }
             for (Material& m : model.materials)
                 for (MaterialTexture& mt : m.textures) mt.texture = textureIndex[mt.texture];

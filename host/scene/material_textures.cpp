@@ -45,23 +45,6 @@ uint32_t TextureTable::add(const std::string& key, bool srgb, const std::functio
     return index;
 }
 
-void TextureTable::checkAtlas(const std::function<void(const std::string&)>& fail) const {
-    std::vector<glm::uvec2> sizes;
-    sizes.reserve(m_textures.size());
-    for (const Texture& t : m_textures) sizes.emplace_back(t.width, t.height);
-    size_t misfit = 0;
-    if (layoutTextureAtlas(sizes, &misfit)) return;
-    const Texture& t = m_textures[misfit];
-    const std::string side = std::to_string(kAtlasMaxSize);
-    if (t.width > kAtlasMaxTextureSide || t.height > kAtlasMaxTextureSide)
-        fail("\"" + t.file + "\" is " + std::to_string(t.width) + " x " + std::to_string(t.height) +
-             " texels; at most " + std::to_string(kAtlasMaxTextureSide) + " on a side fit the " + side + " x " + side +
-             " texture atlas (README: texture limits)");
-    else
-            fail("the scene's " + std::to_string(m_textures.size()) + " textures do not fit one " + side + " x " + side +
-             " texture atlas (README: texture limits)");
-}
-
 uint32_t MaterialTextureReader::loadFile(const JsonReader& fileField, bool srgb) {
     std::string name = fileField.string();
     fs::path file = m_baseDir / name;
@@ -80,10 +63,7 @@ uint32_t MaterialTextureReader::loadFile(const JsonReader& fileField, bool srgb)
             fileField.fail(e.what());  // "scene.json: materials.m.albedo.texture: FILE: why"
         }
     };
-    auto fail = [&](const std::string& why) { fileField.fail(why); };
-    uint32_t index = m_table.add(key, srgb, load, fail);
-    m_table.checkAtlas(fail);
-    return index;
+    return m_table.add(key, srgb, load, [&](const std::string& why) { fileField.fail(why); });
 }
 
 glm::vec3 MaterialTextureReader::colorField(const JsonReader& field, TextureSlot slot, Material& material) {

@@ -13,15 +13,13 @@
 
 #include "scene/json_reader.h"
 #include "scene/scene.h"
-#include "scene/texture_atlas_layout.h"
 
 namespace penumbra {
 
 // A scene holds at most kMaxTextures distinct textures of at most kMaxTextureTexels texels
 // in all (each texel 8 bytes on the GPU, RGBA half floats: 1 GiB). 128M texels is 128
-// textures of 1024 x 1024, or 512 of 512 x 512. They must also fit the GPU's texture
-// atlas (TextureTable::checkAtlas), which holds up to 2^28 texels with gutters and
-// shelf waste: some sets under kMaxTextureTexels do not fit it.
+// textures of 1024 x 1024, or 512 of 512 x 512; the texel buffer they share stays within
+// the 2^27-texel limit of lavapipe's texel buffers (two texels per buffer element).
 inline constexpr size_t kMaxTextures = 4096;
 inline constexpr uint64_t kMaxTextureTexels = uint64_t(1) << 27;
 
@@ -37,10 +35,6 @@ public:
     // and decoding, calling `load` only the first time; fail(why) when a limit is passed.
     uint32_t add(const std::string& key, bool srgb, const std::function<Texture()>& load,
                  const std::function<void(const std::string&)>& fail);
-    // fail(why) unless the textures so far fit the kernels' texture atlas (at most
-    // kAtlasMaxTextureSide texels on a side, all within one kAtlasMaxSize-square image:
-    // scene/texture_atlas_layout.h). The readers call it after each texture they add.
-    void checkAtlas(const std::function<void(const std::string&)>& fail) const;
 
 private:
     std::vector<Texture>& m_textures;

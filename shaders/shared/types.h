@@ -31,7 +31,7 @@ using uint = std::uint32_t;
 #define BINDING_RAY_COUNT 9    // uint: rays traced, when SPEC_COUNT_RAYS is set
 #define BINDING_PRIMITIVE_TEXELS 10   // the same Primitive[] as a texel buffer: traversal
 #define BINDING_MATERIAL_TEXTURES 11  // texel buffer: which fields of each material are textured
-#define BINDING_TEXTURE_ATLAS 12      // sampled image: the texels of every texture
+#define BINDING_TEXTURE_TEXELS 12     // texel buffer: the texels of every texture
 #define BINDING_UVS 13                // TriangleUvs[] per primitive in leaf order (textured scenes)
 #define BINDING_ENV_TEXELS 14         // texel buffer: environment map radiance, RGB32F + pad per texel
 #define BINDING_ENV_TABLE 15          // AliasEntry[] as a texel buffer: environment map texels (item = texel)
@@ -141,14 +141,14 @@ PENUMBRA_CONST uint TEXTURE_SLOT_KS_Y = 3u;
 
 // BINDING_MATERIAL_TEXTURES, RGBA32UI texels: texel i (i < material count) is material i's
 // (first texel of its texture references, reference count, 0, 0); a reference is two
-// texels, the TextureRef below. BINDING_TEXTURE_ATLAS: one RGBA16F image holding every
-// texture (row 0 at the top) inside a 1-texel gutter of its repeat neighbours, laid out by
-// host/scene/texture_atlas_layout.h, sampled at unnormalized coordinates (texels) with a
-// linear filter; a 1 x 1 placeholder in untextured scenes.
+// texels, the TextureRef below. BINDING_TEXTURE_TEXELS, RGBA32UI texels: every texture's
+// RGBA texels as half floats, row-major from the top row, two per buffer texel (texel j is
+// (x, y) of buffer texel j/2 for even j, (z, w) for odd j; each pair of halves packed as
+// packHalf2x16(r, g), packHalf2x16(b, a)). Textures follow each other without padding.
 struct TextureRef {
     vec3 scale;        // the field's scale S (a number field: scale.x)
     uint slotChannel;  // TEXTURE_SLOT_* | channel << 8 (number slots: 0 = R ... 3 = A)
-    uint origin;       // atlas texel of the texture's texel (0, 0): x | y << 16 (both < 16384)
+    uint firstTexel;   // of the texture in BINDING_TEXTURE_TEXELS, in texels
     uint width;
     uint height;
     uint wrap;  // TEXTURE_WRAP_* along u | (along v) << 2

@@ -1,8 +1,8 @@
 // Material textures (SCENE_FORMAT.md "Textures (v2)"): applyTextures replaces each textured
 // value slot of a Material by scale x texture(u, v), clamped to [0, 1], once per shading
 // point, before any BRDF code sees the material. Bilinear filtering with repeat wrapping (or
-// a glTF sampler's clamp or mirror): the shader wraps, the sampler filters, in one atlas
-// image of every texture (layout: shared/types.h, "Textures"; docs/PERFORMANCE.md, why).
+// a glTF sampler's clamp or mirror) on texels stored as half floats in one texel buffer
+// (layout: shared/types.h, "Textures").
 #ifndef PENUMBRA_TEXTURES_GLSL
 #define PENUMBRA_TEXTURES_GLSL
 
@@ -11,35 +11,55 @@
 
 // Per material: (first reference, count); then the TextureRefs (two texels each).
 layout(binding = BINDING_MATERIAL_TEXTURES) uniform usamplerBuffer materialTextureTexels;
-// Every texture, each inside a 1-texel gutter of its repeat neighbours; the sampler takes
-// unnormalized coordinates (texels) and filters linearly.
-layout(binding = BINDING_TEXTURE_ATLAS) uniform sampler2D textureAtlas;
+// Every texture's texels, two RGBA half-float texels per RGBA32UI buffer texel.
+layout(binding = BINDING_TEXTURE_TEXELS) uniform usamplerBuffer textureTexels;
 
-// One axis of a lookup over n texels: the continuous texel coordinate, in [0, n], at which
-// the texture is filtered. Texel i covers [i, i+1)/n with its centre at (i + 0.5)/n; the
-// sampler blends the two nearest centres by distance (Vulkan spec, "Texel Filtering"; the
-// same as pbrt-v4 Image::Bilerp, section 10.4.3). Outside [0, 1] the texture repeats,
-// mirrors (every other copy flipped, so that a texel meets its own copy at each integer u)
-// or clamps to its edge texels (glTF 2.0 section 5.26, samplers). Repeat reads the gutter
-// within half a texel of an edge, which holds the opposite edge; clamp and mirror stop at
-// the edge texels' centres, where the gutter's weight is 0.
-float wrapAxis(float u, uint n, uint wrap) {
-    float size = float(n);
-    if (wrap == TEXTURE_WRAP_REPEAT) return fract(u) * size;
-    float t = wrap == TEXTURE_WRAP_MIRROR ? 1.0 - abs(u - 2.0 * floor(0.5 * u) - 1.0) : clamp(u, 0.0, 1.0);
-    return clamp(t * size, 0.5, size - 0.5);
+// Texel `index` (counted over all textures) as linear RGBA.
+vec4 fetchTexel(uint index) {
+    uvec4 pair = texelFetch(textureTexels, int(index >> 1u));
+    uvec2 halves = (index & 1u) == 0u ? pair.xy : pair.zw;
+    return vec4(unpackHalf2x16(halves.x), unpackHalf2x16(halves.y));
 }
 
-// Bilinear lookup with wrapping `wrap` (TEXTURE_WRAP_* along u | along v << 2) of the
-// width x height texture whose texel (0, 0) is at atlas texel `origin` (x | y << 16);
-// row j = 0 is at v = 0 (the top of the image).
-vec4 sampleTexture(uint origin, uint width, uint height, uint wrap, vec2 uv) {
-    // Non-finite coordinates (a degenerate triangle's interpolation) read at uv (0, 0)
+// One axis of a bilinear lookup over n texels: the two texel indices to blend and the
+// weight of the second. Texel i covers [i, i+1)/n with its centre at (i + 0.5)/n; between
+// centres the two nearest texels are blended by distance (pbrt-v4 Image::Bilerp, section
+// 10.4.3). Outside [0, 1] the texture repeats, mirrors (every other copy flipped, so that
+// a texel meets its own copy at each integer u) or clamps to its edge texels (glTF 2.0
+// section 5.26, samplers).
+void wrapAxis(float u, uint n, uint wrap, out uint i0, out uint i1, out float f) {
+    float t = u;
+    if (wrap == TEXTURE_WRAP_REPEAT) t = fract(u);
+    else if (wrap == TEXTURE_WRAP_MIRROR) t = 1.0 - abs(u - 2.0 * floor(0.5 * u) - 1.0);
+    else t = clamp(u, -1.0, 2.0);  // beyond one texture width every lookup is the edge texel
+    float p = t * float(n) - 0.5;
+    float cell = floor(p);
+    f = p - cell;
+    int c = int(cell);  // in [-1, n - 1] for repeat and mirror, [-n - 1, 2n - 1] for clamp
+    if (wrap == TEXTURE_WRAP_REPEAT) {
+        // Adding n keeps the modulo non-negative.
+        i0 = uint(c + int(n)) % n;
+        i1 = uint(c + 1 + int(n)) % n;
+    } else {
+        // Mirror: the texel beyond an edge is the edge texel's mirror image, itself.
+        i0 = uint(clamp(c, 0, int(n) - 1));
+        i1 = uint(clamp(c + 1, 0, int(n) - 1));
+    }
+}
+
+// Bilinear lookup with wrapping `wrap` (TEXTURE_WRAP_* along u | along v << 2); row j = 0
+// is at v = 0 (the top of the image).
+vec4 sampleTexture(uint firstTexel, uint width, uint height, uint wrap, vec2 uv) {
+    // Non-finite coordinates (a degenerate triangle's interpolation) read texel (0, 0)
     // instead of an undefined address.
     uv = mix(vec2(0.0), uv, lessThan(abs(uv), vec2(1e30)));
-    vec2 texel = vec2(wrapAxis(uv.x, width, wrap & 3u), wrapAxis(uv.y, height, (wrap >> 2u) & 3u));
-    // Explicit LOD 0: unnormalized coordinates allow no other (and there is one level).
-    return textureLod(textureAtlas, vec2(origin & 0xffffu, origin >> 16u) + texel, 0.0);
+    uint x0, x1, y0, y1;
+    vec2 f;
+    wrapAxis(uv.x, width, wrap & 3u, x0, x1, f.x);
+    wrapAxis(uv.y, height, (wrap >> 2u) & 3u, y0, y1, f.y);
+    vec4 t00 = fetchTexel(firstTexel + y0 * width + x0), t10 = fetchTexel(firstTexel + y0 * width + x1);
+    vec4 t01 = fetchTexel(firstTexel + y1 * width + x0), t11 = fetchTexel(firstTexel + y1 * width + x1);
+    return mix(mix(t00, t10, f.x), mix(t01, t11, f.x), f.y);
 }
 
 // `m` (material `materialIndex` as bsdf/materials.glsl loaded it) with its textured slots

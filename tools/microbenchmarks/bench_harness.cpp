@@ -41,7 +41,8 @@ std::string loadAverage() {
 BenchKernel::BenchKernel(const gpu::Context& context, const std::vector<uint32_t>& spirv,
                          const std::vector<BenchBinding>& bindings, const void* push, uint32_t pushBytes,
                          uint32_t groups, const std::vector<uint32_t>& specialization)
-    : m_context(context), m_push(static_cast<const uint8_t*>(push), static_cast<const uint8_t*>(push) + pushBytes),
+    : m_context(context),
+      m_push(static_cast<const uint8_t*>(push), static_cast<const uint8_t*>(push) + pushBytes),
       m_groups(groups) {
     VkDevice device = context.device();
     VkShaderModuleCreateInfo moduleInfo{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};

@@ -27,9 +27,9 @@ std::string loadAverage();
 struct BenchBinding {
     uint32_t binding = 0;
     VkDescriptorType type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    VkBuffer buffer = VK_NULL_HANDLE;          // storage and uniform buffers (whole)
-    VkBufferView texelView = VK_NULL_HANDLE;   // uniform and storage texel buffers
-    VkDescriptorImageInfo image{};             // combined image samplers
+    VkBuffer buffer = VK_NULL_HANDLE;         // storage and uniform buffers (whole)
+    VkBufferView texelView = VK_NULL_HANDLE;  // uniform and storage texel buffers
+    VkDescriptorImageInfo image{};            // combined image samplers
 };
 
 // A compute pipeline from a SPIR-V file, its descriptor set (`bindings`), push constants
@@ -37,8 +37,9 @@ struct BenchBinding {
 // dispatch of `groups` workgroups, submitted and waited for.
 class BenchKernel {
 public:
-    BenchKernel(const gpu::Context& context, const std::vector<uint32_t>& spirv, const std::vector<BenchBinding>& bindings,
-                const void* push, uint32_t pushBytes, uint32_t groups, const std::vector<uint32_t>& specialization = {});
+    BenchKernel(const gpu::Context& context, const std::vector<uint32_t>& spirv,
+                const std::vector<BenchBinding>& bindings, const void* push, uint32_t pushBytes, uint32_t groups,
+                const std::vector<uint32_t>& specialization = {});
     ~BenchKernel();
     BenchKernel(const BenchKernel&) = delete;
     BenchKernel& operator=(const BenchKernel&) = delete;

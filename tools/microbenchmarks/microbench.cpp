@@ -126,10 +126,9 @@ std::unique_ptr<BenchKernel> makeBench(const Context& context, const std::string
     nodeBinding.type = nodeType;
     nodeBinding.buffer = nodes.buffer();
     nodeBinding.texelView = nodes.view();
-    return std::make_unique<BenchKernel>(context, readSpirv(spirv, "penumbra_microbench"),
-                                         std::vector<BenchBinding>{resultBinding, nodeBinding}, &push,
-                                         uint32_t(sizeof(Push)), invocations / kWorkgroup,
-                                         std::vector<uint32_t>{steps});
+    return std::make_unique<BenchKernel>(
+        context, readSpirv(spirv, "penumbra_microbench"), std::vector<BenchBinding>{resultBinding, nodeBinding}, &push,
+        uint32_t(sizeof(Push)), invocations / kWorkgroup, std::vector<uint32_t>{steps});
 }
 
 // The node tables of one size, in every layout the kernels read.
@@ -277,8 +276,8 @@ int main(int argc, char** argv) {
             c.baseline = baseline;
             c.results = buffers.back().get();
             auto created = std::chrono::steady_clock::now();
-            c.bench = makeBench(context, spirvDir + "/" + kernel + ".spv", specSteps, type, nodes, *c.results, p,
-                                threads);
+            c.bench =
+                makeBench(context, spirvDir + "/" + kernel + ".spv", specSteps, type, nodes, *c.results, p, threads);
             c.createSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - created).count();
             c.work = work;
             cases.push_back(std::move(c));

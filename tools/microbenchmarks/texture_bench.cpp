@@ -1,8 +1,8 @@
 // penumbra_texture_bench: how fast a compute kernel on this Vulkan device does bilinear,
 // repeating texture lookups from (a) a sampled image (RGBA16F, linear filter, repeat,
 // textureLod), (b) half texels in an RGBA32UI texel buffer filtered in the shader and (c)
-// the renderer's path (shaders/textures/textures.glsl): the texture inside an atlas image
-// with wrap gutters, wrapped in the shader and sampled at unnormalized coordinates. The three alternate, runs times each, for a small and a large
+// the texture inside an atlas image with wrap gutters, wrapped in the shader and sampled at
+// unnormalized coordinates. The three alternate, runs times each, for a small and a large
 // texture; medians of lookups per second. Kernel: shaders/texture.comp.
 #include <algorithm>
 #include <cmath>
@@ -143,15 +143,15 @@ std::vector<uint16_t> atlasOf(const std::vector<uint16_t>& halves, uint32_t size
     return atlas;
 }
 
-// One kernel variant: binding 0 = results, BINDING_TEXTURE_ATLAS = the texture (a sampled
+// One kernel variant: binding 0 = results, BINDING_TEXTURE_TEXELS = the texture (a sampled
 // image or the texel buffer's RGBA32UI view), BINDING_MATERIAL_TEXTURES declared by
-// textures.glsl but never read (bound to the texel buffer).
+// textures.glsl but never read (bound to the same texel buffer).
 std::unique_ptr<BenchKernel> makeVariant(const Context& context, const std::string& spirv, const SampledImage* image,
                                          VkBufferView texels, const Buffer& results, Push push, uint32_t invocations) {
     std::vector<BenchBinding> bindings(3);
     bindings[0].binding = 0;
     bindings[0].buffer = results.handle();
-    bindings[1].binding = BINDING_TEXTURE_ATLAS;
+    bindings[1].binding = BINDING_TEXTURE_TEXELS;
     if (image) {
         bindings[1].type = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
         bindings[1].image = image->descriptor();
@@ -237,8 +237,7 @@ int main(int argc, char** argv) {
                     diffC = std::max(diffC, double(std::fabs(sa[i] - sc[i])));
                 }
             double lookups = double(invocations) * steps;
-            double ra = lookups / median(ta) * 1e-6, rb = lookups / median(tb) * 1e-6,
-                   rc = lookups / median(tc) * 1e-6;
+            double ra = lookups / median(ta) * 1e-6, rb = lookups / median(tb) * 1e-6, rc = lookups / median(tc) * 1e-6;
             std::printf("| %u x %u RGBA16F (%.1f MiB) | %.1f | %.1f | %.1f | %.2f | %.2f | %.2f | %.3g, %.3g |\n", size,
                         size, double(halves.size()) * 2 / (1 << 20), ra, rb, rc, rb / ra, rc / ra, rc / rb, diffB,
                         diffC);
