@@ -40,9 +40,9 @@ json occludedScene(const std::string& strategy, int spp, int seed, bool sphere, 
                                 {"edge_v", {0, 0, 0.6}},
                                 {"emission", {8, 8, 8}}}});
     if (!open)
-        for (json wall : {quad({-2, 3, -2}, {4, 0, 0}, {0, 0, 4}), quad({-2, 0, -2}, {0, 3, 0}, {0, 0, 4}),
-                          quad({2, 0, -2}, {0, 3, 0}, {0, 0, 4}), quad({-2, 0, -2}, {4, 0, 0}, {0, 3, 0}),
-                          quad({-2, 0, 2}, {4, 0, 0}, {0, 3, 0})})
+        for (const json& wall : {quad({-2, 3, -2}, {4, 0, 0}, {0, 0, 4}), quad({-2, 0, -2}, {0, 3, 0}, {0, 0, 4}),
+                                 quad({2, 0, -2}, {0, 3, 0}, {0, 0, 4}), quad({-2, 0, -2}, {4, 0, 0}, {0, 3, 0}),
+                                 quad({-2, 0, 2}, {4, 0, 0}, {0, 3, 0})})
             shapes.push_back(wall);
     if (sphere)
         shapes.push_back({{"type", "sphere"}, {"center", {-0.2, 2.3, 0}}, {"radius", 0.2}, {"emission", {3, 2, 1}}});
