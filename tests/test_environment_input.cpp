@@ -34,7 +34,7 @@ void writeExrMap(const fs::path& file, uint32_t w, uint32_t h, const std::vector
     writeExr(file, image);
 }
 
-json sceneWithEnvironment(json env) {
+json sceneWithEnvironment(const json& env) {
     return {{"film", {{"width", 8}, {"height", 8}}},
             {"sampler", {{"spp", 1}}},
             {"shapes", json::array({{{"type", "sphere"}, {"center", {0, 1, 0}}, {"radius", 0.5}}})},

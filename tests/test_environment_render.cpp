@@ -63,7 +63,7 @@ double floorIrradiance(const std::vector<glm::vec3>& texels, double scale, int c
     return e;
 }
 
-json floorScene(json environment, json integrator, int spp) {
+json floorScene(const json& environment, const json& integrator, int spp) {
     return {
         {"camera", test::topDownCamera(0.0, 0.0, 1.5)},
         {"film", {{"width", kSize}, {"height", kSize}}},
