@@ -489,7 +489,7 @@ TEST(PreviewProgram, EnvironmentMapShowsInTheBackgroundAsRendered) {
     for (uint32_t row = 0; row < map.height; ++row)
         for (uint32_t col = 0; col < map.width; ++col) {
             float fade = 1.0f - float(row) / float(map.height);
-            map.rgb.insert(map.rgb.end(), {fade * float(col % 4) / 3.0f, fade * float(col / 4) / 3.0f, 0.8f * fade});
+            map.rgb.insert(map.rgb.end(), {fade * float(col % 4) / 3.0f, fade * float(col >> 2u) / 3.0f, 0.8f * fade});
         }
     writeExr(dir / "sky.exr", map);
     auto writeScene = [&](const std::string& file, const std::string& environment) {

@@ -7,8 +7,8 @@
 #include <sstream>
 
 #include "core/errors.h"
-#include "image/image_file.h"
 #include "core/input_file.h"
+#include "image/image_file.h"
 #include "scene/limits.h"
 
 namespace penumbra {
