@@ -7,9 +7,9 @@
 #include <sstream>
 
 #include "core/errors.h"
-#include "core/input_file.h"
 #include "image/image_file.h"
 #include "scene/limits.h"
+#include "scene/scene_input_file.h"
 
 namespace penumbra {
 
@@ -17,12 +17,7 @@ namespace fs = std::filesystem;
 
 std::shared_ptr<const EnvironmentImage> readEnvironmentFile(const JsonReader& fileField, const fs::path& baseDir,
                                                             glm::vec3 radiance) {
-    std::string name = fileField.string();
-    fs::path file = baseDir / name;
-    if (auto problem = openProblem(file)) fileField.fail("cannot open \"" + file.string() + "\" (" + *problem + ")");
-    if (!allowAnyPath() && !isInsideFolder(file, baseDir))
-        fileField.fail("refusing to read \"" + name +
-                       "\": it is outside the scene's folder (--allow-any-path reads it)");
+    fs::path file = sceneRelativeInputFile(fileField, baseDir);
     ImageFile image;
     try {
         // ColorDecode only matters for 8-bit formats, which are refused below.

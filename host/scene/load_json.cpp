@@ -18,6 +18,7 @@
 #include "scene/load.h"
 #include "scene/material_parse.h"
 #include "scene/material_textures.h"
+#include "scene/scene_input_file.h"
 
 namespace penumbra {
 namespace {
@@ -266,14 +267,9 @@ private:
 
     void readGltfShape(const JsonReader& r, const Shape& settings) {
         JsonReader fileField = r.at("file");
-        fs::path file = m_baseDir / fileField.string();
-        if (auto problem = openProblem(file))
-            fileField.fail("cannot open \"" + file.string() + "\" (" + *problem + ")");
         // A model given on the command line is the user's own choice; one that a scene
         // names must lie in the scene's folder (README, "glTF file access").
-        if (!m_modelAlone && !allowAnyPath() && !isInsideFolder(file, m_baseDir))
-            fileField.fail("refusing to read \"" + fileField.string() +
-                           "\": it is outside the scene's folder (--allow-any-path reads it)");
+        fs::path file = sceneRelativeInputFile(fileField, m_baseDir, !m_modelAlone);
         GltfImport model = importGltf(file, file.string());
 
         // The file's materials join the scene unless the shape names its own.

@@ -7,8 +7,8 @@
 #include <glm/gtc/packing.hpp>
 
 #include "core/errors.h"
-#include "core/input_file.h"
 #include "image/image_file.h"
+#include "scene/scene_input_file.h"
 
 namespace penumbra {
 
@@ -46,12 +46,7 @@ uint32_t TextureTable::add(const std::string& key, bool srgb, const std::functio
 }
 
 uint32_t MaterialTextureReader::loadFile(const JsonReader& fileField, bool srgb) {
-    std::string name = fileField.string();
-    fs::path file = m_baseDir / name;
-    if (auto problem = openProblem(file)) fileField.fail("cannot open \"" + file.string() + "\" (" + *problem + ")");
-    if (!allowAnyPath() && !isInsideFolder(file, m_baseDir))
-        fileField.fail("refusing to read \"" + name +
-                       "\": it is outside the scene's folder (--allow-any-path reads it)");
+    fs::path file = sceneRelativeInputFile(fileField, m_baseDir);
     std::error_code ec;
     fs::path resolved = fs::weakly_canonical(file, ec);
     std::string key = ec ? file.string() : resolved.string();
