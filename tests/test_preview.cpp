@@ -445,6 +445,26 @@ TEST(PreviewProgram, ScreenshotMatchesRenderPng) {
     EXPECT_LE(maxLevelDifference(shown, rendered), 1) << "see " << dir;
 }
 
+// The preview of `scene` (a file in `dir`) matches `penumbra render` of it within one level
+// (same samples in the same order; only the GPU's pow and division may differ), and differs
+// by more than 64 levels somewhere from the render of `without`, the same scene without the
+// feature under test: the feature shows in the preview, not merely in neither image.
+void expectPreviewAsRendered(const fs::path& dir, const std::string& scene, const std::string& without) {
+    std::string err;
+    int status = runIn(dir, displayEnv(), "preview " + scene + " --frames 200 --screenshot shown.png", &err);
+    ASSERT_EQ(status, 0) << err;
+    status = runIn(dir, "", "render " + scene + " -o rendered.exr --png rendered.png --quiet", &err);
+    ASSERT_EQ(status, 0) << err;
+    status = runIn(dir, "", "render " + without + " -o without.exr --png without.png --quiet", &err);
+    ASSERT_EQ(status, 0) << err;
+    Png shown = readPng(dir / "shown.png"), rendered = readPng(dir / "rendered.png"),
+        control = readPng(dir / "without.png");
+    ASSERT_EQ(rendered.pixels.size(), shown.pixels.size());
+    EXPECT_LE(maxLevelDifference(shown, rendered), 1) << "see " << dir;
+    ASSERT_EQ(control.pixels.size(), shown.pixels.size());
+    EXPECT_GT(maxLevelDifference(shown, control), 64) << "see " << dir;
+}
+
 TEST(PreviewProgram, TexturedModelShowsItsTextureAsRendered) {
     REQUIRE_XVFB();
     fs::path dir = freshDir("screenshot-textured");
@@ -462,20 +482,8 @@ TEST(PreviewProgram, TexturedModelShowsItsTextureAsRendered) {
     };
     writeScene("textured.json", R"({"texture": "logo.png"})");
     writeScene("untextured.json", "[1, 1, 1]");  // what the texture's scale alone would give
-    std::string err;
-    int status = runIn(dir, displayEnv(), "preview textured.json --frames 200 --screenshot shown.png", &err);
-    ASSERT_EQ(status, 0) << err;
-    status = runIn(dir, "", "render textured.json -o rendered.exr --png rendered.png --quiet", &err);
-    ASSERT_EQ(status, 0) << err;
-    status = runIn(dir, "", "render untextured.json -o plain.exr --png plain.png --quiet", &err);
-    ASSERT_EQ(status, 0) << err;
-    Png shown = readPng(dir / "shown.png"), rendered = readPng(dir / "rendered.png"),
-        plain = readPng(dir / "plain.png");
-    ASSERT_EQ(rendered.pixels.size(), shown.pixels.size());
-    EXPECT_LE(maxLevelDifference(shown, rendered), 1) << "see " << dir;
     // The logo shows: the preview is far from the quad without its texture.
-    ASSERT_EQ(plain.pixels.size(), shown.pixels.size());
-    EXPECT_GT(maxLevelDifference(shown, plain), 64) << "see " << dir;
+    expectPreviewAsRendered(dir, "textured.json", "untextured.json");
 }
 
 TEST(PreviewProgram, EnvironmentMapShowsInTheBackgroundAsRendered) {
@@ -502,20 +510,8 @@ TEST(PreviewProgram, EnvironmentMapShowsInTheBackgroundAsRendered) {
     };
     writeScene("mapped.json", R"({"type": "environment", "file": "sky.exr"})");
     writeScene("constant.json", R"({"type": "environment", "radiance": 0.5})");
-    std::string err;
-    int status = runIn(dir, displayEnv(), "preview mapped.json --frames 200 --screenshot shown.png", &err);
-    ASSERT_EQ(status, 0) << err;
-    status = runIn(dir, "", "render mapped.json -o rendered.exr --png rendered.png --quiet", &err);
-    ASSERT_EQ(status, 0) << err;
-    status = runIn(dir, "", "render constant.json -o constant.exr --png constant.png --quiet", &err);
-    ASSERT_EQ(status, 0) << err;
-    Png shown = readPng(dir / "shown.png"), rendered = readPng(dir / "rendered.png"),
-        constant = readPng(dir / "constant.png");
-    ASSERT_EQ(rendered.pixels.size(), shown.pixels.size());
-    EXPECT_LE(maxLevelDifference(shown, rendered), 1) << "see " << dir;
     // The map shows: the preview is far from the same scene under a constant sky.
-    ASSERT_EQ(constant.pixels.size(), shown.pixels.size());
-    EXPECT_GT(maxLevelDifference(shown, constant), 64) << "see " << dir;
+    expectPreviewAsRendered(dir, "mapped.json", "constant.json");
 }
 
 TEST(PreviewProgram, StrategyKeyRestartsAccumulation) {
