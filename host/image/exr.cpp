@@ -19,9 +19,11 @@
 #include <cerrno>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "core/errors.h"
 #include "image/atomic_file.h"
@@ -141,9 +143,16 @@ void checkAttributeSizes(Imf::IStream& in, int64_t fileSize, const std::string& 
     }
 }
 
+// Where decodeExrRgba puts the pixels, and who accepts their number first.
+struct RgbaTarget {
+    std::vector<float>& pixels;
+    const std::function<void(uint32_t, uint32_t)>& acceptSize;
+};
+
 // The image in `in` (a file or memory, fileSize bytes long), checked before OpenEXR
-// allocates anything; InputErrors name `name`.
-Image readExrStream(Imf::IStream& in, int64_t fileSize, const std::string& name) {
+// allocates anything; InputErrors name `name`. With `rgba`, the pixels go there (4 floats
+// a pixel, alpha 1) instead of image.rgb.
+Image readExrStream(Imf::IStream& in, int64_t fileSize, const std::string& name, const RgbaTarget* rgba = nullptr) {
     try {
         bool tiled = false, deep = false, multiPart = false;
         in.seekg(0);
@@ -167,13 +176,23 @@ Image readExrStream(Imf::IStream& in, int64_t fileSize, const std::string& name)
         Image image;
         image.width = uint32_t(width);
         image.height = uint32_t(height);
-        image.rgb.assign(size_t(width * height * 3), 0.0f);
+        float* pixels = nullptr;
+        size_t stride = 3;  // floats a pixel
+        if (rgba) {
+            rgba->acceptSize(image.width, image.height);
+            stride = 4;
+            rgba->pixels.assign(size_t(width * height) * stride, 1.0f);  // R, G, B overwritten below
+            pixels = rgba->pixels.data();
+        } else {
+            image.rgb.assign(size_t(width * height) * stride, 0.0f);
+            pixels = image.rgb.data();
+        }
         // Slice::Make offsets the base pointer by the data window's origin, so pixel
         // (min.x, min.y) lands at index 0. Other pixel types convert to float on read.
         Imf::FrameBuffer frame;
         for (int c = 0; c < 3; ++c)
-            frame.insert(kChannels[c], Imf::Slice::Make(Imf::FLOAT, image.rgb.data() + c, dw, 3 * sizeof(float),
-                                                        size_t(width) * 3 * sizeof(float)));
+            frame.insert(kChannels[c], Imf::Slice::Make(Imf::FLOAT, pixels + c, dw, stride * sizeof(float),
+                                                        size_t(width) * stride * sizeof(float)));
         file.setFrameBuffer(frame);
         file.readPixels(dw.min.y, dw.max.y);
 
@@ -259,6 +278,13 @@ Image readExr(const std::filesystem::path& path) {
 Image decodeExr(std::string_view bytes, const std::string& name) {
     MemoryIStream stream(bytes, name);
     return readExrStream(stream, int64_t(bytes.size()), name);
+}
+
+Image decodeExrRgba(std::string_view bytes, const std::string& name, std::vector<float>& rgba,
+                    const std::function<void(uint32_t, uint32_t)>& acceptSize) {
+    MemoryIStream stream(bytes, name);
+    const RgbaTarget target{rgba, acceptSize};
+    return readExrStream(stream, int64_t(bytes.size()), name, &target);
 }
 
 }  // namespace penumbra

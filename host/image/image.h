@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -63,6 +64,11 @@ Image readExr(const std::filesystem::path& path);
 // The same for the bytes of an EXR file held in memory, with the same checks and errors;
 // `name` stands for the file in messages ("NAME: why").
 Image decodeExr(std::string_view bytes, const std::string& name);
+// The same, the pixels decoded straight into `rgba` (4 floats a pixel, alpha 1; the result's
+// rgb stays empty) once `acceptSize(width, height)` has returned (it throws to refuse): an
+// RGBA reader (image_file.cpp) then holds no RGB copy of a large image.
+Image decodeExrRgba(std::string_view bytes, const std::string& name, std::vector<float>& rgba,
+                    const std::function<void(uint32_t, uint32_t)>& acceptSize);
 // sRGB 8-bit PNG of exposure-scaled, clamped radiance; atomic like writeExr.
 void writePng(const std::filesystem::path& path, const Image& image, float exposure = 0.0f);
 // 8-bit sRGB encoding of one linear value (clamped), shared with the preview's tone map.

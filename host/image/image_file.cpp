@@ -128,20 +128,22 @@ ImageFile decodeStb(const std::string& bytes, const std::string& label, ImageFil
     image.format = format;
     image.channels = uint32_t(n);
     const size_t count = size_t(w) * size_t(h) * 4;
-    image.rgba.resize(count);
     // Requesting 4 channels makes stb expand grey to RGB and add an opaque alpha.
     if (format == ImageFileFormat::Hdr) {
         checkHdrData(bytes, w, h, label);
         std::unique_ptr<float, StbFree> pixels(stbi_loadf_from_memory(data, length, &w, &h, &n, 4));
         if (!pixels) stbFailed(label, what);
-        std::memcpy(image.rgba.data(), pixels.get(), count * sizeof(float));
+        // Allocated and written in one pass: resize would clear it first (512 MiB at 8k x 4k).
+        image.rgba.assign(pixels.get(), pixels.get() + count);
     } else if (stbi_is_16_bit_from_memory(data, length)) {
         std::unique_ptr<stbi_us, StbFree> pixels(stbi_load_16_from_memory(data, length, &w, &h, &n, 4));
         if (!pixels) stbFailed(label, what);
+        image.rgba.resize(count);
         for (size_t i = 0; i < count; ++i) image.rgba[i] = float(pixels.get()[i]) / 65535.0f;
     } else {
         std::unique_ptr<stbi_uc, StbFree> pixels(stbi_load_from_memory(data, length, &w, &h, &n, 4));
         if (!pixels) stbFailed(label, what);
+        image.rgba.resize(count);
         // 256 entries: the decoded value of every code, computed once.
         float table[256];
         for (int c = 0; c < 256; ++c)
@@ -160,24 +162,19 @@ ImageFile decodeStb(const std::string& bytes, const std::string& label, ImageFil
 }
 
 ImageFile decodeExrFile(const std::string& bytes, const std::string& label, uint64_t maxPixels) {
-    const Image exr = decodeExr(bytes, label);
-    checkSize(exr.width, exr.height, label, maxPixels);
     ImageFile image;
+    // Decoded straight into RGBA, its size refused from the header as for the other formats.
+    const Image exr = decodeExrRgba(bytes, label, image.rgba,
+                                    [&](uint32_t w, uint32_t h) { checkSize(w, h, label, maxPixels); });
     image.width = exr.width;
     image.height = exr.height;
     image.format = ImageFileFormat::Exr;
     image.channels = 3;
-    image.rgba.resize(size_t(exr.width) * exr.height * 4);
-    for (size_t i = 0; i < size_t(exr.width) * exr.height; ++i) {
-        for (int c = 0; c < 3; ++c) {
-            float v = exr.rgb[3 * i + c];
-            // EXR may hold NaN or infinity (half or float): data that would reach the
-            // accumulation buffer as NaN, so it is bad input.
-            if (!std::isfinite(v)) throwInputError(label, "", "image holds non-finite values (NaN or infinity)");
-            image.rgba[4 * i + c] = v;
-        }
-        image.rgba[4 * i + 3] = 1.0f;
-    }
+    for (size_t i = 0; i < image.rgba.size(); ++i)
+        // EXR may hold NaN or infinity (half or float): data that would reach the
+        // accumulation buffer as NaN, so it is bad input.
+        if (i % 4 != 3 && !std::isfinite(image.rgba[i]))
+            throwInputError(label, "", "image holds non-finite values (NaN or infinity)");
     return image;
 }
 

@@ -40,8 +40,8 @@ struct ImageFile {
 
 // Throws InputError("<label>: <why>") for a missing or unreadable file, an unsupported
 // format, corrupt data, or dimensions beyond the limits above; `maxPixels` (at most
-// kMaxImagePixels) lowers the pixel limit for a caller with a smaller one (PNG, JPEG and
-// HDR: checked from the header; OpenEXR: once read, as the other limits are).
+// kMaxImagePixels) lowers the pixel limit for a caller with a smaller one (checked from the
+// header, before any pixel is decoded).
 ImageFile readImageFile(const std::filesystem::path& path, const std::string& label, ColorDecode decode,
                         uint64_t maxPixels = kMaxImagePixels);
 inline ImageFile readImageFile(const std::filesystem::path& path, ColorDecode decode) {

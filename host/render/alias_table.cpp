@@ -5,16 +5,17 @@
 
 namespace penumbra {
 
-std::vector<gpu::AliasEntry> buildAliasTable(const std::vector<double>& weights, const std::vector<uint32_t>& items) {
+std::vector<gpu::AliasEntry> buildAliasTableInPlace(std::vector<double>& weights) {
     const size_t n = weights.size();
     std::vector<gpu::AliasEntry> table(n);
     if (n == 0) return table;
     double sum = std::accumulate(weights.begin(), weights.end(), 0.0);
     bool uniform = !(sum > 0.0);
-    std::vector<double> scaled(n);  // n * p_i: 1 means "exactly one slot's worth"
+    // weights[i] becomes n * p_i once read: 1 means "exactly one slot's worth".
+    std::vector<double>& scaled = weights;
     for (size_t i = 0; i < n; ++i) {
         double p = uniform ? 1.0 / double(n) : weights[i] / sum;
-        table[i] = {1.0f, uint32_t(i), items[i], float(p)};
+        table[i] = {1.0f, uint32_t(i), uint32_t(i), float(p)};
         scaled[i] = p * double(n);
     }
     std::vector<uint32_t> small, large;
@@ -31,6 +32,14 @@ std::vector<gpu::AliasEntry> buildAliasTable(const std::vector<double>& weights,
     // Left-overs are 1 up to rounding: they keep themselves.
     for (uint32_t i : small) table[i].probability = 1.0f;
     for (uint32_t i : large) table[i].probability = 1.0f;
+    return table;
+}
+
+std::vector<gpu::AliasEntry> buildAliasTable(const std::vector<double>& weights, const std::vector<uint32_t>& items) {
+    std::vector<double> scaled = weights;
+    std::vector<gpu::AliasEntry> table = buildAliasTableInPlace(scaled);
+    // Aliases are indices into the table; the items only ride along.
+    for (size_t i = 0; i < table.size(); ++i) table[i].item = items[i];
     return table;
 }
 

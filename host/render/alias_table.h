@@ -15,4 +15,9 @@ namespace penumbra {
 // alias *relative to the table's start*. All-zero (or empty-sum) weights give a uniform table.
 std::vector<gpu::AliasEntry> buildAliasTable(const std::vector<double>& weights, const std::vector<uint32_t>& items);
 
+// The same table with item i = i, built in `weights`' own storage (left holding Vose's work
+// values): for tables of millions of entries (environment maps) one array of doubles and the
+// items fewer. The same weights give the same table bit for bit.
+std::vector<gpu::AliasEntry> buildAliasTableInPlace(std::vector<double>& weights);
+
 }  // namespace penumbra

@@ -38,24 +38,29 @@ glm::vec3 environmentMapRadiance(const EnvironmentImage& image, glm::dvec3 d) {
     return image.texels[size_t(t.y) * image.width + t.x];
 }
 
-EnvironmentDistribution buildEnvironmentDistribution(EnvironmentImage image) {
-    EnvironmentDistribution dist;
+std::vector<gpu::AliasEntry> buildEnvironmentTable(const EnvironmentImage& image, bool* black) {
     const size_t n = size_t(image.width) * image.height;
-    std::vector<double> weights(n), solidAngles(n);
-    std::vector<uint32_t> items(n);
+    std::vector<double> weights(n);
     double total = 0.0;
     for (uint32_t row = 0; row < image.height; ++row) {
         double omega = environmentTexelSolidAngle(row, image.width, image.height);
         for (uint32_t col = 0; col < image.width; ++col) {
             size_t i = size_t(row) * image.width + col;
-            solidAngles[i] = omega;
             weights[i] = luminance(image.texels[i]) * omega;
-            items[i] = uint32_t(i);
             total += weights[i];
         }
     }
-    dist.black = !(total > 0.0);
-    dist.table = buildAliasTable(dist.black ? solidAngles : weights, items);
+    *black = !(total > 0.0);
+    if (*black)
+        for (uint32_t row = 0; row < image.height; ++row)
+            std::fill_n(weights.begin() + ptrdiff_t(size_t(row) * image.width), image.width,
+                        environmentTexelSolidAngle(row, image.width, image.height));
+    return buildAliasTableInPlace(weights);
+}
+
+EnvironmentDistribution buildEnvironmentDistribution(EnvironmentImage image) {
+    EnvironmentDistribution dist;
+    dist.table = buildEnvironmentTable(image, &dist.black);
     dist.image = std::move(image);
     return dist;
 }

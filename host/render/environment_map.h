@@ -37,6 +37,9 @@ glm::vec3 environmentMapRadiance(const EnvironmentImage& image, glm::dvec3 d);
 // with no emitting texel is sampled uniformly in solid angle (weights = solid angles) so that
 // every pdf stays finite; it delivers no light either way.
 EnvironmentDistribution buildEnvironmentDistribution(EnvironmentImage image);
+// The same distribution's alias table alone, for a map that stays where it is (the scene's):
+// no copy of the texels, one array of doubles while it is built. `black`: no texel emits.
+std::vector<gpu::AliasEntry> buildEnvironmentTable(const EnvironmentImage& image, bool* black);
 
 // The slot of an alias draw over `count` entries and its coin, from the 48 bits of two
 // uniform numbers of 24 bits each (the GPU's resolution): one 24-bit number reaches only 2^24

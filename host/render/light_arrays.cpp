@@ -61,10 +61,11 @@ gpu::Light makeEnvironmentMapLight(const Light& l, SceneArrays& out) {
             sum += glm::dvec3(map.texels[size_t(row) * map.width + col]) * omega;
     }
     light.position = glm::vec3(sum / (4.0 * std::numbers::pi));
-    EnvironmentDistribution dist = buildEnvironmentDistribution(map);
-    out.environmentTable = std::move(dist.table);
-    out.environmentTexels.resize(map.texels.size());
-    for (size_t i = 0; i < map.texels.size(); ++i) out.environmentTexels[i] = glm::vec4(map.texels[i], 0.0f);
+    bool black = false;  // a black map is sampled in proportion to solid angle; it emits nothing either way
+    out.environmentTable = buildEnvironmentTable(map, &black);
+    // Reserved, not resized: each texel is written once (2^25 of them at most).
+    out.environmentTexels.reserve(map.texels.size());
+    for (glm::vec3 texel : map.texels) out.environmentTexels.emplace_back(texel, 0.0f);
     return light;
 }
 

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstdint>
 #include <stdexcept>
+#include <vector>
 
 #include "gpu/gpu_timer.h"
 #include "gpu/vk_check.h"
@@ -71,8 +72,12 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
     m_textureTexels = Buffer::fromVector(context, textures.texels, "texture texels", texels);
     m_uvs = Buffer::fromVector(context, textures.uvs, "texture coordinates");
     // Scenes without an environment map get placeholders too (hasEnvironmentMap()).
+    // Up to 512 MiB each (an 8192 x 4096 map): the host copies go as soon as the GPU holds
+    // them, so that the two never all coexist (on lavapipe device memory is host memory).
     m_environmentTexels = Buffer::fromVector(context, m_arrays.environmentTexels, "environment map texels", texels);
+    std::vector<glm::vec4>().swap(m_arrays.environmentTexels);
     m_environmentTable = Buffer::fromVector(context, m_arrays.environmentTable, "environment map table", texels);
+    std::vector<gpu::AliasEntry>().swap(m_arrays.environmentTable);
 
     m_kernel = createKernel(m_options);
     reset();

@@ -32,7 +32,7 @@ std::shared_ptr<const EnvironmentImage> readEnvironmentFile(const JsonReader& fi
     auto map = std::make_shared<EnvironmentImage>();
     map->width = image.width;
     map->height = image.height;
-    map->texels.resize(size_t(image.width) * image.height);
+    map->texels.reserve(size_t(image.width) * image.height);  // each written once, in order
     for (uint32_t y = 0; y < image.height; ++y)
         for (uint32_t x = 0; x < image.width; ++x) {
             const float* t = image.texel(x, y);
@@ -51,7 +51,7 @@ std::shared_ptr<const EnvironmentImage> readEnvironmentFile(const JsonReader& fi
                 std::max({double(radiance.x) * texel.x, double(radiance.y) * texel.y, double(radiance.z) * texel.z});
             if (!(largest <= kMaxRadiometric))
                 fileField.fail(where() + " times radiance exceeds 1e20 (the limit of radiance values)");
-            map->texels[size_t(y) * image.width + x] = value;
+            map->texels.push_back(value);
         }
     return map;
 }
