@@ -91,13 +91,17 @@ Buffer& Buffer::operator=(Buffer&& other) noexcept {
 }
 
 void Buffer::upload(const void* data, VkDeviceSize bytes, VkDeviceSize offset) {
+    write(bytes, [&](void* mapped) { std::memcpy(mapped, data, bytes); }, offset);
+}
+
+void Buffer::write(VkDeviceSize bytes, const std::function<void(void*)>& fill, VkDeviceSize offset) {
     if (bytes == 0) return;
     if (offset + bytes > m_size) throw GpuError("buffer upload out of range");
     VkDevice device = m_context->device();
     if (m_hostVisible) {
         void* mapped = nullptr;
         vkCheck(vkMapMemory(device, m_memory, offset, bytes, 0, &mapped), "map buffer memory");
-        std::memcpy(mapped, data, bytes);
+        fill(mapped);
         if (!m_hostCoherent) {
             VkMappedMemoryRange range{VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE, nullptr, m_memory, 0, VK_WHOLE_SIZE};
             vkFlushMappedMemoryRanges(device, 1, &range);
@@ -106,7 +110,7 @@ void Buffer::upload(const void* data, VkDeviceSize bytes, VkDeviceSize offset) {
         return;
     }
     Buffer staging(*m_context, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT, 0);
-    staging.upload(data, bytes);
+    staging.write(bytes, fill);
     m_context->submitAndWait([&](VkCommandBuffer cmd) {
         VkBufferCopy region{0, offset, bytes};
         vkCmdCopyBuffer(cmd, staging.handle(), m_buffer, 1, &region);

@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <cstring>
+#include <functional>
 #include <span>
 #include <string_view>
 #include <vector>
@@ -62,6 +63,10 @@ public:
     }
 
     void upload(const void* data, VkDeviceSize bytes, VkDeviceSize offset = 0);
+    // Like upload, for data made on the fly: `fill` writes the `bytes` through a host pointer
+    // (this buffer's memory when it is host-visible, else a staging buffer's), so that a
+    // large array (an environment map's RGBA texels) needs no host copy of its own first.
+    void write(VkDeviceSize bytes, const std::function<void(void*)>& fill, VkDeviceSize offset = 0);
     void download(void* data, VkDeviceSize bytes, VkDeviceSize offset = 0) const;
     template <class T>
     std::vector<T> read() const {

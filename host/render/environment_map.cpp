@@ -38,6 +38,10 @@ glm::vec3 environmentMapRadiance(const EnvironmentImage& image, glm::dvec3 d) {
     return image.texels[size_t(t.y) * image.width + t.x];
 }
 
+void writeEnvironmentTexels(const EnvironmentImage& image, glm::vec4* out) {
+    for (glm::vec3 texel : image.texels) *out++ = glm::vec4(texel, 0.0f);
+}
+
 std::vector<gpu::AliasEntry> buildEnvironmentTable(const EnvironmentImage& image, bool* black) {
     const size_t n = size_t(image.width) * image.height;
     std::vector<double> weights(n);

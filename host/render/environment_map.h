@@ -33,6 +33,10 @@ double environmentTexelSolidAngle(uint32_t row, uint32_t width, uint32_t height)
 
 glm::vec3 environmentMapRadiance(const EnvironmentImage& image, glm::dvec3 d);
 
+// The GPU's layout of the texels (binding 14): radiance as RGBA (alpha unused), row by row;
+// `out` holds width * height entries (host memory, or a mapped GPU buffer).
+void writeEnvironmentTexels(const EnvironmentImage& image, glm::vec4* out);
+
 // Luminance (Rec. 709 / sRGB primaries) times solid angle per texel, as an alias table. A map
 // with no emitting texel is sampled uniformly in solid angle (weights = solid angles) so that
 // every pdf stays finite; it delivers no light either way.

@@ -48,7 +48,7 @@ gpu::Light makeSpotLight(const Light& l) {
 // out.environmentTable; the light holds the map's size and its mean radiance over solid
 // angle (position), L in the power 4 pi^2 R^2 L (pbrt-v4 ImageInfiniteLight::Phi sums its
 // equal-area texels the same way).
-gpu::Light makeEnvironmentMapLight(const Light& l, SceneArrays& out) {
+gpu::Light makeEnvironmentMapLight(const Light& l, SceneArrays& out, EnvironmentTexels texels) {
     const EnvironmentImage& map = *l.map;
     gpu::Light light = makeLight(gpu::LIGHT_ENVIRONMENT, l.intensity);
     light.flags = gpu::LIGHT_ENVIRONMENT_MAP;
@@ -63,9 +63,10 @@ gpu::Light makeEnvironmentMapLight(const Light& l, SceneArrays& out) {
     light.position = glm::vec3(sum / (4.0 * std::numbers::pi));
     bool black = false;  // a black map is sampled in proportion to solid angle; it emits nothing either way
     out.environmentTable = buildEnvironmentTable(map, &black);
-    // Reserved, not resized: each texel is written once (2^25 of them at most).
-    out.environmentTexels.reserve(map.texels.size());
-    for (glm::vec3 texel : map.texels) out.environmentTexels.emplace_back(texel, 0.0f);
+    if (texels == EnvironmentTexels::InArrays) {
+        out.environmentTexels.resize(map.texels.size());
+        writeEnvironmentTexels(map, out.environmentTexels.data());
+    }
     return light;
 }
 
@@ -93,7 +94,8 @@ double lightPower(const gpu::Light& light, float sceneRadius) {
     }
 }
 
-void appendLightsWithoutGeometry(const std::vector<Light>& lights, SceneArrays& out) {
+void appendLightsWithoutGeometry(const std::vector<Light>& lights, SceneArrays& out,
+                                 EnvironmentTexels environmentTexels) {
     // Several constant environments add up to one: a ray escaping the scene sees their sum.
     // A map is the scene's only environment (the loaders allow one).
     glm::vec3 environment(0.0f);
@@ -116,7 +118,7 @@ void appendLightsWithoutGeometry(const std::vector<Light>& lights, SceneArrays& 
     }
     if (hasEnvironment) {
         out.environmentLight = uint32_t(out.lights.size());
-        out.lights.push_back(mapped ? makeEnvironmentMapLight(*mapped, out)
+        out.lights.push_back(mapped ? makeEnvironmentMapLight(*mapped, out, environmentTexels)
                                     : makeLight(gpu::LIGHT_ENVIRONMENT, environment));
     }
 }

@@ -13,6 +13,7 @@
 namespace penumbra {
 
 struct SceneArrays;
+enum class EnvironmentTexels;
 
 // Point, spot and directional lights (every light with a single direction per point):
 // sampled explicitly, never hit by a ray (SCENE_FORMAT.md, "direct").
@@ -26,8 +27,10 @@ double lightPower(const gpu::Light& light, float sceneRadius);
 
 // Appends the lights that have no geometry (point, spot, directional; several environments merged
 // into one, whose index becomes out.environmentLight), in scene order. An environment map's
-// texels and sampling table go to out.environmentTexels and out.environmentTable.
-void appendLightsWithoutGeometry(const std::vector<Light>& lights, SceneArrays& out);
+// texels (unless left out) and sampling table go to out.environmentTexels and
+// out.environmentTable.
+void appendLightsWithoutGeometry(const std::vector<Light>& lights, SceneArrays& out,
+                                 EnvironmentTexels environmentTexels);
 
 // The gpu::Light of an emitting sphere or quad whose primitive has input index `primitive`,
 // and of an emitting mesh of total area `area` (its triangle table follows in

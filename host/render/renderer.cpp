@@ -9,6 +9,7 @@
 
 #include "gpu/gpu_timer.h"
 #include "gpu/vk_check.h"
+#include "render/environment_map.h"
 #include "render/pass_bands.h"
 #include "scene/enum_names.h"
 #include "scene/integrator_json.h"
@@ -44,7 +45,7 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
     : m_context(context),
       m_kernels(kernels),
       m_scene(scene),
-      m_arrays(buildSceneArrays(scene)),
+      m_arrays(buildSceneArrays(scene, {}, EnvironmentTexels::LeftOut)),
       m_params(makeRenderParams(scene, m_arrays)),
       m_options(makeKernelOptions(scene, m_arrays)) {
     using gpu::Buffer;
@@ -72,12 +73,20 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
     m_textureTexels = Buffer::fromVector(context, textures.texels, "texture texels", texels);
     m_uvs = Buffer::fromVector(context, textures.uvs, "texture coordinates");
     // Scenes without an environment map get placeholders too (hasEnvironmentMap()).
-    // Up to 512 MiB each (an 8192 x 4096 map): the host copies go as soon as the GPU holds
-    // them, so that the two never all coexist (on lavapipe device memory is host memory).
-    m_environmentTexels = Buffer::fromVector(context, m_arrays.environmentTexels, "environment map texels", texels);
-    std::vector<glm::vec4>().swap(m_arrays.environmentTexels);
+    // 512 MiB each for an 8192 x 4096 map: the table's host copy goes once uploaded, and the
+    // texels are written from the scene's map straight into GPU memory (on lavapipe device
+    // memory is host memory), so that at most one host copy of either exists at a time.
     m_environmentTable = Buffer::fromVector(context, m_arrays.environmentTable, "environment map table", texels);
     std::vector<gpu::AliasEntry>().swap(m_arrays.environmentTable);
+    const EnvironmentImage* map = nullptr;
+    for (const Light& l : m_scene.lights)
+        if (l.map) map = l.map.get();  // the loaders allow one map, alone (appendLightsWithoutGeometry)
+    const size_t mapTexels = map ? map->texels.size() : 0;
+    m_environmentTexels = Buffer(context, mapTexels * sizeof(glm::vec4), texels, 0,
+                                 VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, "environment map texels");
+    if (map)
+        m_environmentTexels.write(mapTexels * sizeof(glm::vec4),
+                                  [&](void* out) { writeEnvironmentTexels(*map, static_cast<glm::vec4*>(out)); });
 
     m_kernel = createKernel(m_options);
     reset();

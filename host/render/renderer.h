@@ -83,7 +83,7 @@ public:
 
     const Scene& scene() const { return m_scene; }
     // As buildSceneArrays made them, less the environment map's texels and table: those live
-    // on the GPU alone once uploaded.
+    // on the GPU alone (EnvironmentTexels::LeftOut; the table freed once uploaded).
     const SceneArrays& arrays() const { return m_arrays; }
     const gpu::Buffer& accumulation() const { return m_accum; }
     const gpu::RenderParams& params() const { return m_params; }

@@ -35,14 +35,14 @@ void setBounds(SceneArrays& out);
 
 }  // namespace
 
-SceneArrays buildSceneArrays(const Scene& scene, const BvhOptions& bvhOptions) {
+SceneArrays buildSceneArrays(const Scene& scene, const BvhOptions& bvhOptions, EnvironmentTexels environmentTexels) {
     SceneArrays out;
 
     out.materials = packMaterials(scene.materials);
 
     // Lights without geometry first, then one light per emitting shape. Area lights record
     // their primitive's *input* index for now; it becomes the BVH leaf-order index below.
-    appendLightsWithoutGeometry(scene.lights, out);
+    appendLightsWithoutGeometry(scene.lights, out, environmentTexels);
 
     ShapePrimitives shapes = flattenShapes(scene, out);
     buildBvhAndMeshTables(std::move(shapes), bvhOptions, out);

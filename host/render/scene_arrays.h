@@ -24,7 +24,8 @@ struct SceneArrays {
     float deltaScale = 0.0f, continuousScale = 0.0f;
     uint32_t environmentLight = gpu::NO_LIGHT;
     // The environment's map (render/environment_map.h), if it has one: radiance per texel
-    // (alpha unused) and the alias table that samples the texels. Empty for a constant sky.
+    // (alpha unused) and the alias table that samples the texels. Empty for a constant sky
+    // (and the texels when buildSceneArrays was told to leave them out).
     std::vector<glm::vec4> environmentTexels;
     std::vector<gpu::AliasEntry> environmentTable;
     TextureArrays textures;                     // material textures and mesh uvs
@@ -32,7 +33,13 @@ struct SceneArrays {
     float boundsRadius = 0.0f;
 };
 
-SceneArrays buildSceneArrays(const Scene& scene, const BvhOptions& bvhOptions = {});
+// Whether an environment map's texels go into SceneArrays::environmentTexels, or are left
+// out for the Renderer, which writes them straight into GPU memory (writeEnvironmentTexels):
+// up to 512 MiB of host memory less while it loads.
+enum class EnvironmentTexels { InArrays, LeftOut };
+
+SceneArrays buildSceneArrays(const Scene& scene, const BvhOptions& bvhOptions = {},
+                             EnvironmentTexels environmentTexels = EnvironmentTexels::InArrays);
 
 // The RenderParams for a scene (camera basis, film, sampler, light tables); integrator
 // options that select code are specialization constants (render/kernel_options.h).
