@@ -1,6 +1,7 @@
 // Compute pipeline creation, descriptor sets and updates, and dispatch recording.
 #include "gpu/kernel.h"
 
+#include "gpu/compute_pipeline.h"
 #include "gpu/shaders.h"
 #include "gpu/vk_check.h"
 
@@ -9,61 +10,22 @@ namespace penumbra::gpu {
 Pipeline::Pipeline(const Context& context, std::string_view shaderName, std::vector<VkDescriptorType> bindings,
                    uint32_t pushConstantBytes, std::vector<uint32_t> specialization)
     : m_context(context), m_name(shaderName), m_bindings(std::move(bindings)), m_pushBytes(pushConstantBytes) {
-    VkDevice device = context.device();
-    std::string what = " for shader " + m_name;
-    try {
-        auto code = shaderCode(shaderName);
-        VkShaderModuleCreateInfo moduleInfo{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-        moduleInfo.codeSize = code.size_bytes();
-        moduleInfo.pCode = code.data();
-        vkCheck(vkCreateShaderModule(device, &moduleInfo, nullptr, &m_module), ("create shader module" + what).c_str());
-
-        std::vector<VkDescriptorSetLayoutBinding> layoutBindings;
-        for (uint32_t i = 0; i < m_bindings.size(); ++i)
-            layoutBindings.push_back({i, m_bindings[i], 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
-        VkDescriptorSetLayoutCreateInfo setInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-        setInfo.bindingCount = uint32_t(layoutBindings.size());
-        setInfo.pBindings = layoutBindings.data();
-        vkCheck(vkCreateDescriptorSetLayout(device, &setInfo, nullptr, &m_setLayout),
-                ("create descriptor set layout" + what).c_str());
-
-        VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, m_pushBytes};
-        VkPipelineLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-        layoutInfo.setLayoutCount = 1;
-        layoutInfo.pSetLayouts = &m_setLayout;
-        layoutInfo.pushConstantRangeCount = m_pushBytes ? 1 : 0;
-        layoutInfo.pPushConstantRanges = &range;
-        vkCheck(vkCreatePipelineLayout(device, &layoutInfo, nullptr, &m_pipelineLayout),
-                ("create pipeline layout" + what).c_str());
-
-        std::vector<VkSpecializationMapEntry> entries;
-        for (uint32_t i = 0; i < specialization.size(); ++i)
-            entries.push_back({i, uint32_t(i * sizeof(uint32_t)), sizeof(uint32_t)});
-        VkSpecializationInfo specInfo{uint32_t(entries.size()), entries.data(),
-                                      specialization.size() * sizeof(uint32_t), specialization.data()};
-        VkComputePipelineCreateInfo pipelineInfo{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-        pipelineInfo.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
-        pipelineInfo.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-        pipelineInfo.stage.module = m_module;
-        pipelineInfo.stage.pName = "main";
-        pipelineInfo.stage.pSpecializationInfo = entries.empty() ? nullptr : &specInfo;
-        pipelineInfo.layout = m_pipelineLayout;
-        vkCheck(vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &pipelineInfo, nullptr, &m_pipeline),
-                ("create compute pipeline" + what).c_str());
-    } catch (...) {
-        destroy();
-        throw;
-    }
+    std::vector<VkDescriptorSetLayoutBinding> layoutBindings;
+    for (uint32_t i = 0; i < m_bindings.size(); ++i)
+        layoutBindings.push_back({i, m_bindings[i], 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
+    ComputePipelineObjects made = createComputePipeline(context.device(), shaderCode(shaderName), layoutBindings,
+                                                        m_pushBytes, specialization, " for shader " + m_name);
+    m_module = made.module;
+    m_setLayout = made.setLayout;
+    m_pipelineLayout = made.layout;
+    m_pipeline = made.pipeline;
 }
 
 Pipeline::~Pipeline() { destroy(); }
 
 void Pipeline::destroy() {
-    VkDevice device = m_context.device();
-    if (m_pipeline) vkDestroyPipeline(device, m_pipeline, nullptr);
-    if (m_pipelineLayout) vkDestroyPipelineLayout(device, m_pipelineLayout, nullptr);
-    if (m_setLayout) vkDestroyDescriptorSetLayout(device, m_setLayout, nullptr);
-    if (m_module) vkDestroyShaderModule(device, m_module, nullptr);
+    ComputePipelineObjects objects{m_module, m_setLayout, m_pipelineLayout, m_pipeline};
+    destroyComputePipeline(m_context.device(), objects);
     m_pipeline = VK_NULL_HANDLE;
     m_pipelineLayout = VK_NULL_HANDLE;
     m_setLayout = VK_NULL_HANDLE;

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "gpu/compute_pipeline.h"
 #include "gpu/vk_check.h"
 
 namespace penumbra::bench {
@@ -45,43 +46,16 @@ BenchKernel::BenchKernel(const gpu::Context& context, const std::vector<uint32_t
       m_push(static_cast<const uint8_t*>(push), static_cast<const uint8_t*>(push) + pushBytes),
       m_groups(groups) {
     VkDevice device = context.device();
-    VkShaderModuleCreateInfo moduleInfo{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-    moduleInfo.codeSize = spirv.size() * 4;
-    moduleInfo.pCode = spirv.data();
-    vkCheck(vkCreateShaderModule(device, &moduleInfo, nullptr, &m_module), "create shader module");
-
+    // The pipeline as the renderer's kernels make theirs (gpu/compute_pipeline.h); the
+    // descriptor set is the harness's own, for bindings Kernel does not offer (sparse binding
+    // numbers, sampled images, texel views made by the caller).
     std::vector<VkDescriptorSetLayoutBinding> layoutBindings;
     std::vector<VkDescriptorPoolSize> sizes;
     for (const BenchBinding& b : bindings) {
         layoutBindings.push_back({b.binding, b.type, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
         sizes.push_back({b.type, 1});
     }
-    VkDescriptorSetLayoutCreateInfo setInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    setInfo.bindingCount = uint32_t(layoutBindings.size());
-    setInfo.pBindings = layoutBindings.data();
-    vkCheck(vkCreateDescriptorSetLayout(device, &setInfo, nullptr, &m_setLayout), "create set layout");
-    VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, pushBytes};
-    VkPipelineLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    layoutInfo.setLayoutCount = 1;
-    layoutInfo.pSetLayouts = &m_setLayout;
-    layoutInfo.pushConstantRangeCount = pushBytes ? 1 : 0;
-    layoutInfo.pPushConstantRanges = &range;
-    vkCheck(vkCreatePipelineLayout(device, &layoutInfo, nullptr, &m_layout), "create pipeline layout");
-
-    std::vector<VkSpecializationMapEntry> entries;
-    for (uint32_t i = 0; i < specialization.size(); ++i)
-        entries.push_back({i, i * uint32_t(sizeof(uint32_t)), sizeof(uint32_t)});
-    VkSpecializationInfo spec{uint32_t(entries.size()), entries.data(), specialization.size() * sizeof(uint32_t),
-                              specialization.data()};
-    VkComputePipelineCreateInfo pipelineInfo{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-    pipelineInfo.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
-    pipelineInfo.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-    pipelineInfo.stage.module = m_module;
-    pipelineInfo.stage.pName = "main";
-    pipelineInfo.stage.pSpecializationInfo = specialization.empty() ? nullptr : &spec;
-    pipelineInfo.layout = m_layout;
-    vkCheck(vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &pipelineInfo, nullptr, &m_pipeline),
-            "create compute pipeline");
+    m_pipeline = gpu::createComputePipeline(device, spirv, layoutBindings, pushBytes, specialization);
 
     VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     poolInfo.maxSets = 1;
@@ -91,7 +65,7 @@ BenchKernel::BenchKernel(const gpu::Context& context, const std::vector<uint32_t
     VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
     alloc.descriptorPool = m_pool;
     alloc.descriptorSetCount = 1;
-    alloc.pSetLayouts = &m_setLayout;
+    alloc.pSetLayouts = &m_pipeline.setLayout;
     vkCheck(vkAllocateDescriptorSets(device, &alloc, &m_set), "allocate descriptor set");
 
     // Pointers into these must stay valid until vkUpdateDescriptorSets: sized up front.
@@ -119,19 +93,17 @@ BenchKernel::BenchKernel(const gpu::Context& context, const std::vector<uint32_t
 BenchKernel::~BenchKernel() {
     VkDevice device = m_context.device();
     vkDestroyDescriptorPool(device, m_pool, nullptr);
-    vkDestroyPipeline(device, m_pipeline, nullptr);
-    vkDestroyPipelineLayout(device, m_layout, nullptr);
-    vkDestroyDescriptorSetLayout(device, m_setLayout, nullptr);
-    vkDestroyShaderModule(device, m_module, nullptr);
+    gpu::destroyComputePipeline(device, m_pipeline);
 }
 
 double BenchKernel::run() const {
     auto start = std::chrono::steady_clock::now();
     m_context.submitAndWait([&](VkCommandBuffer cmd) {
-        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_pipeline);
-        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_layout, 0, 1, &m_set, 0, nullptr);
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_pipeline.pipeline);
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_pipeline.layout, 0, 1, &m_set, 0, nullptr);
         if (!m_push.empty())
-            vkCmdPushConstants(cmd, m_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, uint32_t(m_push.size()), m_push.data());
+            vkCmdPushConstants(cmd, m_pipeline.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, uint32_t(m_push.size()),
+                               m_push.data());
         vkCmdDispatch(cmd, m_groups, 1, 1);
     });
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -9,6 +9,7 @@
 
 #include <vulkan/vulkan.h>
 
+#include "gpu/compute_pipeline.h"
 #include "gpu/context.h"
 
 namespace penumbra::bench {
@@ -50,10 +51,7 @@ private:
     const gpu::Context& m_context;
     std::vector<uint8_t> m_push;
     uint32_t m_groups;
-    VkShaderModule m_module = VK_NULL_HANDLE;
-    VkDescriptorSetLayout m_setLayout = VK_NULL_HANDLE;
-    VkPipelineLayout m_layout = VK_NULL_HANDLE;
-    VkPipeline m_pipeline = VK_NULL_HANDLE;
+    gpu::ComputePipelineObjects m_pipeline;
     VkDescriptorPool m_pool = VK_NULL_HANDLE;
     VkDescriptorSet m_set = VK_NULL_HANDLE;
 };
