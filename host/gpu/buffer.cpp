@@ -91,7 +91,8 @@ Buffer& Buffer::operator=(Buffer&& other) noexcept {
 }
 
 void Buffer::upload(const void* data, VkDeviceSize bytes, VkDeviceSize offset) {
-    write(bytes, [&](void* mapped) { std::memcpy(mapped, data, bytes); }, offset);
+    const auto copy = [&](void* mapped) { std::memcpy(mapped, data, bytes); };
+    write(bytes, copy, offset);
 }
 
 void Buffer::write(VkDeviceSize bytes, const std::function<void(void*)>& fill, VkDeviceSize offset) {

@@ -164,8 +164,8 @@ ImageFile decodeStb(const std::string& bytes, const std::string& label, ImageFil
 ImageFile decodeExrFile(const std::string& bytes, const std::string& label, uint64_t maxPixels) {
     ImageFile image;
     // Decoded straight into RGBA, its size refused from the header as for the other formats.
-    const Image exr = decodeExrRgba(bytes, label, image.rgba,
-                                    [&](uint32_t w, uint32_t h) { checkSize(w, h, label, maxPixels); });
+    const Image exr =
+        decodeExrRgba(bytes, label, image.rgba, [&](uint32_t w, uint32_t h) { checkSize(w, h, label, maxPixels); });
     image.width = exr.width;
     image.height = exr.height;
     image.format = ImageFileFormat::Exr;

@@ -82,8 +82,8 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
     for (const Light& l : m_scene.lights)
         if (l.map) map = l.map.get();  // the loaders allow one map, alone (appendLightsWithoutGeometry)
     const size_t mapTexels = map ? map->texels.size() : 0;
-    m_environmentTexels = Buffer(context, mapTexels * sizeof(glm::vec4), texels, 0,
-                                 VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, "environment map texels");
+    m_environmentTexels = Buffer(context, mapTexels * sizeof(glm::vec4), texels, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT,
+                                 "environment map texels");
     if (map)
         m_environmentTexels.write(mapTexels * sizeof(glm::vec4),
                                   [&](void* out) { writeEnvironmentTexels(*map, static_cast<glm::vec4*>(out)); });
