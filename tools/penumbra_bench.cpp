@@ -18,7 +18,8 @@
 // --emitter-first rule|off|exact: how BRDF-sampled rays find emitters (render/emitter_first.h,
 // EmitterFirst; default rule), so that one build measures both paths on any scene.
 // --brdf-ray-fates prints, per scene, what the emitter-first rule sees (the fractions of
-// probe rays that hit an emitter, something else, or nothing) and what it chooses.
+// probe rays that hit an emitter, something else, or nothing, and the mean work of their
+// closest-hit traversal) and what it chooses.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -249,12 +250,14 @@ int main(int argc, char** argv) {
             return 0;
         }
         if (fatesOnly) {
-            std::printf("%-28s %8s %8s %8s %6s %6s\n", "scene", "emitter", "other", "escape", "exact", "pays");
+            std::printf("%-28s %8s %8s %8s %8s %6s %6s\n", "scene", "emitter", "other", "escape", "work", "exact",
+                        "pays");
             for (const std::string& name : scenes) {
                 Scene scene = benchScene(name);
                 SceneArrays arrays = buildSceneArrays(scene);
                 BrdfRayFates f = brdfRayFates(scene, arrays);
-                std::printf("%-28s %8.3f %8.3f %8.3f %6d %6d\n", name.c_str(), f.emitter, f.other, f.escape,
+                std::printf("%-28s %8.3f %8.3f %8.3f %8.1f %6d %6d\n", name.c_str(), f.emitter, f.other, f.escape,
+                            f.closestHitWork,
                             int(emitterFirstExact(scene.integrator, arrays)), int(emitterFirstPays(scene, arrays)));
             }
             return 0;
