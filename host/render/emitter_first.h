@@ -1,7 +1,8 @@
 // When the direct integrator's BRDF-sampled rays test the emitters first
 // (shaders/integrators/emitter_first.glsl): where that is the same estimator as the
-// closest hit, and where it was measured to pay (docs/PERFORMANCE.md, "Round 4"), judged
-// from a few hundred CPU rays that imitate the BRDF-sampled rays of a render.
+// closest hit, and where it was measured to pay (docs/PERFORMANCE.md, "Round 4" and
+// "Round 5"), judged from a few hundred CPU rays that imitate the BRDF-sampled rays of a
+// render.
 #pragma once
 
 #include <cstdint>
