@@ -257,8 +257,8 @@ int main(int argc, char** argv) {
                 SceneArrays arrays = buildSceneArrays(scene);
                 BrdfRayFates f = brdfRayFates(scene, arrays);
                 std::printf("%-28s %8.3f %8.3f %8.3f %8.1f %6d %6d\n", name.c_str(), f.emitter, f.other, f.escape,
-                            f.closestHitWork,
-                            int(emitterFirstExact(scene.integrator, arrays)), int(emitterFirstPays(scene, arrays)));
+                            f.closestHitWork, int(emitterFirstExact(scene.integrator, arrays)),
+                            int(emitterFirstPays(scene, arrays)));
             }
             return 0;
         }
@@ -272,8 +272,9 @@ int main(int argc, char** argv) {
             return 0;
         }
         std::printf("device: %s\n", context.info().name.c_str());
-        std::printf("%-28s %10s %9s %9s %9s %9s %10s %10s %9s %9s %9s %9s %9s\n", "scene", "prims", "bvh_s", "sah", "upload_s",
-                    "first_s", "render_s", "Msamples/s", "rays/spl", "Mrays/s", "bytes/prim", "cpu_s", "cpu_Ms/s");
+        std::printf("%-28s %10s %9s %9s %9s %9s %10s %10s %9s %9s %9s %9s %9s\n", "scene", "prims", "bvh_s", "sah",
+                    "upload_s", "first_s", "render_s", "Msamples/s", "rays/spl", "Mrays/s", "bytes/prim", "cpu_s",
+                    "cpu_Ms/s");
         for (const std::string& name : scenes) {
             Scene scene = benchScene(name);
             if (spp > 0) scene.sampler.spp = spp;
@@ -304,9 +305,9 @@ int main(int argc, char** argv) {
             renderer.reset();
             double rays = raysPerSample(renderer, scene);
             size_t prims = triangleCount(scene);
-            std::printf("%-28s %10zu %9.3f %9.2f %9.3f %9.3f %10.3f %10.3f %9.3f %9.2f %9.1f %9.3f %9.3f\n", name.c_str(), prims,
-                        bvhSeconds, arrays.bvh.sahCost, upload, first, median, samples / median * 1e-6, rays,
-                        samples * rays / median * 1e-6,
+            std::printf("%-28s %10zu %9.3f %9.2f %9.3f %9.3f %10.3f %10.3f %9.3f %9.2f %9.1f %9.3f %9.3f\n",
+                        name.c_str(), prims, bvhSeconds, arrays.bvh.sahCost, upload, first, median,
+                        samples / median * 1e-6, rays, samples * rays / median * 1e-6,
                         double(geometryBytes(arrays)) / double(std::max<size_t>(prims, 1)), cpuMedian,
                         samples / cpuMedian * 1e-6);
             std::fflush(stdout);
