@@ -344,6 +344,24 @@ TEST(Bvh, SinglePrimitiveIsOneLeaf) {
     }
 }
 
+// The work counts feed the emitter-first rule (render/emitter_first.cpp): two triangles far
+// apart are a root pair of two leaves, so a ray that hits one tests pair 0 (the root), the
+// root's pair and one primitive, and a ray that leaves tests pair 0 alone.
+TEST(Bvh, TraversalWorkCountsPairsAndPrimitives) {
+    std::vector<gpu::Primitive> scene{triangle(vec3(-6, -1, 0), vec3(-4, -1, 0), vec3(-5, 1, 0)),
+                                      triangle(vec3(4, -1, 0), vec3(6, -1, 0), vec3(5, 1, 0))};
+    Bvh bvh = buildBvh(scene);
+    ASSERT_EQ(bvh.nodes.size(), 3u);
+    TraversalWork work;
+    ASSERT_TRUE(intersectClosest(bvh, vec3(-5, 0, 3), vec3(0, 0, -1), kInf, &work));
+    EXPECT_EQ(work.pairs, 2u);
+    EXPECT_EQ(work.primitives, 1u);
+    // Counts add up over calls; a ray that misses the root's box stops at pair 0.
+    EXPECT_FALSE(intersectClosest(bvh, vec3(-5, 0, 3), vec3(0, 0, 1), kInf, &work));
+    EXPECT_EQ(work.pairs, 3u);
+    EXPECT_EQ(work.primitives, 1u);
+}
+
 TEST(Bvh, CoincidentCentroidsSplitByMedian) {
     // Nested spheres and centred quads: every bounding box has the same centre, so no
     // binning plane separates anything and the builder must halve ranges instead.

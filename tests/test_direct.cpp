@@ -236,6 +236,27 @@ TEST(DirectClosedForm, DirectionalLight) {
     expectDeltaLightMatches(doc, [&](glm::dvec3) { return kAlbedo / M_PI * E * -travel.y; }, "directional");
 }
 
+// Vertex normals shade: the plane as a mesh whose vertex normals all lean the same way, so
+// the shading normal is that direction everywhere and a directional light's reflected
+// radiance is albedo / pi * E * cos(angle to the shading normal) exactly, not the geometric
+// normal's cosine.
+TEST(DirectClosedForm, DirectionalLightOnMeshWithVertexNormals) {
+    const double E = 3.0;
+    glm::dvec3 travel = glm::normalize(glm::dvec3(-1, -2, -0.5));
+    glm::dvec3 shading = glm::normalize(glm::dvec3(0.3, 1.0, 0.2));
+    json doc = planeScene(64, direct("light"));
+    json normals = json::array();
+    for (int i = 0; i < 4; ++i) normals.insert(normals.end(), {shading.x, shading.y, shading.z});
+    doc["shapes"][0] = {{"type", "mesh"},
+                        {"positions", {-50, 0, -50, -50, 0, 50, 50, 0, 50, 50, 0, -50}},
+                        {"indices", {0, 1, 2, 0, 2, 3}},
+                        {"normals", normals},
+                        {"material", "plane"}};
+    doc["lights"].push_back({{"type", "directional"}, {"direction", {-1, -2, -0.5}}, {"irradiance", {E, E, E}}});
+    expectDeltaLightMatches(
+        doc, [&](glm::dvec3) { return kAlbedo / M_PI * E * glm::dot(-travel, shading); }, "vertex-normals");
+}
+
 TEST(DirectClosedForm, QuadLightEveryStrategy) {
     const double Le = 5.0, h = 1.5;
     json doc = planeScene(256, direct("light"));

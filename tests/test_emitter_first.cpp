@@ -58,6 +58,25 @@ json occludedScene(const std::string& strategy, int spp, int seed, bool sphere, 
     };
 }
 
+// The open scene with its floor a bumpy grid of 2 x 256 x 256 triangles.
+json openSceneOnDenseMesh() {
+    json doc = occludedScene("mis", 1, 1, false, true);
+    constexpr int n = 256;
+    json positions = json::array(), indices = json::array();
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) {
+            double x = -2.0 + 4.0 * i / n, z = -2.0 + 4.0 * j / n;
+            positions.insert(positions.end(), {x, 0.02 * std::sin(9.0 * x) * std::cos(7.0 * z), z});
+        }
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            int a = j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
+            indices.insert(indices.end(), {a, c, b, b, c, d});
+        }
+    doc["shapes"][0] = {{"type", "mesh"}, {"positions", positions}, {"indices", indices}, {"material", "walls"}};
+    return doc;
+}
+
 Image render(const json& doc, const std::string& name, EmitterFirst mode, KernelOptions* options = nullptr) {
     Scene scene = test::sceneFromJson(doc, name);
     Renderer renderer(test::gpuContext(), scene);
@@ -85,6 +104,9 @@ TEST(EmitterFirst, RuleTakesTheScenesItWasMeasuredOn) {
     EXPECT_TRUE(pays(occludedScene("bsdf", 1, 1, false), "ef-rule-bsdf"));
     // Most rays leave an open scene, cheaply for the closest hit: measured to lose.
     EXPECT_FALSE(pays(occludedScene("mis", 1, 1, false, true), "ef-rule-open"));
+    // Unless the surfaces the rays leave from are dense meshes: then even a ray that leaves
+    // the scene descends through a deep tree around its origin, which the path saves.
+    EXPECT_TRUE(pays(openSceneOnDenseMesh(), "ef-rule-dense"));
     // Light sampling alone traces no BRDF-sampled ray: nothing to gain.
     EXPECT_FALSE(pays(occludedScene("light", 1, 1, false), "ef-rule-light"));
     // An environment is hit by every escaping ray; a mesh emitter is no sphere or quad.

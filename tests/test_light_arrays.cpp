@@ -75,3 +75,33 @@ TEST(LightArrays, EnvironmentMapHasItsFeatureBitSizeTablesAndPower) {
     EXPECT_LT(FEATURE_ENVIRONMENT_MAP, 32u);
     EXPECT_GE(FEATURE_ENVIRONMENT_MAP, FEATURE_MATERIAL + MATERIAL_KIND_COUNT);
 }
+
+// Whether a quad light is sampled as a spherical rectangle is decided once, on the host: a
+// rectangle gets LIGHT_RECTANGLE, and only a scene with some other parallelogram sets the
+// feature bit that keeps the two-triangle sampling in the kernel.
+TEST(LightArrays, RectangleQuadLightsAreFlaggedAndParallelogramsSetTheirFeatureBit) {
+    auto quadLight = [](glm::vec3 edgeU, glm::vec3 edgeV) {
+        Shape quad;
+        quad.type = ShapeType::Quad;
+        quad.emission = glm::vec3(1.0f);
+        quad.origin = glm::vec3(-0.5f, 1.0f, -0.5f);
+        quad.edgeU = edgeU;
+        quad.edgeV = edgeV;
+        return quad;
+    };
+    Scene scene;
+    scene.materials.push_back(Material{});
+    // Edges written in decimals: orthogonal to within rounding.
+    scene.shapes.push_back(quadLight(glm::vec3(0.3f, 0.0f, 0.1f), glm::vec3(-0.1f, 0.0f, 0.3f)));
+    SceneArrays rectangles = buildSceneArrays(scene);
+    ASSERT_EQ(rectangles.lights.size(), 1u);
+    EXPECT_NE(rectangles.lights[0].flags & gpu::LIGHT_RECTANGLE, 0u);
+    EXPECT_EQ(sceneFeatures(rectangles) & (1u << FEATURE_PARALLELOGRAM_LIGHT), 0u);
+    scene.shapes.push_back(quadLight(glm::vec3(1.0f, 0.0f, 0.0f), glm::vec3(0.2f, 0.0f, 1.0f)));
+    SceneArrays mixed = buildSceneArrays(scene);
+    ASSERT_EQ(mixed.lights.size(), 2u);
+    EXPECT_NE(mixed.lights[0].flags & gpu::LIGHT_RECTANGLE, 0u);
+    EXPECT_EQ(mixed.lights[1].flags & gpu::LIGHT_RECTANGLE, 0u);
+    EXPECT_NE(sceneFeatures(mixed) & (1u << FEATURE_PARALLELOGRAM_LIGHT), 0u);
+    EXPECT_LT(FEATURE_PARALLELOGRAM_LIGHT, 32u);
+}

@@ -5,7 +5,8 @@
 // time as the median of --runs full renders, million pixel samples per second, and million
 // rays per second: rays per sample are counted in separate, untimed passes by a
 // ray-counting variant of the kernel (Renderer::countRays), so the timed renders run the
-// kernel that users get.
+// kernel that users get. cpu_s is the median CPU time of a render (all threads), and
+// cpu_Ms/s the samples per CPU second: steadier than wall time on a shared machine.
 // --count-rays prints only the rays per sample of each scene (no timing), for
 // tools/mitsuba_compare.py. Scenes are files, or "procedural:N" for a displaced sphere of about N triangles on a floor.
 // --write-mesh N FILE writes that sphere's mesh as JSON, for tools/make_bench_scenes.py.
@@ -17,7 +18,8 @@
 // --emitter-first rule|off|exact: how BRDF-sampled rays find emitters (render/emitter_first.h,
 // EmitterFirst; default rule), so that one build measures both paths on any scene.
 // --brdf-ray-fates prints, per scene, what the emitter-first rule sees (the fractions of
-// probe rays that hit an emitter, something else, or nothing) and what it chooses.
+// probe rays that hit an emitter, something else, or nothing, and the mean work of their
+// closest-hit traversal) and what it chooses.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -25,6 +27,8 @@
 #include <cstring>
 #include <string>
 #include <vector>
+
+#include <sys/resource.h>
 
 #include "bvh/bvh.h"
 #include "gpu/context.h"
@@ -39,6 +43,17 @@ using Clock = std::chrono::steady_clock;
 namespace {
 
 double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// CPU seconds used by this process so far, all threads (llvmpipe's workers included), user
+// and system. On a shared machine other processes lengthen wall time far more than they
+// lengthen the CPU time a render needs, so A/B comparisons can use it (tools/bench-ab
+// --metric cpu).
+double processCpuSeconds() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    auto seconds = [](timeval t) { return double(t.tv_sec) + 1e-6 * double(t.tv_usec); };
+    return seconds(usage.ru_utime) + seconds(usage.ru_stime);
+}
 
 // The displaced-sphere bench mesh, defined only here (tools/make_bench_scenes.py asks for
 // it with --write-mesh): a sphere of `rings` x 2*rings quads (two triangles each, one in
@@ -235,13 +250,15 @@ int main(int argc, char** argv) {
             return 0;
         }
         if (fatesOnly) {
-            std::printf("%-28s %8s %8s %8s %6s %6s\n", "scene", "emitter", "other", "escape", "exact", "pays");
+            std::printf("%-28s %8s %8s %8s %8s %6s %6s\n", "scene", "emitter", "other", "escape", "work", "exact",
+                        "pays");
             for (const std::string& name : scenes) {
                 Scene scene = benchScene(name);
                 SceneArrays arrays = buildSceneArrays(scene);
                 BrdfRayFates f = brdfRayFates(scene, arrays);
-                std::printf("%-28s %8.3f %8.3f %8.3f %6d %6d\n", name.c_str(), f.emitter, f.other, f.escape,
-                            int(emitterFirstExact(scene.integrator, arrays)), int(emitterFirstPays(scene, arrays)));
+                std::printf("%-28s %8.3f %8.3f %8.3f %8.1f %6d %6d\n", name.c_str(), f.emitter, f.other, f.escape,
+                            f.closestHitWork, int(emitterFirstExact(scene.integrator, arrays)),
+                            int(emitterFirstPays(scene, arrays)));
             }
             return 0;
         }
@@ -255,8 +272,9 @@ int main(int argc, char** argv) {
             return 0;
         }
         std::printf("device: %s\n", context.info().name.c_str());
-        std::printf("%-28s %10s %9s %9s %9s %9s %10s %10s %9s %9s %9s\n", "scene", "prims", "bvh_s", "sah", "upload_s",
-                    "first_s", "render_s", "Msamples/s", "rays/spl", "Mrays/s", "bytes/prim");
+        std::printf("%-28s %10s %9s %9s %9s %9s %10s %10s %9s %9s %9s %9s %9s\n", "scene", "prims", "bvh_s", "sah",
+                    "upload_s", "first_s", "render_s", "Msamples/s", "rays/spl", "Mrays/s", "bytes/prim", "cpu_s",
+                    "cpu_Ms/s");
         for (const std::string& name : scenes) {
             Scene scene = benchScene(name);
             if (spp > 0) scene.sampler.spp = spp;
@@ -270,23 +288,28 @@ int main(int argc, char** argv) {
             t0 = Clock::now();
             context.submitAndWait([&](VkCommandBuffer cmd) { renderer.recordPasses(cmd, 0, 1, 0, scene.film.height); });
             double first = secondsSince(t0);
-            std::vector<double> times;
+            std::vector<double> times, cpuTimes;
             for (int r = 0; r < runs; ++r) {
                 renderer.reset();
                 t0 = Clock::now();
+                double cpu0 = processCpuSeconds();
                 renderer.renderAll();
                 times.push_back(secondsSince(t0));
+                cpuTimes.push_back(processCpuSeconds() - cpu0);
             }
             std::sort(times.begin(), times.end());
+            std::sort(cpuTimes.begin(), cpuTimes.end());
             double median = times[times.size() / 2];
+            double cpuMedian = cpuTimes[cpuTimes.size() / 2];
             double samples = double(scene.film.width) * scene.film.height * scene.sampler.spp;
             renderer.reset();
             double rays = raysPerSample(renderer, scene);
             size_t prims = triangleCount(scene);
-            std::printf("%-28s %10zu %9.3f %9.2f %9.3f %9.3f %10.3f %10.3f %9.3f %9.2f %9.1f\n", name.c_str(), prims,
-                        bvhSeconds, arrays.bvh.sahCost, upload, first, median, samples / median * 1e-6, rays,
-                        samples * rays / median * 1e-6,
-                        double(geometryBytes(arrays)) / double(std::max<size_t>(prims, 1)));
+            std::printf("%-28s %10zu %9.3f %9.2f %9.3f %9.3f %10.3f %10.3f %9.3f %9.2f %9.1f %9.3f %9.3f\n",
+                        name.c_str(), prims, bvhSeconds, arrays.bvh.sahCost, upload, first, median,
+                        samples / median * 1e-6, rays, samples * rays / median * 1e-6,
+                        double(geometryBytes(arrays)) / double(std::max<size_t>(prims, 1)), cpuMedian,
+                        samples / cpuMedian * 1e-6);
             std::fflush(stdout);
         }
     } catch (const std::exception& e) {

@@ -37,8 +37,16 @@ struct CpuHit {
     glm::vec2 uv{0.0f};      // triangle: barycentrics of v1, v2; quad: (s, t); sphere: unused
 };
 
+// What one traversal did: child pairs whose two boxes it tested, primitives it tested.
+struct TraversalWork {
+    uint32_t pairs = 0;
+    uint32_t primitives = 0;
+};
+
 // Closest hit with t in (0, tMax), and whether any hit exists; the same formulas as the GLSL.
-std::optional<CpuHit> intersectClosest(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax);
+// `work`, when given, gets the traversal's steps added to it.
+std::optional<CpuHit> intersectClosest(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax,
+                                       TraversalWork* work = nullptr);
 bool intersectAny(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax);
 // Every primitive tested in turn: the reference the BVH must agree with.
 std::optional<CpuHit> intersectBruteForce(const std::vector<gpu::Primitive>& primitives, glm::vec3 origin,

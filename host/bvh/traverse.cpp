@@ -13,8 +13,10 @@ namespace {
 // over the child pairs (shared/types.h): while-while (descend to a leaf, then test its
 // primitives), nearest child first with the far child's entry distance on the stack for
 // closest hits, plain order and a return at the first hit for `anyHit`. Returns whether
-// anything was hit; `hit` holds the closest hit found (for `anyHit`, the first).
-bool traverse(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax, bool anyHit, CpuHit& hit) {
+// anything was hit; `hit` holds the closest hit found (for `anyHit`, the first). `work`
+// counts the pairs and primitives tested.
+bool traverse(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax, bool anyHit, CpuHit& hit,
+              TraversalWork& work) {
     hit.t = tMax;
     hit.primitive = gpu::NO_HIT;
     hit.uv = glm::vec2(0.0f);
@@ -37,6 +39,7 @@ bool traverse(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax, bool 
                 atLeaf = true;
                 break;
             }
+            ++work.pairs;
             const gpu::BvhNode& c0 = pairs[2 * offset];
             const gpu::BvhNode& c1 = pairs[2 * offset + 1];
             float t0, t1;
@@ -62,6 +65,7 @@ bool traverse(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax, bool 
             for (uint32_t i = offset; i < offset + count; ++i) {
                 float t;
                 glm::vec2 uv;
+                ++work.primitives;
                 if (intersectPrimitive(bvh.primitives[i], origin, dir, hit.t, t, uv)) {
                     hit.t = t;
                     hit.primitive = i;
@@ -88,15 +92,23 @@ bool traverse(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax, bool 
 
 }  // namespace
 
-std::optional<CpuHit> intersectClosest(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax) {
+std::optional<CpuHit> intersectClosest(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax,
+                                       TraversalWork* work) {
     CpuHit hit;
-    if (!traverse(bvh, origin, dir, tMax, false, hit)) return std::nullopt;
+    TraversalWork counted;
+    bool found = traverse(bvh, origin, dir, tMax, false, hit, counted);
+    if (work) {
+        work->pairs += counted.pairs;
+        work->primitives += counted.primitives;
+    }
+    if (!found) return std::nullopt;
     return hit;
 }
 
 bool intersectAny(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax) {
     CpuHit hit;
-    return traverse(bvh, origin, dir, tMax, true, hit);
+    TraversalWork work;
+    return traverse(bvh, origin, dir, tMax, true, hit, work);
 }
 
 std::optional<CpuHit> intersectBruteForce(const std::vector<gpu::Primitive>& primitives, glm::vec3 origin,

@@ -1,5 +1,6 @@
 // The emitter-first rule (emitter_first.h): the exactness conditions, the CPU probe of where
-// BRDF-sampled rays end, and the thresholds measured in docs/PERFORMANCE.md ("Round 4").
+// BRDF-sampled rays end and what their closest hits cost, and the thresholds measured in
+// docs/PERFORMANCE.md ("Round 4", "Round 5").
 #include "render/emitter_first.h"
 
 #include <algorithm>
@@ -76,7 +77,9 @@ BrdfRayFates brdfRayFates(const Scene& scene, const SceneArrays& arrays) {
                     const float r = std::sqrt(u1), phi = 2.0f * float(M_PI) * u2;
                     const glm::vec3 wi = r * std::cos(phi) * t1 + r * std::sin(phi) * t2 +
                                          std::sqrt(std::max(0.0f, 1.0f - u1)) * n;
-                    const auto next = intersectClosest(bvh, origin, wi, 3.4e38f);
+                    TraversalWork work;
+                    const auto next = intersectClosest(bvh, origin, wi, 3.4e38f, &work);
+                    fates.closestHitWork += double(work.pairs + work.primitives);
                     if (!next) fates.escape += 1.0;
                     else if (bvh.primitives[next->primitive].light != gpu::NO_LIGHT) fates.emitter += 1.0;
                     else fates.other += 1.0;
@@ -87,6 +90,7 @@ BrdfRayFates brdfRayFates(const Scene& scene, const SceneArrays& arrays) {
         fates.emitter /= rays;
         fates.other /= rays;
         fates.escape /= rays;
+        fates.closestHitWork /= rays;
     }
     return fates;
 }
@@ -94,7 +98,7 @@ BrdfRayFates brdfRayFates(const Scene& scene, const SceneArrays& arrays) {
 bool emitterFirstPays(const Scene& scene, const SceneArrays& arrays) {
     if (!emitterFirstExact(scene.integrator, arrays)) return false;
     const BrdfRayFates f = brdfRayFates(scene, arrays);
-    return f.other >= kEmitterFirstMinOther && f.emitter <= kEmitterFirstMaxEmitter;
+    return f.closestHitWork >= kEmitterFirstMinWork && f.emitter <= kEmitterFirstMaxEmitter;
 }
 
 }  // namespace penumbra

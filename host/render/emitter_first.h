@@ -1,7 +1,8 @@
 // When the direct integrator's BRDF-sampled rays test the emitters first
 // (shaders/integrators/emitter_first.glsl): where that is the same estimator as the
-// closest hit, and where it was measured to pay (docs/PERFORMANCE.md, "Round 4"), judged
-// from a few hundred CPU rays that imitate the BRDF-sampled rays of a render.
+// closest hit, and where it was measured to pay (docs/PERFORMANCE.md, "Round 4" and
+// "Round 5"), judged from a few hundred CPU rays that imitate the BRDF-sampled rays of a
+// render.
 #pragma once
 
 #include <cstdint>
@@ -27,22 +28,26 @@ constexpr uint32_t kEmitterFirstMaxLights = 8;
 // environment: a ray that hits no sphere or quad emitter gathers nothing).
 bool emitterFirstExact(const IntegratorSettings& integrator, const SceneArrays& arrays);
 
-// Where rays like a render's BRDF-sampled rays end: the fractions that hit an emitter,
-// hit something else, or leave the scene.
+// Where rays like a render's BRDF-sampled rays end (the fractions that hit an emitter,
+// hit something else, or leave the scene) and what their closest-hit traversals cost.
 struct BrdfRayFates {
     double emitter = 0.0, other = 0.0, escape = 0.0;
+    double closestHitWork = 0.0;  // mean child pairs plus primitives a closest hit tests per ray
 };
 // Cosine-distributed rays from the first hits of a grid of camera rays, traced on the CPU
 // (bvh/bvh.h) with a fixed pattern, so the answer is the same on every run.
 BrdfRayFates brdfRayFates(const Scene& scene, const SceneArrays& arrays);
 
-// emitterFirstExact, and the rule measured in docs/PERFORMANCE.md ("Round 4"): the path
-// saves the closest-hit traversal of rays that would hit something other than an emitter
-// and costs an emitter loop for every ray and an any-hit traversal for SIMD groups where
-// some ray finds an emitter; so it pays where most rays hit other surfaces (closed rooms)
-// and few find an emitter.
+// emitterFirstExact, and the rule measured in docs/PERFORMANCE.md ("Round 5"): the path
+// saves the closest-hit traversal of every ray that finds no emitter, and costs an emitter
+// loop for every ray and an any-hit traversal for the SIMD groups where some ray finds an
+// emitter. So it pays where few rays find an emitter and the closest hit is dear: in closed
+// rooms, where rays hit walls after a few steps, and on dense meshes, where even a ray that
+// leaves the scene first descends through a deep tree around its origin. It loses where
+// the closest hit is cheap (open scenes of a few shapes: most rays leave after a few box
+// tests). The measured scenes put the break-even between 4.7 and 10.3 units of work.
 bool emitterFirstPays(const Scene& scene, const SceneArrays& arrays);
-constexpr double kEmitterFirstMinOther = 0.5;     // BrdfRayFates::other at least
+constexpr double kEmitterFirstMinWork = 8.0;      // BrdfRayFates::closestHitWork at least
 constexpr double kEmitterFirstMaxEmitter = 0.05;  // BrdfRayFates::emitter at most
 
 }  // namespace penumbra

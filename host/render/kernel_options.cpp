@@ -73,6 +73,7 @@ uint32_t sceneFeatures(const SceneArrays& arrays) {
         bits |= featureBit(FEATURE_LIGHT, LIGHT_KIND_COUNT, l.type);
         if (l.type == gpu::LIGHT_ENVIRONMENT && (l.flags & gpu::LIGHT_ENVIRONMENT_MAP))
             bits |= 1u << FEATURE_ENVIRONMENT_MAP;
+        if (l.type == gpu::LIGHT_QUAD && !(l.flags & gpu::LIGHT_RECTANGLE)) bits |= 1u << FEATURE_PARALLELOGRAM_LIGHT;
     }
     for (const gpu::Material& m : arrays.materials) bits |= featureBit(FEATURE_MATERIAL, MATERIAL_KIND_COUNT, m.type);
     return bits;

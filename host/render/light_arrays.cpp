@@ -134,6 +134,8 @@ gpu::Light makeQuadLight(const Shape& shape, uint32_t primitive) {
     gpu::Light light = makeLight(gpu::LIGHT_QUAD, shape.emission, shape.origin);
     light.first = primitive;
     light.flags = shape.twoSided ? gpu::LIGHT_TWO_SIDED : 0u;
+    const float lengths = glm::length(shape.edgeU) * glm::length(shape.edgeV);
+    if (std::abs(glm::dot(shape.edgeU, shape.edgeV)) <= 1e-5f * lengths) light.flags |= gpu::LIGHT_RECTANGLE;
     light.area = glm::length(glm::cross(shape.edgeU, shape.edgeV));
     return light;
 }

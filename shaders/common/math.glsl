@@ -40,15 +40,26 @@ bool isFiniteVec(vec3 v) { return !any(isnan(v)) && !any(isinf(v)); }
 
 float sqr(float x) { return x * x; }
 
-// atan(y, x) to about float precision. Vulkan lets atan be off by 4096 ULP and lavapipe's is
-// off by ~2e-5 relative (measured through the solid angles of sampling/spherical_*.glsl,
-// whose pdfs integrated to 1 + 2e-5): one Newton step on y cos(t) - x sin(t) = 0 from the
-// built-in's estimate removes that (the error becomes quadratic in the first one's).
+// atan(y, x) to about float precision (a few ULP). Vulkan lets atan be off by 4096 ULP and
+// lavapipe's is off by ~2e-5 relative (measured through the solid angles of
+// sampling/spherical_*.glsl, whose pdfs integrated to 1 + 2e-5), so the built-in is not
+// used: this is Cephes' atanf (S. Moshier, Cephes Math Library, atanf.c: peak relative error
+// 1.9e-7) on min(|x|, |y|) / max(|x|, |y|) in [0, 1], reduced once more by pi/4 above
+// tan(pi/8), then moved into the quadrant of (x, y). Only selects and one division: the
+// built-in with a Newton step (one sin and one cos more) cost several times as much on
+// llvmpipe, where every sample of a quad light in solid angle takes several of these
+// (docs/PERFORMANCE.md, "Round 5"). atan2Accurate(0, 0) = 0.
 float atan2Accurate(float y, float x) {
-    float t = atan(y, x);
-    float c = cos(t), s = sin(t);
-    float den = x * c + y * s;  // = |(x, y)| cos(error), never 0 once (x, y) != 0
-    return den > 0.0 ? t + (y * c - x * s) / den : t;
+    float ax = abs(x), ay = abs(y);
+    float lo = min(ax, ay), hi = max(ax, ay);
+    bool reduce = lo > 0.41421356237309505 * hi;  // tan(pi/8): atan(a) = pi/4 + atan((a - 1) / (a + 1))
+    float t = hi > 0.0 ? (reduce ? lo - hi : lo) / (reduce ? lo + hi : hi) : 0.0;
+    float z = t * t;
+    float r = (((8.05374449538e-2 * z - 1.38776856032e-1) * z + 1.99777106478e-1) * z - 3.33329491539e-1) * z * t + t;
+    r += reduce ? 0.25 * PI : 0.0;     // atan(lo / hi), in [0, pi/4]
+    r = ay > ax ? 0.5 * PI - r : r;    // atan(ay / ax), in [0, pi/2]
+    r = x < 0.0 ? PI - r : r;          // in [0, pi]
+    return y < 0.0 ? -r : r;
 }
 
 #endif

@@ -30,6 +30,8 @@ bool hasLight(uint type) { return (kSceneFeatures & (1u << (FEATURE_LIGHT + type
 bool hasMaterial(uint type) { return (kSceneFeatures & (1u << (FEATURE_MATERIAL + type))) != 0u; }
 // Whether the scene's environment has a map; false compiles the map's lookup and sampling out.
 bool hasEnvironmentMap() { return (kSceneFeatures & (1u << FEATURE_ENVIRONMENT_MAP)) != 0u; }
+// Whether some quad light is no rectangle; false compiles its two-triangle sampling out.
+bool hasParallelogramLights() { return (kSceneFeatures & (1u << FEATURE_PARALLELOGRAM_LIGHT)) != 0u; }
 // Whether any material is textured; false compiles texture coordinates and lookups out.
 bool hasTextures() { return kTextures != 0u; }
 

@@ -11,29 +11,31 @@
 #include "sampling/spherical_rectangle.glsl"
 #include "sampling/spherical_triangle.glsl"
 
-// A quad whose edges are orthogonal (to 1e-5 of their lengths' product: scene files write
-// rectangles in decimals) is sampled as a spherical rectangle, any other as two spherical
-// triangles (origin, origin + u, origin + u + v) and (origin, origin + u + v, origin + v).
-bool quadIsRectangle(Primitive p) { return abs(dot(p.p1, p.p2)) <= 1e-5 * length(p.p1) * length(p.p2); }
+// A quad whose edges are orthogonal (LIGHT_RECTANGLE, decided on the host) is sampled as a
+// spherical rectangle, any other as two spherical triangles (origin, origin + u, origin +
+// u + v) and (origin, origin + u + v, origin + v). In scenes without such other quads the
+// answer is true at compile time, and the triangles' code is compiled out.
+bool quadIsRectangle(Light light) { return !hasParallelogramLights() || (light.flags & LIGHT_RECTANGLE) != 0u; }
 
 // The solid angles of the quad's two triangles from x; whether the quad is sampled in solid
 // angle from x (else on its area): seen above the grazing bound, and the rectangle's total
 // solid angle, or each triangle's, above the smallest.
-bool quadSolidAngles(Primitive p, vec3 x, LightSamplingModes modes, out float omega0, out float omega1) {
+bool quadSolidAngles(Light light, Primitive p, vec3 x, LightSamplingModes modes, out float omega0, out float omega1) {
     vec3 v0 = p.p0, v1 = p.p0 + p.p1, v2 = v1 + p.p2, v3 = p.p0 + p.p2;
     omega0 = sphericalTriangleSolidAngle(v0, v1, v2, x);
     omega1 = sphericalTriangleSolidAngle(v0, v2, v3, x);
     if (!sphericalElevationUsable(v0, v1, v2, v3, primitiveFrontNormal(p), x, modes)) return false;
-    if (quadIsRectangle(p)) return sphericalSolidAngleUsable(omega0 + omega1, modes);
+    if (quadIsRectangle(light)) return sphericalSolidAngleUsable(omega0 + omega1, modes);
     return sphericalSolidAngleUsable(omega0, modes) && sphericalSolidAngleUsable(omega1, modes);
 }
 
 // A point on quad p whose direction from x is uniform in the quad's solid angle
 // omega0 + omega1 (quadSolidAngles): the spherical rectangle, or one of the two spherical
 // triangles chosen in proportion to its solid angle (with uChoice) and sampled uniformly.
-bool sampleQuadSolidAngle(Primitive p, vec3 x, vec2 u, float uChoice, float omega0, float omega1, out vec3 y) {
+bool sampleQuadSolidAngle(Light light, Primitive p, vec3 x, vec2 u, float uChoice, float omega0, float omega1,
+                          out vec3 y) {
     y = x;
-    if (quadIsRectangle(p)) {
+    if (quadIsRectangle(light)) {
         SphericalRectangle r = makeSphericalRectangle(p.p0, p.p1, p.p2, x, omega0 + omega1);
         y = x + sampleSphericalRectangle(r, u);
         return true;
@@ -52,8 +54,8 @@ bool sampleQuadLight(Light light, vec3 x, vec3 u, LightSamplingModes modes, inou
     vec3 y;
     float solidAnglePdf = 0.0;  // > 0: y sampled in solid angle with this density
     float omega0, omega1;
-    if (modes.quad == QUAD_SOLID_ANGLE && quadSolidAngles(p, x, modes, omega0, omega1)) {
-        if (!sampleQuadSolidAngle(p, x, u.xy, u.z, omega0, omega1, y)) return false;
+    if (modes.quad == QUAD_SOLID_ANGLE && quadSolidAngles(light, p, x, modes, omega0, omega1)) {
+        if (!sampleQuadSolidAngle(light, p, x, u.xy, u.z, omega0, omega1, y)) return false;
         solidAnglePdf = 1.0 / (omega0 + omega1);
     } else {
         y = p.p0 + u.x * p.p1 + u.y * p.p2;
@@ -68,7 +70,8 @@ float quadLightPdf(Light light, vec3 x, vec3 wi, vec3 ny, float d, LightSampling
     if (cosY <= 0.0 && (light.flags & LIGHT_TWO_SIDED) == 0u) return 0.0;
     if (modes.quad == QUAD_SOLID_ANGLE) {
         float omega0, omega1;
-        if (quadSolidAngles(loadLightPrimitive(light.first), x, modes, omega0, omega1)) return 1.0 / (omega0 + omega1);
+        if (quadSolidAngles(light, loadLightPrimitive(light.first), x, modes, omega0, omega1))
+            return 1.0 / (omega0 + omega1);
     }
     return polygonAreaPdf(light, cosY, d);
 }

@@ -184,6 +184,10 @@ PENUMBRA_CONST uint LIGHT_SPOT = 6u;         // position, emission = intensity o
 #define LIGHT_KIND_COUNT 7u                  // one more than the last LIGHT_*: scene feature bits (below)
 PENUMBRA_CONST uint LIGHT_TWO_SIDED = 1u;    // flags bit: quad / mesh emit from both faces
 PENUMBRA_CONST uint LIGHT_ENVIRONMENT_MAP = 2u;  // flags bit: the environment reads its map (below)
+// flags bit of a quad light whose edges are orthogonal (to 1e-5 of their lengths' product:
+// scene files write rectangles in decimals), decided once on the host: sampled in solid
+// angle as a spherical rectangle, any other quad as two spherical triangles (lights/quad.glsl).
+PENUMBRA_CONST uint LIGHT_RECTANGLE = 4u;
 
 // An environment with a map (SCENE_FORMAT.md `environment` with `file`) has no area or mesh
 // table: `first` and `count` hold the map's width and height, and its radiance is the texel
@@ -288,7 +292,10 @@ PENUMBRA_CONST uint SAMPLER_SOBOL = 1u;        // padded Owen-scrambled Sobol' (
 // One more bit after the groups: the scene's environment has a map (LIGHT_ENVIRONMENT_MAP);
 // without it the map lookup and sampling are compiled out and the constant sky stays as it was.
 #define FEATURE_ENVIRONMENT_MAP (FEATURE_MATERIAL + MATERIAL_KIND_COUNT)
-#define FEATURE_BIT_COUNT (FEATURE_ENVIRONMENT_MAP + 1u)
+// And one more: a quad light that is no rectangle (LIGHT_RECTANGLE unset); without one, the
+// two-triangle sampling of such quads is compiled out (llvmpipe runs both sides of a branch).
+#define FEATURE_PARALLELOGRAM_LIGHT (FEATURE_ENVIRONMENT_MAP + 1u)
+#define FEATURE_BIT_COUNT (FEATURE_PARALLELOGRAM_LIGHT + 1u)
 PENUMBRA_CONST uint FEATURES_ALL = 0xffffffffu;
 #ifdef __cplusplus
 static_assert(PRIM_TRIANGLE < PRIM_KIND_COUNT && PRIM_SPHERE < PRIM_KIND_COUNT && PRIM_QUAD < PRIM_KIND_COUNT &&
