@@ -54,8 +54,9 @@ std::vector<gpu::AliasEntry> buildEnvironmentTable(const EnvironmentImage& image
             total += weights[i];
         }
     }
-    *black = !(total > 0.0);
-    if (*black)
+    const bool noEmission = !(total > 0.0);
+    if (black) *black = noEmission;
+    if (noEmission)
         for (uint32_t row = 0; row < image.height; ++row)
             std::fill_n(weights.begin() + ptrdiff_t(size_t(row) * image.width), image.width,
                         environmentTexelSolidAngle(row, image.width, image.height));

@@ -42,8 +42,9 @@ void writeEnvironmentTexels(const EnvironmentImage& image, glm::vec4* out);
 // every pdf stays finite; it delivers no light either way.
 EnvironmentDistribution buildEnvironmentDistribution(EnvironmentImage image);
 // The same distribution's alias table alone, for a map that stays where it is (the scene's):
-// no copy of the texels, one array of doubles while it is built. `black`: no texel emits.
-std::vector<gpu::AliasEntry> buildEnvironmentTable(const EnvironmentImage& image, bool* black);
+// no copy of the texels, one array of doubles while it is built. `black`, when given: no
+// texel emits.
+std::vector<gpu::AliasEntry> buildEnvironmentTable(const EnvironmentImage& image, bool* black = nullptr);
 
 // The slot of an alias draw over `count` entries and its coin, from the 48 bits of two
 // uniform numbers of 24 bits each (the GPU's resolution): one 24-bit number reaches only 2^24

@@ -61,8 +61,8 @@ gpu::Light makeEnvironmentMapLight(const Light& l, SceneArrays& out, Environment
             sum += glm::dvec3(map.texels[size_t(row) * map.width + col]) * omega;
     }
     light.position = glm::vec3(sum / (4.0 * std::numbers::pi));
-    bool black = false;  // a black map is sampled in proportion to solid angle; it emits nothing either way
-    out.environmentTable = buildEnvironmentTable(map, &black);
+    // A black map is sampled in proportion to solid angle; it emits nothing either way.
+    out.environmentTable = buildEnvironmentTable(map);
     if (texels == EnvironmentTexels::InArrays) {
         out.environmentTexels.resize(map.texels.size());
         writeEnvironmentTexels(map, out.environmentTexels.data());
