@@ -97,10 +97,11 @@ vec3 incidentEmission(Shading s, vec3 wi, float selectionScale, out float pLight
     pLight = 0.0;
     Hit hit;
     if (!traceForEmission(s.origin, wi, hit)) {
-        if (params.environmentLight == NO_LIGHT) return vec3(0.0);
+        // The environment's own density, not lightPdf's dispatch over every kind: llvmpipe
+        // would run the area lights' densities here too, for a light known to be none.
+        if (!hasLight(LIGHT_ENVIRONMENT) || params.environmentLight == NO_LIGHT) return vec3(0.0);
         Light env = loadLight(params.environmentLight);
-        pLight = env.selectionProb * selectionScale *
-                 lightPdf(params.environmentLight, s.origin, s.ns, wi, vec3(0.0), vec3(0.0), 0.0, NO_HIT, lightModes());
+        pLight = env.selectionProb * selectionScale * environmentPdf(env, s.ns, wi);
         return environmentRadiance(env, wi);
     }
     SurfacePoint y = surfaceAt(hit, s.origin, wi);
