@@ -42,6 +42,11 @@ TEST(KernelOptions, SceneFeaturesListWhatTheSceneHolds) {
     // Materials may include a default diffuse one for shapes without a material.
     EXPECT_EQ(bits & ~(1u << (FEATURE_MATERIAL + gpu::MATERIAL_DIFFUSE)), expected);
     EXPECT_EQ(makeKernelOptions(scene, buildSceneArrays(scene)).specialization().size(), size_t(SPEC_COUNT));
+    // Two lights above; without the point light, the sphere is the only one.
+    doc.erase("lights");
+    const uint32_t single = sceneFeatures(buildSceneArrays(test::sceneFromJson(doc, "features")));
+    EXPECT_EQ(single & ~(1u << (FEATURE_MATERIAL + gpu::MATERIAL_DIFFUSE)),
+              (expected & ~(1u << (FEATURE_LIGHT + gpu::LIGHT_POINT))) | (1u << FEATURE_SINGLE_LIGHT));
 }
 
 TEST(KernelOptions, ChangingTheIntegratorOptionsChangesTheImage) {

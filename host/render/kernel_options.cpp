@@ -75,6 +75,7 @@ uint32_t sceneFeatures(const SceneArrays& arrays) {
             bits |= 1u << FEATURE_ENVIRONMENT_MAP;
         if (l.type == gpu::LIGHT_QUAD && !(l.flags & gpu::LIGHT_RECTANGLE)) bits |= 1u << FEATURE_PARALLELOGRAM_LIGHT;
     }
+    if (arrays.lights.size() == 1) bits |= 1u << FEATURE_SINGLE_LIGHT;
     for (const gpu::Material& m : arrays.materials) bits |= featureBit(FEATURE_MATERIAL, MATERIAL_KIND_COUNT, m.type);
     return bits;
 }

@@ -32,6 +32,8 @@ bool hasMaterial(uint type) { return (kSceneFeatures & (1u << (FEATURE_MATERIAL 
 bool hasEnvironmentMap() { return (kSceneFeatures & (1u << FEATURE_ENVIRONMENT_MAP)) != 0u; }
 // Whether some quad light is no rectangle; false compiles its two-triangle sampling out.
 bool hasParallelogramLights() { return (kSceneFeatures & (1u << FEATURE_PARALLELOGRAM_LIGHT)) != 0u; }
+// Whether the scene has exactly one light (light 0).
+bool hasSingleLight() { return (kSceneFeatures & (1u << FEATURE_SINGLE_LIGHT)) != 0u; }
 // Whether any material is textured; false compiles texture coordinates and lookups out.
 bool hasTextures() { return kTextures != 0u; }
 

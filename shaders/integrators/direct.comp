@@ -67,12 +67,16 @@ const uint WEIGHT_MIS = 1u;      // MIS weight against the other technique's sam
 const uint WEIGHT_MIXTURE = 2u;  // the mixture density 0.5 p_light + 0.5 p_f (lecture, "Sample from Average PDF")
 
 // One sample of light `index` drawn with probability `pmf` from a selection table,
-// weighted against N2 BRDF samples (WEIGHT_MIS) or by the mixture density.
+// weighted against N2 BRDF samples (WEIGHT_MIS) or by the mixture density. quadSolidAnglePdf
+// receives the sample's LightSample.quadSolidAnglePdf when the light was sampled.
 vec3 lightSampleEstimate(Shading s, uint index, float pmf, uint weighting, float nLight, float nBsdf,
-                         inout Rng rng) {
+                         inout Rng rng, inout float quadSolidAnglePdf) {
     vec3 u = vec3(rand2(rng), rand1(rng));
+    if (!(pmf > 0.0)) return vec3(0.0);
     LightSample ls;
-    if (!(pmf > 0.0) || !sampleLight(index, s.origin, s.ns, u, lightModes(), ls)) return vec3(0.0);
+    bool sampled = sampleLight(index, s.origin, s.ns, u, lightModes(), ls);
+    quadSolidAnglePdf = ls.quadSolidAnglePdf;
+    if (!sampled) return vec3(0.0);
     vec3 fc = reflectance(s, ls.wi);
     if (fc == vec3(0.0) || !visible(s, ls)) return vec3(0.0);
     if (ls.isDelta) return fc * ls.radiance / pmf;
@@ -92,8 +96,8 @@ vec3 lightSampleEstimate(Shading s, uint index, float pmf, uint weighting, float
 // turning Light::selectionProb into the probability in the table actually sampled.
 // With the emitter-first path (integrators/emitter_first.glsl; only in scenes without an
 // environment light) the hit is the nearest emitter, checked for occluders once it is known
-// to emit toward x.
-vec3 incidentEmission(Shading s, vec3 wi, float selectionScale, out float pLight) {
+// to emit toward x. `quad`: the light's quad density at x where a light sample knows it.
+vec3 incidentEmission(Shading s, vec3 wi, float selectionScale, KnownQuadDensity quad, out float pLight) {
     pLight = 0.0;
     Hit hit;
     if (!traceForEmission(s.origin, wi, hit)) {
@@ -110,13 +114,13 @@ vec3 incidentEmission(Shading s, vec3 wi, float selectionScale, out float pLight
     vec3 Le = emittedRadiance(light, y.geometricNormal, wi);
     if (Le == vec3(0.0) || emitterHidden(s.origin, wi, hit)) return vec3(0.0);
     pLight = light.selectionProb * selectionScale *
-             lightPdf(y.light, s.origin, s.ns, wi, y.position, y.geometricNormal, hit.t, hit.primitive, lightModes());
+             lightPdf(y.light, s.origin, s.ns, wi, y.position, y.geometricNormal, hit.t, hit.primitive, lightModes(), quad);
     return Le;
 }
 
 // One BRDF sample, weighted against N1 light samples from the full table (WEIGHT_MIS) or
 // by the mixture density with the continuous-light table (WEIGHT_MIXTURE).
-vec3 bsdfSampleEstimate(Shading s, uint weighting, float nLight, float nBsdf, inout Rng rng) {
+vec3 bsdfSampleEstimate(Shading s, uint weighting, float nLight, float nBsdf, KnownQuadDensity quad, inout Rng rng) {
     vec2 u = rand2(rng);
     float lobe = rand1(rng);
     vec3 wi;
@@ -126,7 +130,7 @@ vec3 bsdfSampleEstimate(Shading s, uint weighting, float nLight, float nBsdf, in
     if (fc == vec3(0.0)) return vec3(0.0);
     float pLight;
     float scale = weighting == WEIGHT_MIXTURE ? params.continuousScale : 1.0;
-    vec3 Le = incidentEmission(s, wi, scale, pLight);
+    vec3 Le = incidentEmission(s, wi, scale, quad, pLight);
     if (Le == vec3(0.0)) return vec3(0.0);
     float density = pBsdf;
     float weight = 1.0;
@@ -141,25 +145,34 @@ vec3 deltaLightEstimate(Shading s, inout Rng rng) {
     if (params.deltaCount == 0u) return vec3(0.0);
     float pmf;
     uint index = selectLight(params.deltaTableOffset, params.deltaCount, rand1(rng), pmf);
-    return lightSampleEstimate(s, index, pmf, WEIGHT_NONE, 0.0, 0.0, rng);
+    float unused;
+    return lightSampleEstimate(s, index, pmf, WEIGHT_NONE, 0.0, 0.0, rng, unused);
 }
 
 vec3 reflectedRadiance(Shading s, inout Rng rng) {
     uint n1 = kLightSamples, n2 = kBsdfSamples;
     vec3 L = vec3(0.0);
+    // With one light in the scene, MIS draws its light samples from x before its BRDF
+    // samples, and any BRDF-sampled ray that finds a light finds that one: its quad density
+    // at x is what the light samples computed (the same for every one of them). It stays 0
+    // (the area density) only where the light's selection probability is 0, and then the
+    // MIS weight multiplies it by that 0.
+    float quadSolidAnglePdf = 0.0;
     if (kStrategy == STRATEGY_LIGHT || kStrategy == STRATEGY_MIS) {
         uint weighting = kStrategy == STRATEGY_MIS ? WEIGHT_MIS : WEIGHT_NONE;
         for (uint i = 0u; i < n1; ++i) {
             float pmf;
             uint index = selectLight(0u, params.lightCount, rand1(rng), pmf);
-            L += lightSampleEstimate(s, index, pmf, weighting, float(n1), float(n2), rng) / float(n1);
+            L += lightSampleEstimate(s, index, pmf, weighting, float(n1), float(n2), rng, quadSolidAnglePdf) /
+                 float(n1);
         }
     }
     if (kStrategy == STRATEGY_BSDF || kStrategy == STRATEGY_MIS) {
         uint weighting = kStrategy == STRATEGY_MIS ? WEIGHT_MIS : WEIGHT_NONE;
         float nLight = kStrategy == STRATEGY_MIS ? float(n1) : 0.0;
+        KnownQuadDensity quad = KnownQuadDensity(kStrategy == STRATEGY_MIS && n1 > 0u && hasSingleLight(), quadSolidAnglePdf);
         for (uint i = 0u; i < n2; ++i) {
-            L += bsdfSampleEstimate(s, weighting, nLight, float(n2), rng) / float(n2);
+            L += bsdfSampleEstimate(s, weighting, nLight, float(n2), quad, rng) / float(n2);
             // Without light samples, delta lights get their own explicit draw.
             if (nLight == 0.0) L += deltaLightEstimate(s, rng) / float(n2);
         }
@@ -171,10 +184,11 @@ vec3 reflectedRadiance(Shading s, inout Rng rng) {
                 if (params.continuousCount > 0u) {
                     float pmf;
                     uint index = selectLight(params.continuousTableOffset, params.continuousCount, rand1(rng), pmf);
-                    L += lightSampleEstimate(s, index, pmf, WEIGHT_MIXTURE, 0.0, 0.0, rng) / float(n);
+                    float unused;
+                    L += lightSampleEstimate(s, index, pmf, WEIGHT_MIXTURE, 0.0, 0.0, rng, unused) / float(n);
                 }
             } else {
-                L += bsdfSampleEstimate(s, WEIGHT_MIXTURE, 0.0, 0.0, rng) / float(n);
+                L += bsdfSampleEstimate(s, WEIGHT_MIXTURE, 0.0, 0.0, unknownQuadDensity(), rng) / float(n);
             }
             L += deltaLightEstimate(s, rng) / float(n);
         }

@@ -14,7 +14,24 @@ struct LightSample {
     vec3 radiance;   // Le along -wi (area, environment); I/d^2 (point); E (directional)
     float pdf;       // solid-angle density of wi for this light; 1 for delta lights
     bool isDelta;
+    // Quad lights: 1 / the quad's solid angle from x where the quad is sampled in solid
+    // angle from x, 0 where it is sampled on its area; 0 for other kinds. It depends on x and
+    // the light alone, so the density of any other direction toward the same quad from the
+    // same x is this value too (KnownQuadDensity).
+    float quadSolidAnglePdf;
 };
+
+// A quad light's density at x known from a light sample taken at the same x
+// (LightSample.quadSolidAnglePdf), which lightPdf then uses instead of computing the
+// quad's solid angle again. `known` must be a constant at the call site: where it is true
+// the computation is compiled out, which is the point, since llvmpipe (Mesa 22.3) runs both
+// sides of every branch (docs/PERFORMANCE.md, "Round 6").
+struct KnownQuadDensity {
+    bool known;
+    float solidAnglePdf;  // as LightSample.quadSolidAnglePdf
+};
+
+KnownQuadDensity unknownQuadDensity() { return KnownQuadDensity(false, 0.0); }
 
 // The integrator options that choose how each kind of area light is sampled (SPHERE_*,
 // QUAD_*, TRIANGLE_*); sampleLight and lightPdf must be given the same.
@@ -34,6 +51,7 @@ LightSample emptyLightSample(vec3 n) {
     LightSample ls;
     ls.isDelta = false;
     ls.pdf = 0.0;
+    ls.quadSolidAnglePdf = 0.0;
     ls.radiance = vec3(0.0);
     ls.dist = FLOAT_MAX;
     ls.wi = n;

@@ -55,15 +55,21 @@ bool sampleLight(uint index, vec3 x, vec3 n, vec3 u, LightSamplingModes modes, o
 
 // Density (solid angle, at x) with which sampleLight(index, x, n, ., modes) produces wi,
 // given that the ray x + t wi first hits this light at y (geometric normal ny) at distance d,
-// on primitive `primitive`; for the environment, y, ny, d and primitive are ignored.
-float lightPdf(uint index, vec3 x, vec3 n, vec3 wi, vec3 y, vec3 ny, float d, uint primitive, LightSamplingModes modes) {
+// on primitive `primitive`; for the environment, y, ny, d and primitive are ignored. `quad`:
+// a quad light's density at x where a light sample from x already knows it.
+float lightPdf(uint index, vec3 x, vec3 n, vec3 wi, vec3 y, vec3 ny, float d, uint primitive, LightSamplingModes modes,
+               KnownQuadDensity quad) {
     Light light = loadLight(index);
     if (lightIs(light, LIGHT_ENVIRONMENT)) return environmentPdf(light, n, wi);
     if (lightIs(light, LIGHT_POINT) || lightIs(light, LIGHT_SPOT) || lightIs(light, LIGHT_DIRECTIONAL)) return 0.0;
     if (lightIs(light, LIGHT_SPHERE)) return sphereLightPdf(light, x, y, ny, d, modes.sphere);
-    if (lightIs(light, LIGHT_QUAD)) return quadLightPdf(light, x, wi, ny, d, modes);
+    if (lightIs(light, LIGHT_QUAD)) return quadLightPdf(light, x, wi, ny, d, modes, quad);
     if (lightIs(light, LIGHT_MESH)) return meshLightPdf(light, x, wi, ny, d, primitive, modes);
     return 0.0;
+}
+
+float lightPdf(uint index, vec3 x, vec3 n, vec3 wi, vec3 y, vec3 ny, float d, uint primitive, LightSamplingModes modes) {
+    return lightPdf(index, x, n, wi, y, ny, d, primitive, modes, unknownQuadDensity());
 }
 
 #endif

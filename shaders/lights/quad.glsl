@@ -55,8 +55,9 @@ bool sampleQuadLight(Light light, vec3 x, vec3 u, LightSamplingModes modes, inou
     float solidAnglePdf = 0.0;  // > 0: y sampled in solid angle with this density
     float omega0, omega1;
     if (modes.quad == QUAD_SOLID_ANGLE && quadSolidAngles(light, p, x, modes, omega0, omega1)) {
-        if (!sampleQuadSolidAngle(light, p, x, u.xy, u.z, omega0, omega1, y)) return false;
         solidAnglePdf = 1.0 / (omega0 + omega1);
+        ls.quadSolidAnglePdf = solidAnglePdf;
+        if (!sampleQuadSolidAngle(light, p, x, u.xy, u.z, omega0, omega1, y)) return false;
     } else {
         y = p.p0 + u.x * p.p1 + u.y * p.p2;
     }
@@ -64,14 +65,19 @@ bool sampleQuadLight(Light light, vec3 x, vec3 u, LightSamplingModes modes, inou
 }
 
 // Density (solid angle, at x) of a direction wi that first hits the quad at distance d,
-// its front normal ny; the same area / solid-angle decision as sampleQuadLight.
-float quadLightPdf(Light light, vec3 x, vec3 wi, vec3 ny, float d, LightSamplingModes modes) {
+// its front normal ny; the same area / solid-angle decision as sampleQuadLight, or the one
+// a light sample from x took (`known`).
+float quadLightPdf(Light light, vec3 x, vec3 wi, vec3 ny, float d, LightSamplingModes modes, KnownQuadDensity known) {
     float cosY = dot(-wi, ny);
     if (cosY <= 0.0 && (light.flags & LIGHT_TWO_SIDED) == 0u) return 0.0;
     if (modes.quad == QUAD_SOLID_ANGLE) {
-        float omega0, omega1;
-        if (quadSolidAngles(light, loadLightPrimitive(light.first), x, modes, omega0, omega1))
-            return 1.0 / (omega0 + omega1);
+        if (known.known) {
+            if (known.solidAnglePdf > 0.0) return known.solidAnglePdf;
+        } else {
+            float omega0, omega1;
+            if (quadSolidAngles(light, loadLightPrimitive(light.first), x, modes, omega0, omega1))
+                return 1.0 / (omega0 + omega1);
+        }
     }
     return polygonAreaPdf(light, cosY, d);
 }

@@ -295,7 +295,11 @@ PENUMBRA_CONST uint SAMPLER_SOBOL = 1u;        // padded Owen-scrambled Sobol' (
 // And one more: a quad light that is no rectangle (LIGHT_RECTANGLE unset); without one, the
 // two-triangle sampling of such quads is compiled out (llvmpipe runs both sides of a branch).
 #define FEATURE_PARALLELOGRAM_LIGHT (FEATURE_ENVIRONMENT_MAP + 1u)
-#define FEATURE_BIT_COUNT (FEATURE_PARALLELOGRAM_LIGHT + 1u)
+// And one more: the scene has exactly one light, so a BRDF-sampled ray can only find the
+// light that the same shading point's light sample drew, and the direct integrator reuses
+// what that sample computed (a quad's solid angle) instead of computing it again.
+#define FEATURE_SINGLE_LIGHT (FEATURE_PARALLELOGRAM_LIGHT + 1u)
+#define FEATURE_BIT_COUNT (FEATURE_SINGLE_LIGHT + 1u)
 PENUMBRA_CONST uint FEATURES_ALL = 0xffffffffu;
 #ifdef __cplusplus
 static_assert(PRIM_TRIANGLE < PRIM_KIND_COUNT && PRIM_SPHERE < PRIM_KIND_COUNT && PRIM_QUAD < PRIM_KIND_COUNT &&
