@@ -20,6 +20,10 @@
 // --brdf-ray-fates prints, per scene, what the emitter-first rule sees (the fractions of
 // probe rays that hit an emitter, something else, or nothing, and the mean work of their
 // closest-hit traversal) and what it chooses.
+// --instructions, run under valgrind --tool=callgrind (tools/bench-instructions does that),
+// has callgrind dump the instructions of every pass of each scene, in one submission (after
+// the kernel is compiled), to a file of its own: a count that repeats exactly from run to run, where
+// timings on a shared machine vary by 10-30%.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -29,6 +33,13 @@
 #include <vector>
 
 #include <sys/resource.h>
+
+#if __has_include(<valgrind/callgrind.h>)
+#include <valgrind/callgrind.h>
+#define PENUMBRA_HAVE_CALLGRIND 1
+#else
+#define PENUMBRA_HAVE_CALLGRIND 0
+#endif
 
 #include "bvh/bvh.h"
 #include "gpu/context.h"
@@ -207,7 +218,7 @@ void lowSppBreakdown(const gpu::Context& context, Scene scene, int runs) {
 
 int main(int argc, char** argv) {
     int runs = 5;
-    bool countOnly = false, lowSpp = false, fatesOnly = false;
+    bool countOnly = false, lowSpp = false, fatesOnly = false, instructions = false;
     uint32_t spp = 0;
     EmitterFirst emitterFirst = EmitterFirst::Rule;
     std::vector<std::string> scenes;
@@ -216,6 +227,7 @@ int main(int argc, char** argv) {
         else if (!std::strcmp(argv[i], "--count-rays")) countOnly = true;
         else if (!std::strcmp(argv[i], "--low-spp")) lowSpp = true;
         else if (!std::strcmp(argv[i], "--brdf-ray-fates")) fatesOnly = true;
+        else if (!std::strcmp(argv[i], "--instructions")) instructions = true;
         else if (!std::strcmp(argv[i], "--spp") && i + 1 < argc) spp = uint32_t(std::max(1, std::atoi(argv[++i])));
         else if (!std::strcmp(argv[i], "--emitter-first") && i + 1 < argc) {
             const std::string mode = argv[++i];
@@ -238,7 +250,7 @@ int main(int argc, char** argv) {
     if (scenes.empty()) {
         std::fprintf(stderr,
                      "usage: penumbra_bench [--runs N] [--spp N] [--emitter-first rule|off|exact]\n"
-                     "                      [--count-rays | --low-spp | --brdf-ray-fates]\n"
+                     "                      [--count-rays | --low-spp | --brdf-ray-fates | --instructions]\n"
                      "                      SCENE|procedural:N ...\n"
                      "       penumbra_bench --write-mesh N FILE\n");
         return 2;
@@ -261,6 +273,39 @@ int main(int argc, char** argv) {
                             int(emitterFirstPays(scene, arrays)));
             }
             return 0;
+        }
+        if (instructions) {
+#if PENUMBRA_HAVE_CALLGRIND
+            if (!RUNNING_ON_VALGRIND) {
+                std::fprintf(stderr, "penumbra_bench: --instructions runs under valgrind --tool=callgrind "
+                                     "(tools/bench-instructions)\n");
+                return 2;
+            }
+            for (const std::string& name : scenes) {
+                Scene scene = benchScene(name);
+                if (spp > 0) scene.sampler.spp = spp;
+                Renderer renderer(context, scene);
+                renderer.setEmitterFirst(emitterFirst);
+                renderer.compileKernel();
+                // Zeroing and dumping cover every thread (llvmpipe's workers run the kernel);
+                // collection on and off would cover this thread alone. All passes go in one
+                // submission over whole rows: renderAll sizes its submissions by the time
+                // they take, so its split (and the partly filled tiles at a split's ends)
+                // would vary from run to run.
+                CALLGRIND_ZERO_STATS;
+                context.submitAndWait([&](VkCommandBuffer cmd) {
+                    renderer.recordPasses(cmd, 0, scene.sampler.spp, 0, scene.film.height);
+                });
+                CALLGRIND_DUMP_STATS_AT(name.c_str());
+                std::printf("%s samples %.0f\n", name.c_str(),
+                            double(scene.film.width) * scene.film.height * scene.sampler.spp);
+            }
+            return 0;
+#else
+            std::fprintf(stderr, "penumbra_bench: built without valgrind/callgrind.h (apt-get install valgrind, "
+                                 "then rebuild) for --instructions\n");
+            return 2;
+#endif
         }
         if (countOnly) {
             for (const std::string& name : scenes) {
