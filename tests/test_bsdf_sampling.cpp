@@ -128,16 +128,19 @@ TEST_P(BsdfSampling, ChiSquarePdfReciprocityAndEnergy) {
         const uint32_t seed = 1000 + 10 * uint32_t(GetParam()) + uint32_t(angle++);
         const auto samples = kernel.run(makePush(m, n, wo, gpu::BSDF_TEST_MODE_SAMPLE, kSamples, seed), {});
 
-        // The returned pdf is bsdfPdf at the returned direction, and positive.
-        size_t declined = 0, badPdf = 0;
+        // The returned pdf is bsdfPdf at the returned direction, and positive; the returned
+        // f is bsdfEval there (the same evaluation: exactly).
+        size_t declined = 0, badPdf = 0, badF = 0;
         for (const auto& s : samples) {
             if (s.a == glm::vec4(0.0f)) {
                 ++declined;
                 continue;
             }
             if (!(s.a.w > 0.0f) || s.a.w != s.b.x) ++badPdf;
+            if (s.b.y != 0.0f || s.b.z != 0.0f || s.b.w != 0.0f) ++badF;
         }
         EXPECT_EQ(badPdf, 0u) << name << ": bsdfSample's pdf differs from bsdfPdf";
+        EXPECT_EQ(badF, 0u) << name << ": bsdfSample's f differs from bsdfEval";
 
         // Chi-square in the lobe's chart.
         const Chart chart = chartFor(m, wo, n);

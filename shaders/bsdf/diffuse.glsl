@@ -1,5 +1,5 @@
 // The `diffuse` BRDF of SCENE_FORMAT.md, f = kd / pi (kd = the albedo), with its cosine-
-// weighted sampling: eval, pdf and sample side by side. Directions are unit world-space
+// weighted sampling: value, pdf and sample side by side. Directions are unit world-space
 // vectors pointing away from the surface; bsdf/bsdf.glsl has already checked that wo and
 // wi lie above the surface before eval and pdf are called.
 #ifndef PENUMBRA_BSDF_DIFFUSE_GLSL

@@ -2,13 +2,14 @@
 // Appendix B): GGX D, height-correlated Smith V, Schlick F, metallic blend. The specular
 // lobe is sampled by the distribution of visible normals (Heitz 2018, in the spherical-cap
 // form of Dupuy & Benyoub 2023), the diffuse lobe cosine-weighted; the pdf is the full
-// mixture. eval, pdf and sample side by side.
+// mixture. Value with pdf, and sampling, side by side.
 // Packing (shared/types.h): kd = base_color, ks.x = metallic, ks.y = roughness.
 #ifndef PENUMBRA_BSDF_PBR_GLSL
 #define PENUMBRA_BSDF_PBR_GLSL
 
 #include "shared/types.h"
 #include "common/math.glsl"
+#include "bsdf/bsdf_value.glsl"
 #include "bsdf/diffuse.glsl"
 
 // alpha = roughness^2 (glTF Appendix B), at least PBR_MIN_ALPHA (shared/types.h says why).
@@ -44,24 +45,6 @@ float smithV(float cosO, float cosI, float alpha) {
     return denom > 1e-30 ? 0.5 / denom : 0.0;
 }
 
-// f(wo, wi) for wo, wi above the surface (glTF Appendix B):
-//   f = (1 - metallic) [ (1 - F(0.04)) base/pi + F(0.04) D V ] + metallic F(base) D V.
-vec3 pbrEval(Material m, vec3 n, vec3 wo, vec3 wi, float cosO, float cosI) {
-    vec3 sum = wo + wi;
-    float len = length(sum);
-    if (!(len > 0.0)) return vec3(0.0);
-    vec3 h = sum / len;
-    float alpha = pbrAlpha(m);
-    float specular = ggxD(alpha, n, h) * smithV(cosO, cosI, alpha);
-    // v.h = l.h = |wo + wi| / 2 for the half vector: symmetric in wo and wi (reciprocity).
-    float w = schlickWeight(0.5 * len);
-    float dielectricF = 0.04 + 0.96 * w;
-    vec3 metalF = m.kd + (vec3(1.0) - m.kd) * w;
-    float metallic = m.ks.x;
-    return (1.0 - metallic) * ((1.0 - dielectricF) * m.kd * INV_PI + vec3(dielectricF * specular)) +
-           metallic * metalF * specular;
-}
-
 // Probability of sampling the specular lobe: its share of an estimate of the reflectance,
 // each lobe's Fresnel weight at n.wo (the Schlick F at v.h = n.v). Positive wherever the
 // specular lobe is (>= 0.04 (1 - metallic), and 1 when metallic = 1); below 1 wherever the
@@ -78,17 +61,33 @@ float pbrSpecularProbability(Material m, float cosO) {
 // Density of the specular lobe's reflected directions: D_v(h) / (4 |wo.h|) with
 // D_v(h) = G1(wo) (wo.h) D(h) / (n.wo) (Heitz 2018, eq. 1 and 17) and Smith's
 // G1 = 2 n.wo / (n.wo + smithRoot(n.wo)): D(h) / (2 (n.wo + smithRoot(n.wo))).
-float pbrSpecularPdf(float alpha, vec3 n, vec3 h, float cosO) {
-    return ggxD(alpha, n, h) / (2.0 * (cosO + smithRoot(cosO, alpha * alpha)));
+// d = D(h), from ggxD.
+float pbrSpecularPdf(float d, float alpha, float cosO) {
+    return d / (2.0 * (cosO + smithRoot(cosO, alpha * alpha)));
 }
 
-float pbrPdf(Material m, vec3 n, vec3 wo, vec3 wi, float cosO, float cosI) {
+// f and the pdf (BsdfValue) for wo, wi above the surface (cosines cosO, cosI > 0), with
+// D(h) taken once for both. f (glTF Appendix B):
+//   f = (1 - metallic) [ (1 - F(0.04)) base/pi + F(0.04) D V ] + metallic F(base) D V;
+// the pdf: the mixture of the cosine-weighted diffuse lobe and pbrSpecularPdf.
+BsdfValue pbrEvalPdf(Material m, vec3 n, vec3 wo, vec3 wi, float cosO, float cosI) {
+    float pSpecular = pbrSpecularProbability(m, cosO);
+    float diffuseDensity = (1.0 - pSpecular) * diffusePdf(cosI);
     vec3 sum = wo + wi;
     float len = length(sum);
-    float pSpecular = pbrSpecularProbability(m, cosO);
-    float pdf = (1.0 - pSpecular) * diffusePdf(cosI);
-    if (len > 0.0) pdf += pSpecular * pbrSpecularPdf(pbrAlpha(m), n, sum / len, cosO);
-    return pdf;
+    if (!(len > 0.0)) return BsdfValue(vec3(0.0), diffuseDensity);
+    vec3 h = sum / len;
+    float alpha = pbrAlpha(m);
+    float d = ggxD(alpha, n, h);
+    float specular = d * smithV(cosO, cosI, alpha);
+    // v.h = l.h = |wo + wi| / 2 for the half vector: symmetric in wo and wi (reciprocity).
+    float w = schlickWeight(0.5 * len);
+    float dielectricF = 0.04 + 0.96 * w;
+    vec3 metalF = m.kd + (vec3(1.0) - m.kd) * w;
+    float metallic = m.ks.x;
+    vec3 f = (1.0 - metallic) * ((1.0 - dielectricF) * m.kd * INV_PI + vec3(dielectricF * specular)) +
+             metallic * metalF * specular;
+    return BsdfValue(f, diffuseDensity + pSpecular * pbrSpecularPdf(d, alpha, cosO));
 }
 
 // A visible normal of GGX for the local direction v (z up), isotropic alpha: Dupuy &

@@ -54,11 +54,11 @@ bool visible(Shading s, LightSample ls) {
     return !traceAny(s.origin, ls.wi, tMax);
 }
 
-// f * cos for a direction, zero below either normal.
-vec3 reflectance(Shading s, vec3 wi) {
+// f * cos for a direction whose BRDF value is f, zero below either normal.
+vec3 cosineWeighted(Shading s, vec3 wi, vec3 f) {
     float cosI = dot(wi, s.ns);
     if (cosI <= 0.0 || dot(wi, s.ng) <= 0.0) return vec3(0.0);
-    return bsdfEval(s.m, s.ns, s.wo, wi) * cosI;
+    return f * cosI;
 }
 
 // How a one-sample estimate is weighted against the other technique's samples.
@@ -77,16 +77,17 @@ vec3 lightSampleEstimate(Shading s, uint index, float pmf, uint weighting, float
     bool sampled = sampleLight(index, s.origin, s.ns, u, lightModes(), ls);
     quadSolidAnglePdf = ls.quadSolidAnglePdf;
     if (!sampled) return vec3(0.0);
-    vec3 fc = reflectance(s, ls.wi);
+    BsdfValue b = bsdfEvalPdf(s.m, s.ns, s.wo, ls.wi);
+    vec3 fc = cosineWeighted(s, ls.wi, b.f);
     if (fc == vec3(0.0) || !visible(s, ls)) return vec3(0.0);
     if (ls.isDelta) return fc * ls.radiance / pmf;
     float pLight = pmf * ls.pdf;
     float density = pLight;
     float weight = 1.0;
     if (weighting == WEIGHT_MIS) {
-        weight = misWeight(nLight * pLight, nBsdf * bsdfPdf(s.m, s.ns, s.wo, ls.wi), kHeuristic);
+        weight = misWeight(nLight * pLight, nBsdf * b.pdf, kHeuristic);
     } else if (weighting == WEIGHT_MIXTURE) {
-        density = 0.5 * pLight + 0.5 * bsdfPdf(s.m, s.ns, s.wo, ls.wi);
+        density = 0.5 * pLight + 0.5 * b.pdf;
     }
     return fc * ls.radiance * weight / density;
 }
@@ -124,10 +125,11 @@ vec3 bsdfSampleEstimate(Shading s, uint weighting, float nLight, float nBsdf, Kn
     vec2 u = rand2(rng);
     float lobe = rand1(rng);
     vec3 wi;
-    float pBsdf;
-    if (!bsdfSample(s.m, s.ns, s.wo, u, lobe, wi, pBsdf)) return vec3(0.0);
-    vec3 fc = reflectance(s, wi);
+    BsdfValue b;
+    if (!bsdfSample(s.m, s.ns, s.wo, u, lobe, wi, b)) return vec3(0.0);
+    vec3 fc = cosineWeighted(s, wi, b.f);
     if (fc == vec3(0.0)) return vec3(0.0);
+    float pBsdf = b.pdf;
     float pLight;
     float scale = weighting == WEIGHT_MIXTURE ? params.continuousScale : 1.0;
     vec3 Le = incidentEmission(s, wi, scale, quad, pLight);

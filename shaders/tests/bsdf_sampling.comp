@@ -27,10 +27,11 @@ void main() {
         vec2 u = rand2(rng);  // the integrator's order (direct.comp, bsdfSampleEstimate)
         float lobe = rand1(rng);
         vec3 wi;
-        float pdf;
-        if (bsdfSample(m, push.n, push.wo, u, lobe, wi, pdf)) {
-            r.a = vec4(wi, pdf);
+        BsdfValue value;
+        if (bsdfSample(m, push.n, push.wo, u, lobe, wi, value)) {
+            r.a = vec4(wi, value.pdf);
             r.b.x = bsdfPdf(m, push.n, push.wo, wi);
+            r.b.yzw = value.f - bsdfEval(m, push.n, push.wo, wi);
         }
     } else if (push.mode == BSDF_TEST_MODE_PDF) {
         r.a.x = bsdfPdf(m, push.n, push.wo, inputs[i].a.xyz);

@@ -11,7 +11,8 @@ namespace penumbra::gpu {
 
 // SAMPLE: invocation i draws bsdfSample(material, n, wo, u, lobe) with (u, lobe) from the
 //   stateless rng (pixel 0, sample index i, seed) in the integrator's order:
-//   out.a = (wi, returned pdf), zero when it returned false; out.b.x = bsdfPdf(wi).
+//   out.a = (wi, returned pdf), zero when it returned false; out.b.x = bsdfPdf(wi);
+//   out.b.yzw = the returned f minus bsdfEval(wi).
 // PDF:  out.a.x = bsdfPdf(material, n, wo, in.a.xyz).
 // EVAL: out.a.xyz = bsdfEval(material, n, in.a.xyz, in.b.xyz) (wo = in.a, wi = in.b) and
 //   out.b.xyz = the same with the directions swapped (reciprocity).
