@@ -25,15 +25,21 @@ std::string byteText(VkDeviceSize bytes) {
 
 void checkBufferSize(std::string_view name, VkDeviceSize size, VkBufferUsageFlags usage,
                      const VkPhysicalDeviceLimits& limits, VkDeviceSize maxAllocation) {
-    auto refuse = [&](const char* limit, VkDeviceSize value) {
+    auto refuseText = [&](const char* limit, const std::string& value) {
         throw GpuError("the " + (name.empty() ? std::string("GPU") : std::string(name)) + " buffer needs " +
-                       byteText(size) + ", more than this device's " + limit + " (" + byteText(value) +
+                       byteText(size) + ", more than this device's " + limit + " (" + value +
                        "); render a smaller film or scene, or use a device with a larger limit");
     };
+    auto refuse = [&](const char* limit, VkDeviceSize value) { refuseText(limit, byteText(value)); };
     if ((usage & VK_BUFFER_USAGE_STORAGE_BUFFER_BIT) && size > limits.maxStorageBufferRange)
         refuse("maxStorageBufferRange", limits.maxStorageBufferRange);
     if ((usage & VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT) && size > limits.maxUniformBufferRange)
         refuse("maxUniformBufferRange", limits.maxUniformBufferRange);
+    // Texel buffers are viewed whole as 16-byte RGBA32UI texels (Kernel::bind).
+    const VkBufferUsageFlags texels = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT;
+    if ((usage & texels) && size / 16 > limits.maxTexelBufferElements)
+        refuseText("maxTexelBufferElements",
+                   std::to_string(limits.maxTexelBufferElements) + " texels of 16 bytes");
     if (maxAllocation > 0 && size > maxAllocation) refuse("maxMemoryAllocationSize", maxAllocation);
 }
 
