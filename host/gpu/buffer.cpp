@@ -36,10 +36,10 @@ void checkBufferSize(std::string_view name, VkDeviceSize size, VkBufferUsageFlag
     if ((usage & VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT) && size > limits.maxUniformBufferRange)
         refuse("maxUniformBufferRange", limits.maxUniformBufferRange);
     // Texel buffers are viewed whole as 16-byte RGBA32UI texels (Kernel::bind).
-    const VkBufferUsageFlags texels = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT;
+    const VkBufferUsageFlags texels = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
+                                      VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT;
     if ((usage & texels) && size / 16 > limits.maxTexelBufferElements)
-        refuseText("maxTexelBufferElements",
-                   std::to_string(limits.maxTexelBufferElements) + " texels of 16 bytes");
+        refuseText("maxTexelBufferElements", std::to_string(limits.maxTexelBufferElements) + " texels of 16 bytes");
     if (maxAllocation > 0 && size > maxAllocation) refuse("maxMemoryAllocationSize", maxAllocation);
 }
 

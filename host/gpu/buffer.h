@@ -19,7 +19,8 @@ namespace penumbra::gpu {
 // Throws GpuError("the NAME buffer needs N bytes, more than this device's LIMIT (M bytes)
 // ...") when a buffer of `size` bytes for `usage` exceeds what the device can bind in one
 // descriptor (maxStorageBufferRange, maxUniformBufferRange, maxTexelBufferElements for
-// texel buffers viewed as 16-byte texels: the kernels bind whole buffers) or allocate at once (`maxAllocation`, maxMemoryAllocationSize; 0: unknown).
+// texel buffers viewed as 16-byte texels: the kernels bind whole buffers) or allocate at
+// once (`maxAllocation`, maxMemoryAllocationSize; 0: unknown).
 void checkBufferSize(std::string_view name, VkDeviceSize size, VkBufferUsageFlags usage,
                      const VkPhysicalDeviceLimits& limits, VkDeviceSize maxAllocation);
 

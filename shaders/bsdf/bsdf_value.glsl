@@ -1,8 +1,8 @@
 // What evaluating a BRDF at a pair of directions returns: its value and the density with
 // which its sampling produces the incident direction, together. Both estimates of a
 // direct-lighting sample need both, and a lobe's costly part serves both (Phong's cos^n, an
-// exp and a log; GGX's D): llvmpipe (Mesa 22.3) runs every material's branch for every
-// lane, so separate eval and pdf calls paid for it twice (docs/PERFORMANCE.md, "Round 6").
+// exp and a log; GGX's D), so one evaluation gives both instead of leaving the compiler to
+// merge two (it merged most: docs/PERFORMANCE.md, "Round 6").
 #ifndef PENUMBRA_BSDF_VALUE_GLSL
 #define PENUMBRA_BSDF_VALUE_GLSL
 
