@@ -277,8 +277,9 @@ int main(int argc, char** argv) {
         if (instructions) {
 #if PENUMBRA_HAVE_CALLGRIND
             if (!RUNNING_ON_VALGRIND) {
-                std::fprintf(stderr, "penumbra_bench: --instructions runs under valgrind --tool=callgrind "
-                                     "(tools/bench-instructions)\n");
+                std::fprintf(stderr,
+                             "penumbra_bench: --instructions runs under valgrind --tool=callgrind "
+                             "(tools/bench-instructions)\n");
                 return 2;
             }
             for (const std::string& name : scenes) {
@@ -302,8 +303,9 @@ int main(int argc, char** argv) {
             }
             return 0;
 #else
-            std::fprintf(stderr, "penumbra_bench: built without valgrind/callgrind.h (apt-get install valgrind, "
-                                 "then rebuild) for --instructions\n");
+            std::fprintf(stderr,
+                         "penumbra_bench: built without valgrind/callgrind.h (apt-get install valgrind, "
+                         "then rebuild) for --instructions\n");
             return 2;
 #endif
         }
