@@ -33,7 +33,7 @@ gpu::Kernel& lightTestKernel() {
 LightKernel::LightKernel(const SceneArrays& arrays)
     : m_ctx(gpuContext()),
       m_dummy(m_ctx, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT),
-      m_nodes(gpu::Buffer::fromVector(m_ctx, arrays.bvh.childPairs, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT)),
+      m_nodes(gpu::Buffer::fromVector(m_ctx, arrays.bvh.wideNodes, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT)),
       m_primitives(gpu::Buffer::fromVector(
           m_ctx, arrays.bvh.primitives, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT)),
       m_normals(gpu::Buffer::fromVector(m_ctx, arrays.normals)),

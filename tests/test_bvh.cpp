@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <numeric>
 #include <random>
 #include <sstream>
@@ -85,7 +86,7 @@ std::vector<VkDescriptorType> sceneBindings() {
 struct SceneBuffers {
     gpu::Buffer nodes, primitives, normals;
     SceneBuffers(const gpu::Context& ctx, const Bvh& bvh, const std::vector<gpu::TriangleNormals>& shadingNormals)
-        : nodes(gpu::Buffer::fromVector(ctx, bvh.childPairs, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT)),
+        : nodes(gpu::Buffer::fromVector(ctx, bvh.wideNodes, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT)),
           primitives(gpu::Buffer::fromVector(
               ctx, bvh.primitives, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT)),
           normals(gpu::Buffer::fromVector(ctx, shadingNormals)) {}
@@ -345,20 +346,20 @@ TEST(Bvh, SinglePrimitiveIsOneLeaf) {
 }
 
 // The work counts feed the emitter-first rule (render/emitter_first.cpp): two triangles far
-// apart are a root pair of two leaves, so a ray that hits one tests pair 0 (the root), the
-// root's pair and one primitive, and a ray that leaves tests pair 0 alone.
-TEST(Bvh, TraversalWorkCountsPairsAndPrimitives) {
+// apart are a root of two leaves, so a ray that hits one tests the root's node and one
+// primitive, and a ray that leaves tests the root's node alone.
+TEST(Bvh, TraversalWorkCountsNodesAndPrimitives) {
     std::vector<gpu::Primitive> scene{triangle(vec3(-6, -1, 0), vec3(-4, -1, 0), vec3(-5, 1, 0)),
                                       triangle(vec3(4, -1, 0), vec3(6, -1, 0), vec3(5, 1, 0))};
     Bvh bvh = buildBvh(scene);
     ASSERT_EQ(bvh.nodes.size(), 3u);
     TraversalWork work;
     ASSERT_TRUE(intersectClosest(bvh, vec3(-5, 0, 3), vec3(0, 0, -1), kInf, &work));
-    EXPECT_EQ(work.pairs, 2u);
+    EXPECT_EQ(work.nodes, 1u);
     EXPECT_EQ(work.primitives, 1u);
-    // Counts add up over calls; a ray that misses the root's box stops at pair 0.
+    // Counts add up over calls; a ray that misses both children stops at the root.
     EXPECT_FALSE(intersectClosest(bvh, vec3(-5, 0, 3), vec3(0, 0, 1), kInf, &work));
-    EXPECT_EQ(work.pairs, 3u);
+    EXPECT_EQ(work.nodes, 2u);
     EXPECT_EQ(work.primitives, 1u);
 }
 
@@ -386,53 +387,78 @@ TEST(Bvh, CoincidentCentroidsSplitByMedian) {
     expectAllAgree(scene, bvh, rays);
 }
 
-// ---- (c2) The child-pair arrangement the traversal reads -----------------------------------
+// ---- (c2) The wide nodes the traversal reads -----------------------------------------------
 
-TEST(Bvh, ChildPairsHoldEveryBinaryNodeOnce) {
+// Every binary leaf is the child of exactly one wide node, with its range, inside a decoded
+// box that contains its binary box; every wide node but the root is the child of exactly one
+// node; interior nodes have 2 to 4 children; the wide tree is no deeper than the binary one
+// (the traversal stack's bound). Breaking the quantizer's outward rounding fails the
+// containment check, a lost or doubled subtree the counts.
+TEST(Bvh, WideNodesHoldEveryLeafOnceInsideItsBox) {
     Random rng(77);
-    auto scene = randomScene(rng, 300, 30, 30);
-    Bvh bvh = buildBvh(scene);
-    const auto& nodes = bvh.nodes;
-    const auto& pairs = bvh.childPairs;
-    ASSERT_EQ(pairs.size() % 2, 0u);
-    // Pair 0: the root and an inverted (empty) box.
-    EXPECT_EQ(pairs[0].boundsMin, nodes[0].boundsMin);
-    EXPECT_EQ(pairs[0].boundsMax, nodes[0].boundsMax);
-    EXPECT_GT(pairs[1].boundsMin.x, pairs[1].boundsMax.x);
-    EXPECT_EQ(pairs[1].primCount, 0u);
-    // Walk both arrangements together: each pair entry equals its binary node in box and
-    // leaf range, and an interior entry's pair holds exactly that node's two children.
-    uint32_t interior = 0, leaves = 0;
-    std::vector<uint32_t> pairUses(pairs.size() / 2, 0);
-    pairUses[0] = 1;
-    std::vector<std::pair<uint32_t, uint32_t>> stack{{0u, 0u}};  // (pair entry, binary node)
-    while (!stack.empty()) {
-        auto [entry, index] = stack.back();
-        stack.pop_back();
-        ASSERT_LT(entry, pairs.size());
-        const gpu::BvhNode& e = pairs[entry];
-        const gpu::BvhNode& n = nodes[index];
-        ASSERT_EQ(e.boundsMin, n.boundsMin);
-        ASSERT_EQ(e.boundsMax, n.boundsMax);
-        ASSERT_EQ(e.primCount, n.primCount);
-        if (n.primCount > 0) {
-            ASSERT_EQ(e.offset, n.offset);
-            ++leaves;
-            continue;
+    for (int round = 0; round < 3; ++round) {
+        auto scene = round == 2 ? randomScene(rng, 3000, 0, 0, 1000.0f) : randomScene(rng, 300, 30, 30);
+        auto rays = randomRays(rng, 3000, round == 2 ? 600.0f : 6.0f, &scene);
+        if (round == 1) {
+            // Far from the world origin, where floats are coarse next to the boxes' sizes.
+            const vec3 shift(1e4f, -3e3f, 7e2f);
+            for (auto& p : scene) {
+                p.p0 += shift;
+                if ((p.typeAndNormals & gpu::PRIM_TYPE_MASK) == gpu::PRIM_TRIANGLE) {
+                    p.p1 += shift;
+                    p.p2 += shift;
+                }
+            }
+            for (auto& ray : rays) ray.originTMax += glm::vec4(shift, 0.0f);
         }
-        ++interior;
-        ASSERT_LT(e.offset, pairUses.size());
-        ++pairUses[e.offset];
-        stack.push_back({2 * e.offset, index + 1});
-        stack.push_back({2 * e.offset + 1, n.offset});
+        Bvh bvh = buildBvh(scene);
+        const auto& wide = bvh.wideNodes;
+        ASSERT_FALSE(wide.empty());
+        std::map<std::pair<uint32_t, uint32_t>, std::pair<vec3, vec3>> binaryLeaves;  // range -> box
+        for (const auto& n : bvh.nodes)
+            if (n.primCount > 0) binaryLeaves[{n.offset, n.primCount}] = {n.boundsMin, n.boundsMax};
+        std::vector<uint32_t> nodeUses(wide.size(), 0);
+        nodeUses[0] = 1;
+        std::map<std::pair<uint32_t, uint32_t>, uint32_t> leafUses;
+        uint32_t deepest = 0;
+        std::vector<std::pair<uint32_t, uint32_t>> stack{{0u, 0u}};  // (wide node, depth)
+        while (!stack.empty()) {
+            auto [index, depth] = stack.back();
+            stack.pop_back();
+            deepest = std::max(deepest, depth);
+            uint32_t children = 0;
+            for (uint32_t c = 0; c < WIDE_NODE_ARITY; ++c) {
+                WideChildBox box = decodeWideChild(wide[index], c);
+                if (!box.exists) continue;
+                ++children;
+                uint32_t count = box.ref >> BVH_COUNT_SHIFT, offset = box.ref & gpu::BVH_OFFSET_MASK;
+                if (count > 0) {
+                    auto found = binaryLeaves.find({offset, count});
+                    ASSERT_NE(found, binaryLeaves.end()) << "node " << index << " child " << c;
+                    ++leafUses[{offset, count}];
+                    for (int axis = 0; axis < 3; ++axis) {
+                        EXPECT_LE(box.lo[axis], found->second.first[axis]) << "node " << index << " child " << c;
+                        EXPECT_GE(box.hi[axis], found->second.second[axis]) << "node " << index << " child " << c;
+                    }
+                } else {
+                    ASSERT_LT(offset, wide.size());
+                    ASSERT_GT(offset, index) << "children follow their parents";
+                    ++nodeUses[offset];
+                    stack.push_back({offset, depth + 1});
+                }
+            }
+            EXPECT_GE(children, index == 0 ? 1u : 2u);
+        }
+        EXPECT_LE(deepest, bvhDepth(bvh));
+        EXPECT_EQ(leafUses.size(), binaryLeaves.size());
+        for (const auto& [range, uses] : leafUses) EXPECT_EQ(uses, 1u);
+        for (uint32_t uses : nodeUses) EXPECT_EQ(uses, 1u);
+        expectAllAgree(scene, bvh, rays);
     }
-    EXPECT_EQ(interior + leaves, nodes.size());
-    EXPECT_EQ(pairs.size(), 2 * (interior + 1)) << "one pair per interior node, plus pair 0";
-    EXPECT_TRUE(std::all_of(pairUses.begin(), pairUses.end(), [](uint32_t u) { return u == 1; }));
 }
 
 TEST(Bvh, LargestLeavesSurviveTheStackPacking) {
-    // The traversal stack packs a child as offset | primCount << BVH_COUNT_SHIFT: leaves of
+    // A wide node packs a child as offset | primCount << BVH_COUNT_SHIFT: leaves of
     // BVH_MAX_LEAF_SIZE primitives must come back whole. Nested spheres around one centre
     // cannot be split by SAH, so they fill leaves up to the (clamped) size limit.
     std::vector<gpu::Primitive> scene;
@@ -449,8 +475,8 @@ TEST(Bvh, LargestLeavesSurviveTheStackPacking) {
 }
 
 TEST(Bvh, NonFiniteRaysMissAndTerminate) {
-    // NaN can make every slab test pass, and pair 0's empty entry leads back to pair 0: the
-    // traversal must reject such rays before its loop, on both sides (a hang fails by timeout).
+    // NaN can make every slab test pass: the traversal must reject such rays before its
+    // loop, on both sides (a hang fails by timeout).
     const float nan = std::nanf(""), inf = kInf * 2.0f;
     std::vector<TraceRay> rays;
     for (glm::vec4 o : {glm::vec4(nan, 0, 0, kInf), glm::vec4(0, 0, 5, kInf), glm::vec4(inf, 0, 0, kInf)})

@@ -53,9 +53,9 @@ TEST(GpuLimits, BufferSizeCheckNamesTheLimitAndTheBuffer) {
     // Texel buffers: whole 16-byte texels, at most maxTexelBufferElements of them.
     limits.maxTexelBufferElements = 10;
     const VkBufferUsageFlags texels = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
-    EXPECT_NO_THROW(gpu::checkBufferSize("BVH child pairs", 175, texels, limits, 0));
-    expectGpuError([&] { gpu::checkBufferSize("BVH child pairs", 176, texels, limits, 0); },
-                   {"BVH child pairs buffer", "176 bytes", "maxTexelBufferElements (10 texels of 16 bytes)"});
+    EXPECT_NO_THROW(gpu::checkBufferSize("BVH nodes", 175, texels, limits, 0));
+    expectGpuError([&] { gpu::checkBufferSize("BVH nodes", 176, texels, limits, 0); },
+                   {"BVH nodes buffer", "176 bytes", "maxTexelBufferElements (10 texels of 16 bytes)"});
 }
 
 TEST(GpuLimits, BuffersBeyondTheDeviceLimitAreRefusedAtCreation) {

@@ -25,11 +25,16 @@ static_assert(sizeof(RenderParams) % 16 == 0 && offsetof(RenderParams, right) ==
               offsetof(RenderParams, seed) == 64 &&
               sizeof(RenderParams) == 128);
 static_assert(sizeof(PassConstants) == 16);
-// Texel-buffer views (RGBA32UI, 16 bytes a texel) cover the structs exactly: a child pair,
+// Texel-buffer views (RGBA32UI, 16 bytes a texel) cover the structs exactly: a wide node,
 // a primitive and a material are whole numbers of texels.
-static_assert(2 * sizeof(BvhNode) == PAIR_TEXELS * 16 && sizeof(Primitive) == PRIMITIVE_TEXELS * 16 &&
+static_assert(sizeof(WideNode) == WIDE_NODE_TEXELS * 16 && offsetof(WideNode, meta) == 12 &&
+              offsetof(WideNode, loX) == 16 && offsetof(WideNode, hiY) == 32 && offsetof(WideNode, child0) == 40 &&
+              offsetof(WideNode, child2) == 48 && sizeof(Primitive) == PRIMITIVE_TEXELS * 16 &&
               sizeof(Material) == MATERIAL_TEXELS * 16);
-// The traversal stack packs offset | primCount << BVH_COUNT_SHIFT into 32 bits.
+// A wide node's child packs offset | primCount << BVH_COUNT_SHIFT into 32 bits; a stack
+// entry packs a node index (below BVH_MAX_PRIMITIVES) and a child mask.
+static_assert(BVH_COUNT_SHIFT <= WIDE_STACK_MASK_SHIFT && WIDE_NODE_ARITY + WIDE_STACK_MASK_SHIFT <= 32u &&
+              WIDE_NODE_ARITY + WIDE_CHILD_MASK_SHIFT <= 32u);
 static_assert(BVH_MAX_LEAF_SIZE < (1u << (32u - BVH_COUNT_SHIFT)) && BVH_MAX_PRIMITIVES - 1u == BVH_OFFSET_MASK);
 
 TEST(Layout, StructSizesMatchStd430) {

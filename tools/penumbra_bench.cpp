@@ -142,7 +142,7 @@ double raysPerSample(Renderer& renderer, const Scene& scene) {
 
 // Bytes of geometry uploaded for the traversal and shading: nodes, primitives, normals.
 size_t geometryBytes(const SceneArrays& arrays) {
-    return arrays.bvh.nodes.size() * sizeof(gpu::BvhNode) + arrays.bvh.primitives.size() * sizeof(gpu::Primitive) +
+    return arrays.bvh.wideNodes.size() * sizeof(gpu::WideNode) + arrays.bvh.primitives.size() * sizeof(gpu::Primitive) +
            arrays.normals.size() * sizeof(gpu::TriangleNormals);
 }
 

@@ -241,30 +241,6 @@ void primitiveBounds(const gpu::Primitive& primitive, glm::vec3& lo, glm::vec3& 
     }
 }
 
-std::vector<gpu::BvhNode> makeChildPairs(const std::vector<gpu::BvhNode>& nodes) {
-    const gpu::BvhNode empty{glm::vec3(FLT_MAX), 0u, glm::vec3(-FLT_MAX), 0u};
-    std::vector<gpu::BvhNode> pairs;
-    if (nodes.empty()) return {empty, empty};
-    pairs.reserve(nodes.size() + 1);
-    pairs.push_back(nodes[0]);
-    pairs.push_back(empty);
-    // (entry in pairs, binary node it copies); an interior entry gets its children's pair.
-    std::vector<std::pair<uint32_t, uint32_t>> stack{{0u, 0u}};
-    while (!stack.empty()) {
-        auto [entry, index] = stack.back();
-        stack.pop_back();
-        const gpu::BvhNode& node = nodes[index];
-        if (node.primCount > 0 || index + 1 >= nodes.size()) continue;  // a leaf, or the empty root
-        uint32_t pair = uint32_t(pairs.size() / 2);
-        pairs[entry].offset = pair;
-        pairs.push_back(nodes[index + 1]);
-        pairs.push_back(nodes[node.offset]);
-        stack.push_back({2 * pair + 1, node.offset});
-        stack.push_back({2 * pair, index + 1});
-    }
-    return pairs;
-}
-
 Bvh buildBvh(std::vector<gpu::Primitive> primitives, const BvhOptions& options) {
     Bvh bvh;
     if (primitives.size() > gpu::BVH_MAX_PRIMITIVES)
@@ -274,12 +250,12 @@ Bvh buildBvh(std::vector<gpu::Primitive> primitives, const BvhOptions& options) 
         // One empty leaf-shaped root with inverted bounds: the sign-selected slab test
         // rejects it for every ray, so traversal never reads its (meaningless) offset.
         bvh.nodes.push_back({glm::vec3(FLT_MAX), 0u, glm::vec3(-FLT_MAX), 0u});
-        bvh.childPairs = makeChildPairs(bvh.nodes);
+        bvh.wideNodes = makeWideNodes(bvh.nodes);
         return bvh;
     }
     Builder builder(primitives, options);
     bvh.nodes = builder.build();
-    bvh.childPairs = makeChildPairs(bvh.nodes);
+    bvh.wideNodes = makeWideNodes(bvh.nodes);
     bvh.originalIndex = builder.order();
     bvh.primitives.reserve(primitives.size());
     for (uint32_t i : bvh.originalIndex) bvh.primitives.push_back(primitives[i]);

@@ -20,7 +20,7 @@ struct BvhOptions {
 
 struct Bvh {
     std::vector<gpu::BvhNode> nodes;          // binary, depth-first; nodes[0] is the root
-    std::vector<gpu::BvhNode> childPairs;     // the same tree in child pairs: what traversal reads
+    std::vector<gpu::WideNode> wideNodes;     // the same tree, four-wide and quantized: what traversal reads
     std::vector<gpu::Primitive> primitives;   // reordered so every leaf is a contiguous range
     std::vector<uint32_t> originalIndex;      // primitives[i] was input primitive originalIndex[i]
     float sahCost = 0.0f;                     // SAH cost of the tree (traversal 1, intersection 1)
@@ -37,9 +37,9 @@ struct CpuHit {
     glm::vec2 uv{0.0f};      // triangle: barycentrics of v1, v2; quad: (s, t); sphere: unused
 };
 
-// What one traversal did: child pairs whose two boxes it tested, primitives it tested.
+// What one traversal did: wide nodes whose boxes it tested, primitives it tested.
 struct TraversalWork {
-    uint32_t pairs = 0;
+    uint32_t nodes = 0;
     uint32_t primitives = 0;
 };
 
@@ -54,9 +54,18 @@ std::optional<CpuHit> intersectBruteForce(const std::vector<gpu::Primitive>& pri
 // Bounds of one primitive.
 void primitiveBounds(const gpu::Primitive& primitive, glm::vec3& lo, glm::vec3& hi);
 
-// The child-pair arrangement of a depth-first binary tree (shared/types.h): pairs in the
-// order a depth-first walk reaches their parents, so a subtree's pairs lie together.
-std::vector<gpu::BvhNode> makeChildPairs(const std::vector<gpu::BvhNode>& nodes);
+// The four-wide, quantized arrangement of a depth-first binary tree (shared/types.h,
+// host/bvh/wide.cpp): wide node 0 is the root, each node's interior children follow in
+// depth-first order.
+std::vector<gpu::WideNode> makeWideNodes(const std::vector<gpu::BvhNode>& nodes);
+
+// Child `child` (0 to 3) of a wide node, decoded as the shader decodes it.
+struct WideChildBox {
+    glm::vec3 lo{0.0f}, hi{0.0f};
+    uint32_t ref = 0;     // offset | primCount << BVH_COUNT_SHIFT
+    bool exists = false;  // the node's meta bit for this child
+};
+WideChildBox decodeWideChild(const gpu::WideNode& node, uint32_t child);
 
 // Depth of the deepest leaf (root = 0); the builder keeps it <= BVH_MAX_DEPTH, the size of
 // the traversal stacks on both sides.

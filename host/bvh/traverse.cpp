@@ -9,12 +9,28 @@ namespace penumbra {
 
 namespace {
 
+// Of the children in `hits` (not empty), the one the ray enters first; ties go to the lower
+// index: nearestChild of bvh.glsl.
+uint32_t nearestChild(uint32_t hits, const float tEntry[WIDE_NODE_ARITY]) {
+    uint32_t nearest = 0;
+    float best = 0.0f;
+    bool found = false;
+    for (uint32_t c = 0; c < WIDE_NODE_ARITY; ++c) {
+        if ((hits & (1u << c)) != 0 && (!found || tEntry[c] < best)) {
+            nearest = c;
+            best = tEntry[c];
+            found = true;
+        }
+    }
+    return nearest;
+}
+
 // The loop behind both queries, step for step the `traverse` of shaders/geometry/bvh.glsl,
-// over the child pairs (shared/types.h): while-while (descend to a leaf, then test its
-// primitives), nearest child first with the far child's entry distance on the stack for
-// closest hits, plain order and a return at the first hit for `anyHit`. Returns whether
-// anything was hit; `hit` holds the closest hit found (for `anyHit`, the first). `work`
-// counts the pairs and primitives tested.
+// over the wide nodes (shared/types.h): while-while (descend to a leaf, then test its
+// primitives), nearest child first, a node with other children hit back on the stack with
+// their bits, tested again when popped; lowest child first and a return at the first hit for
+// `anyHit`. Returns whether anything was hit; `hit` holds the closest hit found (for
+// `anyHit`, the first). `work` counts the nodes and primitives tested.
 bool traverse(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax, bool anyHit, CpuHit& hit,
               TraversalWork& work) {
     hit.t = tMax;
@@ -24,45 +40,42 @@ bool traverse(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax, bool 
     if (glm::any(glm::isnan(origin)) || glm::any(glm::isinf(origin)) || glm::any(glm::isnan(dir)) ||
         glm::any(glm::isinf(dir)))
         return false;
+    if (bvh.wideNodes.empty()) return false;
     glm::vec3 invDir = rayInverseDirection(dir);
-    uint32_t stackNode[BVH_MAX_DEPTH];  // offset | primCount << BVH_COUNT_SHIFT
-    float stackEntry[BVH_MAX_DEPTH];
+    uint32_t stack[BVH_MAX_DEPTH];  // node | children still to visit << WIDE_STACK_MASK_SHIFT
     int sp = 0;
-    const gpu::BvhNode* pairs = bvh.childPairs.data();
-    if (bvh.childPairs.size() < 2) return false;
-    uint32_t offset = 0, count = 0;  // an interior node whose children are pair 0: the root
+    uint32_t node = 0, allowed = 0xf;  // the root, every child
     while (true) {
-        // Descend to a leaf, or until both children are missed.
+        // Descend to a leaf, or until no allowed child is hit.
         bool atLeaf = false;
+        uint32_t leaf = 0;
         while (true) {
-            if (count > 0) {
+            ++work.nodes;
+            const gpu::WideNode& wide = bvh.wideNodes[node];
+            uint32_t hits = 0, refs[WIDE_NODE_ARITY];
+            float tEntry[WIDE_NODE_ARITY];
+            for (uint32_t c = 0; c < WIDE_NODE_ARITY; ++c) {
+                WideChildBox box = decodeWideChild(wide, c);
+                refs[c] = box.ref;
+                if (intersectBox(box.lo, box.hi, origin, invDir, hit.t, tEntry[c]) && box.exists) hits |= 1u << c;
+            }
+            hits &= allowed;
+            if (hits == 0) break;
+            uint32_t c = anyHit ? uint32_t(__builtin_ctz(hits)) : nearestChild(hits, tEntry);
+            uint32_t rest = hits & ~(1u << c);
+            if (rest != 0) stack[sp++] = node | (rest << gpu::WIDE_STACK_MASK_SHIFT);
+            uint32_t next = refs[c];
+            if ((next >> BVH_COUNT_SHIFT) != 0) {
                 atLeaf = true;
+                leaf = next;
                 break;
             }
-            ++work.pairs;
-            const gpu::BvhNode& c0 = pairs[2 * offset];
-            const gpu::BvhNode& c1 = pairs[2 * offset + 1];
-            float t0, t1;
-            bool hit0 = intersectBox(c0.boundsMin, c0.boundsMax, origin, invDir, hit.t, t0);
-            bool hit1 = intersectBox(c1.boundsMin, c1.boundsMax, origin, invDir, hit.t, t1);
-            if (!hit0 && !hit1) break;
-            if (hit0 && hit1) {
-                bool firstNear = anyHit || t0 <= t1;
-                const gpu::BvhNode& far = firstNear ? c1 : c0;
-                const gpu::BvhNode& near = firstNear ? c0 : c1;
-                stackNode[sp] = far.offset | (far.primCount << BVH_COUNT_SHIFT);
-                stackEntry[sp] = firstNear ? t1 : t0;
-                ++sp;
-                offset = near.offset;
-                count = near.primCount;
-            } else {
-                const gpu::BvhNode& c = hit0 ? c0 : c1;
-                offset = c.offset;
-                count = c.primCount;
-            }
+            node = next;
+            allowed = 0xf;
         }
         if (atLeaf) {
-            for (uint32_t i = offset; i < offset + count; ++i) {
+            uint32_t first = leaf & gpu::BVH_OFFSET_MASK, end = first + (leaf >> BVH_COUNT_SHIFT);
+            for (uint32_t i = first; i < end; ++i) {
                 float t;
                 glm::vec2 uv;
                 ++work.primitives;
@@ -74,18 +87,10 @@ bool traverse(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax, bool 
                 }
             }
         }
-        // Pop the next deferred child that can still hold something nearer than the hit.
-        bool found = false;
-        while (sp > 0) {
-            --sp;
-            if (anyHit || stackEntry[sp] <= hit.t * gpu::BOX_EXIT_SCALE) {
-                offset = stackNode[sp] & gpu::BVH_OFFSET_MASK;
-                count = stackNode[sp] >> BVH_COUNT_SHIFT;
-                found = true;
-                break;
-            }
-        }
-        if (!found) break;
+        if (sp == 0) break;
+        --sp;
+        node = stack[sp] & gpu::WIDE_STACK_NODE_MASK;
+        allowed = stack[sp] >> gpu::WIDE_STACK_MASK_SHIFT;
     }
     return hit.primitive != gpu::NO_HIT;
 }
@@ -98,7 +103,7 @@ std::optional<CpuHit> intersectClosest(const Bvh& bvh, glm::vec3 origin, glm::ve
     TraversalWork counted;
     bool found = traverse(bvh, origin, dir, tMax, false, hit, counted);
     if (work) {
-        work->pairs += counted.pairs;
+        work->nodes += counted.nodes;
         work->primitives += counted.primitives;
     }
     if (!found) return std::nullopt;

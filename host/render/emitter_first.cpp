@@ -79,7 +79,7 @@ BrdfRayFates brdfRayFates(const Scene& scene, const SceneArrays& arrays) {
                                          std::sqrt(std::max(0.0f, 1.0f - u1)) * n;
                     TraversalWork work;
                     const auto next = intersectClosest(bvh, origin, wi, 3.4e38f, &work);
-                    fates.closestHitWork += double(work.pairs + work.primitives);
+                    fates.closestHitWork += double(work.nodes + work.primitives);
                     if (!next) fates.escape += 1.0;
                     else if (bvh.primitives[next->primitive].light != gpu::NO_LIGHT) fates.emitter += 1.0;
                     else fates.other += 1.0;

@@ -32,7 +32,7 @@ bool emitterFirstExact(const IntegratorSettings& integrator, const SceneArrays& 
 // hit something else, or leave the scene) and what their closest-hit traversals cost.
 struct BrdfRayFates {
     double emitter = 0.0, other = 0.0, escape = 0.0;
-    double closestHitWork = 0.0;  // mean child pairs plus primitives a closest hit tests per ray
+    double closestHitWork = 0.0;  // mean wide nodes plus primitives a closest hit tests per ray
 };
 // Cosine-distributed rays from the first hits of a grid of camera rays, traced on the CPU
 // (bvh/bvh.h) with a fixed pattern, so the answer is the same on every run.
@@ -45,9 +45,11 @@ BrdfRayFates brdfRayFates(const Scene& scene, const SceneArrays& arrays);
 // rooms, where rays hit walls after a few steps, and on dense meshes, where even a ray that
 // leaves the scene first descends through a deep tree around its origin. It loses where
 // the closest hit is cheap (open scenes of a few shapes: most rays leave after a few box
-// tests). The measured scenes put the break-even between 4.7 and 10.3 units of work.
+// tests). With the four-wide tree the measured scenes put the break-even between 2.0 units
+// of work (the MIS scene: 0.92x) and 7.0 (the glTF model: 1.22x); the threshold is where
+// the straight line through those two gains crosses 1 (docs/PERFORMANCE.md, "Round 7").
 bool emitterFirstPays(const Scene& scene, const SceneArrays& arrays);
-constexpr double kEmitterFirstMinWork = 8.0;      // BrdfRayFates::closestHitWork at least
+constexpr double kEmitterFirstMinWork = 3.5;      // BrdfRayFates::closestHitWork at least
 constexpr double kEmitterFirstMaxEmitter = 0.05;  // BrdfRayFates::emitter at most
 
 }  // namespace penumbra

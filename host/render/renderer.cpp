@@ -58,7 +58,7 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
     // (bvh.glsl, materials.glsl, light_data.glsl); the primitives also as a storage buffer
     // by the traversal tests' kernels.
     const VkBufferUsageFlags texels = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
-    m_nodes = Buffer::fromVector(context, m_arrays.bvh.childPairs, "BVH child pairs", texels);
+    m_nodes = Buffer::fromVector(context, m_arrays.bvh.wideNodes, "BVH nodes", texels);
     m_primitives =
         Buffer::fromVector(context, m_arrays.bvh.primitives, "primitives", texels | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     m_normals = Buffer::fromVector(context, m_arrays.normals, "triangle normals");

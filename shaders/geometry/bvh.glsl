@@ -10,13 +10,13 @@
 #include "geometry/intersect.glsl"
 #include "geometry/ray_count.glsl"
 
-// The tree in child pairs (shared/types.h): pair p holds the boxes of an interior node's two
-// children and where each leads. The traversal reads pairs and primitives through texel
-// buffers (texelFetch on a usamplerBuffer): llvmpipe (Mesa 22.3) turns a storage-buffer load
-// inside a loop into a loop over the SIMD lanes with a bounds-check branch per component, a
-// texel fetch into a branch-free gather of four words (measured: docs/PERFORMANCE.md,
-// "Round 2: the data the kernels read").
-layout(binding = BINDING_NODES) uniform usamplerBuffer pairTexels;
+// The tree in four-wide nodes with quantized child boxes (shared/types.h, WideNode). The
+// traversal reads nodes and primitives through texel buffers (texelFetch on a
+// usamplerBuffer): llvmpipe (Mesa 22.3) turns a storage-buffer load inside a loop into a
+// loop over the SIMD lanes with a bounds-check branch per component, a texel fetch into a
+// branch-free gather of four words (measured: docs/PERFORMANCE.md, "Round 2: the data the
+// kernels read").
+layout(binding = BINDING_NODES) uniform usamplerBuffer nodeTexels;
 layout(binding = BINDING_PRIMITIVE_TEXELS) uniform usamplerBuffer primitiveTexels;
 // Primitives in leaf order: Hit.primitive indexes this array. The render kernels read them
 // through primitiveTexels only (loadPrimitive: traversal, shading, light sampling); the
@@ -44,62 +44,116 @@ struct Hit {
 // here the lanes do their box tests together and their primitive tests together (what it
 // bought: docs/PERFORMANCE.md, "What each optimisation bought").
 
-// The loop behind both queries. Stack-based, nearest child first: both child boxes of a
-// pair are tested, the far one is deferred with its entry distance and, for the closest
-// hit, skipped on pop if a closer hit has been found meanwhile. With `anyHit` it returns at
-// the first hit found, children in plain order. The builder bounds leaf depth by
-// BVH_MAX_DEPTH, and at most one child per level waits on the stack, so the fixed stack
-// cannot overflow. `anyHit` is a constant at both call sites below, so after inlining the
-// compiler keeps a copy of the loop specialised for each query.
+// max and min of operands that are never NaN, as a comparison and a select: GLSL's max and
+// min must return the other operand of a NaN, which llvmpipe does with two more
+// instructions after each x86 maxps/minps. The slab distances below are never NaN: the
+// ray's origin is finite, rayInverseDirection keeps 1 / dir finite and nonzero, and a
+// decoded plane is finite or, where a node's step is 2^127, +inf, so (plane - origin) / dir
+// is finite or infinite. (A NaN tMax, which no caller passes, makes every box miss.)
+vec4 maxOfNumbers(vec4 a, vec4 b) { return mix(b, a, greaterThan(a, b)); }
+vec4 minOfNumbers(vec4 a, vec4 b) { return mix(b, a, lessThan(a, b)); }
+
+// The four children of wide node `node` tested against the ray: bit c of the result is set
+// where child c exists and its box is hit before tMax, with entry distance tEntry[c] and
+// destination ref[c] (offset | primCount << BVH_COUNT_SHIFT). The boxes are decoded from
+// their bytes (shared/types.h: origin + q * step) and tested with intersectBox's formula,
+// four at a time; host/bvh/traverse.cpp decodes and tests them one by one, with the same
+// operations.
+uint intersectWideNode(uint node, vec3 origin, vec3 invDir, float tMax, out vec4 tEntry, out uvec4 ref) {
+    int texel = int(WIDE_NODE_TEXELS * node);
+    uvec4 frame = texelFetch(nodeTexels, texel);
+    uvec4 planesA = texelFetch(nodeTexels, texel + 1);  // loX, loY, loZ, hiX
+    uvec4 planesB = texelFetch(nodeTexels, texel + 2);  // hiY, hiZ, child 0, child 1
+    uvec4 refsB = texelFetch(nodeTexels, texel + 3);    // child 2, child 3
+    ref = uvec4(planesB.zw, refsB.xy);
+    vec3 corner = uintBitsToFloat(frame.xyz);
+    // step = 2^(e - 127): the biased exponent e put in a float's exponent field.
+    vec3 step = uintBitsToFloat(((uvec3(frame.w) >> uvec3(0u, 8u, 16u)) & 0xffu) << 23u);
+    // intersectBox (intersect.glsl) for the four boxes: the near planes chosen by the sign
+    // of the direction (here the words of planes, before they are unpacked), the entry
+    // clamped to 0, the exit widened by BOX_EXIT_SCALE.
+    bvec3 negative = lessThan(invDir, vec3(0.0));
+    uvec3 nearWords = mix(uvec3(planesA.xyz), uvec3(planesA.w, planesB.xy), negative);
+    uvec3 farWords = mix(uvec3(planesA.w, planesB.xy), uvec3(planesA.xyz), negative);
+    const uvec4 bytes = uvec4(0u, 8u, 16u, 24u);
+    vec4 nearX = (corner.x + vec4((uvec4(nearWords.x) >> bytes) & 0xffu) * step.x - origin.x) * invDir.x;
+    vec4 nearY = (corner.y + vec4((uvec4(nearWords.y) >> bytes) & 0xffu) * step.y - origin.y) * invDir.y;
+    vec4 nearZ = (corner.z + vec4((uvec4(nearWords.z) >> bytes) & 0xffu) * step.z - origin.z) * invDir.z;
+    vec4 farX = (corner.x + vec4((uvec4(farWords.x) >> bytes) & 0xffu) * step.x - origin.x) * invDir.x;
+    vec4 farY = (corner.y + vec4((uvec4(farWords.y) >> bytes) & 0xffu) * step.y - origin.y) * invDir.y;
+    vec4 farZ = (corner.z + vec4((uvec4(farWords.z) >> bytes) & 0xffu) * step.z - origin.z) * invDir.z;
+    vec4 tNear = maxOfNumbers(maxOfNumbers(nearX, nearY), maxOfNumbers(nearZ, vec4(0.0)));
+    vec4 tFar = minOfNumbers(minOfNumbers(farX, farY), minOfNumbers(farZ, vec4(tMax))) * BOX_EXIT_SCALE;
+    tEntry = tNear;
+    bvec4 hit = lessThanEqual(tNear, tFar);
+    uint exists = frame.w >> WIDE_CHILD_MASK_SHIFT;
+    return exists & ((hit.x ? 1u : 0u) | (hit.y ? 2u : 0u) | (hit.z ? 4u : 0u) | (hit.w ? 8u : 0u));
+}
+
+// Of the children in `hits` (not empty), the one the ray enters first; ties go to the lower
+// index. (Entry distances can be infinite, so no sentinel distance stands in for a miss.)
+uint nearestChild(uint hits, vec4 tEntry) {
+    uint nearest = 0u;
+    float best = 0.0;
+    bool found = false;
+    for (uint c = 0u; c < WIDE_NODE_ARITY; ++c) {
+        if ((hits & (1u << c)) != 0u && (!found || tEntry[c] < best)) {
+            nearest = c;
+            best = tEntry[c];
+            found = true;
+        }
+    }
+    return nearest;
+}
+
+// The loop behind both queries. From a node, the ray goes on to the nearest child it hits
+// (for `anyHit`, the first in index order); if it hits others, the node goes on the stack
+// with those children's bits, and when the stack gives it back it is tested again with
+// only those bits allowed: a child that now lies behind the closest hit found meanwhile
+// fails its box test there and is skipped. One stack entry per node on the path from the
+// root, so BVH_MAX_DEPTH entries suffice (host/bvh/wide.cpp: the wide tree is no deeper
+// than the binary one). With `anyHit` it returns at the first hit found. `anyHit` is a
+// constant at both call sites below, so after inlining the compiler keeps a copy of the
+// loop specialised for each query.
 bool traverse(vec3 origin, vec3 dir, float tMax, bool anyHit, out Hit hit) {
     countRay();
     hit.t = tMax;
     hit.primitive = NO_HIT;
     hit.uv = vec2(0.0);
     // A NaN or infinite ray misses. It must not enter the loop: NaN can make the slab test
-    // pass for every box (min/max may drop NaN operands), and pair 0's empty entry leads
-    // back to pair 0, so such a ray would never leave.
+    // pass for every box (min/max may drop NaN operands).
     if (!isFiniteVec(origin) || !isFiniteVec(dir)) return false;
     vec3 invDir = rayInverseDirection(dir);
-    uint stackNode[BVH_MAX_DEPTH];  // offset | primCount << BVH_COUNT_SHIFT
-    float stackEntry[BVH_MAX_DEPTH];
+    uint stack[BVH_MAX_DEPTH];  // node | children still to visit << WIDE_STACK_MASK_SHIFT
     int sp = 0;
-    uint offset = 0u, count = 0u;  // an interior node whose children are pair 0: the root
+    uint node = 0u, allowed = 0xfu;  // the root, every child
     while (true) {
-        // Descend to a leaf, or until both children are missed.
+        // Descend to a leaf, or until no allowed child is hit.
         bool atLeaf = false;
+        uint leaf = 0u;
         while (true) {
-            if (count > 0u) {
+            vec4 tEntry;
+            uvec4 ref;
+            uint hits = intersectWideNode(node, origin, invDir, hit.t, tEntry, ref) & allowed;
+            if (hits == 0u) break;
+            uint c = anyHit ? uint(findLSB(hits)) : nearestChild(hits, tEntry);
+            uint rest = hits & ~(1u << c);
+            if (rest != 0u) {
+                stack[sp] = node | (rest << WIDE_STACK_MASK_SHIFT);
+                ++sp;
+            }
+            uint next = c == 0u ? ref.x : (c == 1u ? ref.y : (c == 2u ? ref.z : ref.w));
+            if ((next >> BVH_COUNT_SHIFT) != 0u) {
                 atLeaf = true;
+                leaf = next;
                 break;
             }
-            int texel = int(PAIR_TEXELS * offset);
-            uvec4 lo0 = texelFetch(pairTexels, texel);
-            uvec4 hi0 = texelFetch(pairTexels, texel + 1);
-            uvec4 lo1 = texelFetch(pairTexels, texel + 2);
-            uvec4 hi1 = texelFetch(pairTexels, texel + 3);
-            float t0, t1;
-            bool hit0 = intersectBox(uintBitsToFloat(lo0.xyz), uintBitsToFloat(hi0.xyz), origin, invDir, hit.t, t0);
-            bool hit1 = intersectBox(uintBitsToFloat(lo1.xyz), uintBitsToFloat(hi1.xyz), origin, invDir, hit.t, t1);
-            if (!hit0 && !hit1) break;
-            uvec2 child0 = uvec2(lo0.w, hi0.w), child1 = uvec2(lo1.w, hi1.w);  // (offset, primCount)
-            if (hit0 && hit1) {
-                bool firstNear = anyHit || t0 <= t1;
-                uvec2 far = firstNear ? child1 : child0;
-                stackNode[sp] = far.x | (far.y << BVH_COUNT_SHIFT);
-                stackEntry[sp] = firstNear ? t1 : t0;
-                ++sp;
-                uvec2 near = firstNear ? child0 : child1;
-                offset = near.x;
-                count = near.y;
-            } else {
-                uvec2 child = hit0 ? child0 : child1;
-                offset = child.x;
-                count = child.y;
-            }
+            node = next;
+            allowed = 0xfu;
         }
         if (atLeaf) {
-            for (uint i = offset; i < offset + count; ++i) {
+            uint first = leaf & BVH_OFFSET_MASK, end = first + (leaf >> BVH_COUNT_SHIFT);
+            for (uint i = first; i < end; ++i) {
                 float t;
                 vec2 uv;
                 if (intersectPrimitive(loadPrimitive(i), origin, dir, hit.t, t, uv)) {
@@ -110,18 +164,10 @@ bool traverse(vec3 origin, vec3 dir, float tMax, bool anyHit, out Hit hit) {
                 }
             }
         }
-        // Pop the next deferred child that can still hold something nearer than the hit.
-        bool found = false;
-        while (sp > 0) {
-            --sp;
-            if (anyHit || stackEntry[sp] <= hit.t * BOX_EXIT_SCALE) {
-                offset = stackNode[sp] & BVH_OFFSET_MASK;
-                count = stackNode[sp] >> BVH_COUNT_SHIFT;
-                found = true;
-                break;
-            }
-        }
-        if (!found) break;
+        if (sp == 0) break;
+        --sp;
+        node = stack[sp] & WIDE_STACK_NODE_MASK;
+        allowed = stack[sp] >> WIDE_STACK_MASK_SHIFT;
     }
     return hit.primitive != NO_HIT;
 }

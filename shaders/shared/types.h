@@ -21,7 +21,7 @@ using uint = std::uint32_t;
 // ---- Descriptor bindings of the render kernels (set 0) -------------------------------
 #define BINDING_PARAMS 0       // uniform RenderParams
 #define BINDING_ACCUM 1        // vec4 per pixel: rgb = sum of samples, w = sample count
-#define BINDING_NODES 2        // BvhNode[] in child pairs, as a texel buffer (see below)
+#define BINDING_NODES 2        // WideNode[] as a texel buffer (see below)
 #define BINDING_PRIMITIVES 3   // Primitive[] in BVH leaf order (storage buffer: tests)
 #define BINDING_NORMALS 4      // TriangleNormals[]
 #define BINDING_MATERIALS 5    // Material[] as a texel buffer (MATERIAL_TEXELS texels each)
@@ -47,24 +47,46 @@ struct BvhNode {
     uint primCount;
 };
 
-// What the traversal reads (Bvh::childPairs, BINDING_NODES): the same BvhNode struct in
-// "child pairs", the arrangement of Aila & Laine 2009 ("Understanding the Efficiency of Ray
-// Traversal on GPUs", section 4: a node holds its two children's boxes). Pair p is entries
-// 2p and 2p + 1: the two children of one interior node, each with its box, and
-//   primCount == 0: an interior child; offset = the pair that holds ITS children,
-//   primCount  > 0: a leaf; primitives [offset, offset + primCount).
-// Pair 0 holds the root and an empty (inverted) box that no ray hits. One traversal step
-// reads one pair, 64 bytes: the two boxes it tests and where each child leads, where the
-// depth-first binary array above needs the node and both of its children (96 bytes).
+// What the traversal reads (Bvh::wideNodes, BINDING_NODES): the binary tree collapsed into
+// nodes of up to four children (host/bvh/wide.cpp), each child's box quantized to one byte
+// per plane in the node's own frame, after Ylitie, Karras & Laine 2017 ("Efficient
+// Incoherent Ray Traversal on GPUs Through Compressed Wide BVHs", HPG), with 4 children
+// where they use 8. A child's box is
+//     lo = origin + q_lo * step,  hi = origin + q_hi * step    (per axis)
+// where step = 2^(e - 127) is a power of two (e = a biased float exponent, so the shader
+// builds step from the bits and q * step is exact) and the builder rounds q_lo down and
+// q_hi up until the float result contains the child's box: the decoded box is never smaller.
+// One traversal step reads one node, 64 bytes, and tests four boxes; the binary child pairs
+// it replaced needed 64 bytes for two (docs/PERFORMANCE.md, "Round 7").
+//
+//   origin  the frame's corner (the smallest corner of the children's boxes)
+//   meta    bits 0-7, 8-15, 16-23: e of the x, y, z step; bits 24-27: which children exist
+//   loX..hiZ  one plane of every child: byte c (bits 8c to 8c + 7) belongs to child c
+//   child   where child c leads: offset | primCount << BVH_COUNT_SHIFT; primCount == 0:
+//           an interior child, offset = its WideNode; primCount > 0: a leaf, primitives
+//           [offset, offset + primCount)
+// Node 0 is the root. A child slot that does not exist has its meta bit clear.
+struct WideNode {
+    vec3 origin;
+    uint meta;
+    uint loX, loY, loZ, hiX;
+    uint hiY, hiZ, child0, child1;
+    uint child2, child3, unused0, unused1;
+};
+#define WIDE_NODE_ARITY 4u
+PENUMBRA_CONST uint WIDE_CHILD_MASK_SHIFT = 24u;
+// A traversal stack entry: a node whose children it still has to visit, as
+// node | childMask << WIDE_STACK_MASK_SHIFT (a node index below 2^27, see below).
+PENUMBRA_CONST uint WIDE_STACK_MASK_SHIFT = 28u;
+PENUMBRA_CONST uint WIDE_STACK_NODE_MASK = (1u << WIDE_STACK_MASK_SHIFT) - 1u;
 //
 // Texel buffers (BINDING_NODES, BINDING_PRIMITIVE_TEXELS) are views of the same bytes as
-// the structs, in RGBA32UI texels of 16 bytes: pair p is texels 4p (child 0: boundsMin,
-// offset), 4p + 1 (boundsMax, primCount), 4p + 2 and 4p + 3 (child 1); a Primitive is
-// texels 3i (p0, typeAndNormals), 3i + 1 (p1, material), 3i + 2 (p2, light). Floats are
-// read back with uintBitsToFloat.
-PENUMBRA_CONST uint PAIR_TEXELS = 4u;
+// the structs, in RGBA32UI texels of 16 bytes: a WideNode is texels 4n to 4n + 3 in field
+// order; a Primitive is texels 3i (p0, typeAndNormals), 3i + 1 (p1, material), 3i + 2
+// (p2, light). Floats are read back with uintBitsToFloat.
+PENUMBRA_CONST uint WIDE_NODE_TEXELS = 4u;
 PENUMBRA_CONST uint PRIMITIVE_TEXELS = 3u;
-// The traversal stack packs a child as offset | primCount << BVH_COUNT_SHIFT: leaves hold
+// A WideNode child packs offset | primCount << BVH_COUNT_SHIFT: leaves hold
 // at most BVH_MAX_LEAF_SIZE primitives, and scenes at most BVH_MAX_PRIMITIVES (the texel
 // buffer limit, 2^27 texels on lavapipe, allows fewer still: 44.7M primitives).
 #define BVH_COUNT_SHIFT 27u
