@@ -2,6 +2,8 @@
 // brute-force reference. The loop mirrors `traverse` in shaders/geometry/bvh.glsl step by
 // step, with the intersection routines of bvh/intersect.h, so CPU and GPU results differ
 // only by rounding.
+#include <bit>
+
 #include "bvh/bvh.h"
 #include "bvh/intersect.h"
 
@@ -61,7 +63,7 @@ bool traverse(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax, bool 
             }
             hits &= allowed;
             if (hits == 0) break;
-            uint32_t c = anyHit ? uint32_t(__builtin_ctz(hits)) : nearestChild(hits, tEntry);
+            uint32_t c = anyHit ? uint32_t(std::countr_zero(hits)) : nearestChild(hits, tEntry);
             uint32_t rest = hits & ~(1u << c);
             if (rest != 0) stack[sp++] = node | (rest << gpu::WIDE_STACK_MASK_SHIFT);
             uint32_t next = refs[c];
