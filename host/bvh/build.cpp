@@ -36,11 +36,6 @@ struct Aabb {
     }
 };
 
-float nodeArea(const gpu::BvhNode& node) {
-    Aabb box{node.boundsMin, node.boundsMax};
-    return box.area();
-}
-
 // ceil(log2(n)) for n >= 1: the depth a median split needs below a node of n primitives.
 uint32_t ceilLog2(uint32_t n) {
     uint32_t bits = 0;
@@ -239,6 +234,11 @@ void primitiveBounds(const gpu::Primitive& primitive, glm::vec3& lo, glm::vec3& 
         lo = glm::min(primitive.p0, glm::min(primitive.p1, primitive.p2));
         hi = glm::max(primitive.p0, glm::max(primitive.p1, primitive.p2));
     }
+}
+
+float nodeArea(const gpu::BvhNode& node) {
+    Aabb box{node.boundsMin, node.boundsMax};
+    return box.area();
 }
 
 Bvh buildBvh(std::vector<gpu::Primitive> primitives, const BvhOptions& options) {

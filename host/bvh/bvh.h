@@ -51,6 +51,9 @@ bool intersectAny(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax);
 // Every primitive tested in turn: the reference the BVH must agree with.
 std::optional<CpuHit> intersectBruteForce(const std::vector<gpu::Primitive>& primitives, glm::vec3 origin,
                                           glm::vec3 dir, float tMax);
+// Surface area of a node's box; 0 for an empty (inverted) box.
+float nodeArea(const gpu::BvhNode& node);
+
 // Bounds of one primitive.
 void primitiveBounds(const gpu::Primitive& primitive, glm::vec3& lo, glm::vec3& hi);
 

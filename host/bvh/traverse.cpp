@@ -46,7 +46,7 @@ bool traverse(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax, bool 
     glm::vec3 invDir = rayInverseDirection(dir);
     uint32_t stack[BVH_MAX_DEPTH];  // node | children still to visit << WIDE_STACK_MASK_SHIFT
     int sp = 0;
-    uint32_t node = 0, allowed = 0xf;  // the root, every child
+    uint32_t node = 0, allowed = gpu::WIDE_ALL_CHILDREN;  // the root, every child
     while (true) {
         // Descend to a leaf, or until no allowed child is hit.
         bool atLeaf = false;
@@ -73,7 +73,7 @@ bool traverse(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax, bool 
                 break;
             }
             node = next;
-            allowed = 0xf;
+            allowed = gpu::WIDE_ALL_CHILDREN;
         }
         if (atLeaf) {
             uint32_t first = leaf & gpu::BVH_OFFSET_MASK, end = first + (leaf >> BVH_COUNT_SHIFT);

@@ -19,12 +19,6 @@ namespace penumbra {
 
 namespace {
 
-float surfaceArea(const gpu::BvhNode& node) {
-    glm::vec3 d = node.boundsMax - node.boundsMin;
-    if (d.x < 0.0f || d.y < 0.0f || d.z < 0.0f) return 0.0f;
-    return d.x * d.y + d.y * d.z + d.z * d.x;
-}
-
 float stepOf(uint32_t biasedExponent) { return std::ldexp(1.0f, int(biasedExponent) - 127); }
 
 // The smallest biased exponent e (1 to 254) whose step 2^(e - 127) reaches from `origin` past
@@ -68,19 +62,11 @@ public:
             fill(0, {0u});  // the whole scene is one leaf
         } else if (m_nodes.size() > 1) {
             fill(0, {1u, root.offset});
-        } else {
-            m_wide[0] = emptyNode();  // no primitives: a root without children
-        }
+        }  // else no primitives: the default node, without children
         return std::move(m_wide);
     }
 
 private:
-    static gpu::WideNode emptyNode() {
-        gpu::WideNode node{};
-        node.meta = 1u | 1u << 8 | 1u << 16;
-        return node;
-    }
-
     bool isInterior(uint32_t index) const { return m_nodes[index].primCount == 0; }
 
     // Makes m_wide[slot] the node over the binary nodes `children`, opening interior ones
@@ -90,9 +76,9 @@ private:
             int widest = -1;
             float widestArea = -1.0f;
             for (size_t i = 0; i < children.size(); ++i)
-                if (isInterior(children[i]) && surfaceArea(m_nodes[children[i]]) > widestArea) {
+                if (isInterior(children[i]) && nodeArea(m_nodes[children[i]]) > widestArea) {
                     widest = int(i);
-                    widestArea = surfaceArea(m_nodes[children[i]]);
+                    widestArea = nodeArea(m_nodes[children[i]]);
                 }
             if (widest < 0) break;
             uint32_t opened = children[size_t(widest)];

@@ -126,7 +126,7 @@ bool traverse(vec3 origin, vec3 dir, float tMax, bool anyHit, out Hit hit) {
     vec3 invDir = rayInverseDirection(dir);
     uint stack[BVH_MAX_DEPTH];  // node | children still to visit << WIDE_STACK_MASK_SHIFT
     int sp = 0;
-    uint node = 0u, allowed = 0xfu;  // the root, every child
+    uint node = 0u, allowed = WIDE_ALL_CHILDREN;  // the root, every child
     while (true) {
         // Descend to a leaf, or until no allowed child is hit.
         bool atLeaf = false;
@@ -149,7 +149,7 @@ bool traverse(vec3 origin, vec3 dir, float tMax, bool anyHit, out Hit hit) {
                 break;
             }
             node = next;
-            allowed = 0xfu;
+            allowed = WIDE_ALL_CHILDREN;
         }
         if (atLeaf) {
             uint first = leaf & BVH_OFFSET_MASK, end = first + (leaf >> BVH_COUNT_SHIFT);

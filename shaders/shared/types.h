@@ -75,6 +75,7 @@ struct WideNode {
 };
 #define WIDE_NODE_ARITY 4u
 PENUMBRA_CONST uint WIDE_CHILD_MASK_SHIFT = 24u;
+PENUMBRA_CONST uint WIDE_ALL_CHILDREN = (1u << WIDE_NODE_ARITY) - 1u;  // a child mask with every bit
 // A traversal stack entry: a node whose children it still has to visit, as
 // node | childMask << WIDE_STACK_MASK_SHIFT (a node index below 2^27, see below).
 PENUMBRA_CONST uint WIDE_STACK_MASK_SHIFT = 28u;
