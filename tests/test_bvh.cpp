@@ -17,6 +17,8 @@
 #include "bvh/intersect.h"
 #include "gpu/kernel.h"
 #include "gpu_fixture.h"
+#include "render/inline_geometry.h"
+#include "render/kernel_options.h"
 
 using namespace penumbra;
 using glm::vec3;
@@ -103,12 +105,13 @@ struct SceneBuffers {
 template <class Result, class Input>
 std::vector<Result> runSceneKernel(const char* name, const Bvh& bvh,
                                    const std::vector<gpu::TriangleNormals>& shadingNormals,
-                                   const std::vector<Input>& inputs) {
+                                   const std::vector<Input>& inputs,
+                                   const std::vector<uint32_t>& specialization = {}) {
     auto& ctx = test::gpuContext();
     auto inputBuffer = gpu::Buffer::fromVector(ctx, inputs);
     gpu::Buffer results(ctx, inputs.size() * sizeof(Result), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     SceneBuffers scene(ctx, bvh, shadingNormals);
-    gpu::Kernel kernel(ctx, name, sceneBindings(), sizeof(uint32_t));
+    gpu::Kernel kernel(ctx, name, sceneBindings(), sizeof(uint32_t), specialization);
     kernel.bind(0, inputBuffer);
     kernel.bind(1, results);
     scene.bind(kernel);
@@ -119,8 +122,9 @@ std::vector<Result> runSceneKernel(const char* name, const Bvh& bvh,
     return out;
 }
 
-std::vector<TraceResult> traceOnGpu(const Bvh& bvh, const std::vector<TraceRay>& rays) {
-    return runSceneKernel<TraceResult>("tests/bvh_trace", bvh, {}, rays);
+std::vector<TraceResult> traceOnGpu(const Bvh& bvh, const std::vector<TraceRay>& rays,
+                                    const std::vector<uint32_t>& specialization = {}) {
+    return runSceneKernel<TraceResult>("tests/bvh_trace", bvh, {}, rays, specialization);
 }
 
 // Origins uniform in [-originExtent, originExtent]^3, directions uniform on the sphere; with
@@ -177,54 +181,14 @@ CpuComparison compareCpu(const std::vector<gpu::Primitive>& scene, const Bvh& bv
     return result;
 }
 
-}  // namespace
-
-// ---- (a) CPU BVH == CPU brute force ----------------------------------------------------
-
-TEST(Bvh, CpuTraversalMatchesBruteForce) {
-    Random rng(1234);
-    struct Case {
-        uint32_t triangles, spheres, quads;
-        BvhOptions options;
-    };
-    const Case cases[] = {{2, 0, 0, {}},       {5, 3, 2, {}},        {200, 20, 20, {}},
-                          {2000, 150, 150, {}}, {2000, 150, 150, {1, 16}}, {2000, 150, 150, {8, 4}},
-                          {500, 0, 0, {2, 32}}, {0, 300, 0, {}},     {0, 0, 300, {}}};
-    for (const Case& c : cases) {
-        auto scene = randomScene(rng, c.triangles, c.spheres, c.quads);
-        Bvh bvh = buildBvh(scene, c.options);
-        auto rays = randomRays(rng, 3000, 14.0f, &scene);
-        // Every third ray gets a finite tMax, so any-hit is also checked with short rays.
-        for (size_t i = 0; i < rays.size(); i += 3) rays[i].originTMax.w = rng.uniform(0.0f, 15.0f);
-        CpuComparison r = compareCpu(scene, bvh, rays);
-        SCOPED_TRACE(testing::Message() << c.triangles << " triangles, " << c.spheres << " spheres, " << c.quads
-                                        << " quads, leaf " << c.options.maxLeafSize << ", bins " << c.options.binCount);
-        EXPECT_EQ(r.failures, 0u) << "first failing ray: " << r.firstFailure;
-        EXPECT_GT(r.hits, rays.size() / 20) << "the scene should be hit by a fair share of rays";
-        EXPECT_LE(r.ties, r.hits / 100 + 1) << "exact ties in t should be rare";
-    }
-}
-
-// ---- (b) GPU traversal == CPU brute force ------------------------------------------------
-
-TEST(Bvh, GpuTraversalMatchesCpuBruteForce) {
-    Random rng(20240607);
-    auto scene = randomScene(rng, 4000, 400, 400);
-    Bvh bvh = buildBvh(scene);
-    const uint32_t rayCount = 1u << 17;  // 131072
-    // Origins inside and outside the scene's [-10, 10]^3; half the rays aimed at primitives.
-    auto rays = randomRays(rng, rayCount, 16.0f, &scene);
-    // tMax: half unlimited, a quarter random, a quarter half-way to the closest hit (so
-    // any-hit must report nothing while a hit lies further along).
-    for (uint32_t i = 0; i < rayCount; ++i) {
-        if (i % 4 == 2) rays[i].originTMax.w = rng.uniform(0.5f, 20.0f);
-        if (i % 4 == 3) {
-            auto hit = intersectClosest(bvh, vec3(rays[i].originTMax), vec3(rays[i].dir), kInf);
-            if (hit) rays[i].originTMax.w = 0.5f * hit->t;
-        }
-    }
+// The GPU's closest and any hits of `rays` (tests/bvh_trace.comp with `specialization`)
+// against CPU brute force over `scene`; `label` names the summary line and the log file.
+void expectGpuMatchesCpuBruteForce(const std::vector<gpu::Primitive>& scene, const Bvh& bvh,
+                                   const std::vector<TraceRay>& rays, const std::vector<uint32_t>& specialization,
+                                   const std::string& label) {
+    const uint32_t rayCount = uint32_t(rays.size());
     auto gpuStart = std::chrono::steady_clock::now();
-    auto gpuResults = traceOnGpu(bvh, rays);
+    auto gpuResults = traceOnGpu(bvh, rays, specialization);
     double gpuSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - gpuStart).count();
 
     // Tolerance on t: GPU and CPU round differently (and lavapipe may fuse multiply-adds);
@@ -273,14 +237,85 @@ TEST(Bvh, GpuTraversalMatchesCpuBruteForce) {
                 << " t=" << g.t << ", " << describe(ray) << "\n";
         }
     }
-    std::cout << "[ bvh gpu ] " << rayCount << " rays, " << hits << " hit, " << samePrimitive << " same primitive, "
+    std::cout << "[ " << label << " ] " << rayCount << " rays, " << hits << " hit, " << samePrimitive << " same primitive, "
               << ties << " ties, " << failures << " disagreements, " << anyMismatch << " any-hit mismatches; "
               << "lavapipe " << gpuSeconds << " s (incl. pipeline compile)\n";
-    if (failures || anyMismatch) std::ofstream(test::outputPath("bvh_gpu_mismatches.txt")) << log.str();
+    if (failures || anyMismatch) std::ofstream(test::outputPath(label + "_mismatches.txt")) << log.str();
     EXPECT_GT(hits, rayCount / 4) << "most rays should hit something";
-    EXPECT_EQ(anyMismatch, 0u) << "see build/test-output/bvh_gpu_mismatches.txt";
-    EXPECT_EQ(failures, 0u) << "see build/test-output/bvh_gpu_mismatches.txt";
+    EXPECT_EQ(anyMismatch, 0u) << "see build/test-output/" << label << "_mismatches.txt";
+    EXPECT_EQ(failures, 0u) << "see build/test-output/" << label << "_mismatches.txt";
     EXPECT_LE(ties, hits / 1000 + 1) << "ties (distinct primitives at equal t) should be rare";
+}
+
+}  // namespace
+
+// ---- (a) CPU BVH == CPU brute force ----------------------------------------------------
+
+TEST(Bvh, CpuTraversalMatchesBruteForce) {
+    Random rng(1234);
+    struct Case {
+        uint32_t triangles, spheres, quads;
+        BvhOptions options;
+    };
+    const Case cases[] = {{2, 0, 0, {}},       {5, 3, 2, {}},        {200, 20, 20, {}},
+                          {2000, 150, 150, {}}, {2000, 150, 150, {1, 16}}, {2000, 150, 150, {8, 4}},
+                          {500, 0, 0, {2, 32}}, {0, 300, 0, {}},     {0, 0, 300, {}}};
+    for (const Case& c : cases) {
+        auto scene = randomScene(rng, c.triangles, c.spheres, c.quads);
+        Bvh bvh = buildBvh(scene, c.options);
+        auto rays = randomRays(rng, 3000, 14.0f, &scene);
+        // Every third ray gets a finite tMax, so any-hit is also checked with short rays.
+        for (size_t i = 0; i < rays.size(); i += 3) rays[i].originTMax.w = rng.uniform(0.0f, 15.0f);
+        CpuComparison r = compareCpu(scene, bvh, rays);
+        SCOPED_TRACE(testing::Message() << c.triangles << " triangles, " << c.spheres << " spheres, " << c.quads
+                                        << " quads, leaf " << c.options.maxLeafSize << ", bins " << c.options.binCount);
+        EXPECT_EQ(r.failures, 0u) << "first failing ray: " << r.firstFailure;
+        EXPECT_GT(r.hits, rays.size() / 20) << "the scene should be hit by a fair share of rays";
+        EXPECT_LE(r.ties, r.hits / 100 + 1) << "exact ties in t should be rare";
+    }
+}
+
+// ---- (b) GPU traversal == CPU brute force ------------------------------------------------
+
+TEST(Bvh, GpuTraversalMatchesCpuBruteForce) {
+    Random rng(20240607);
+    auto scene = randomScene(rng, 4000, 400, 400);
+    Bvh bvh = buildBvh(scene);
+    const uint32_t rayCount = 1u << 17;  // 131072
+    // Origins inside and outside the scene's [-10, 10]^3; half the rays aimed at primitives.
+    auto rays = randomRays(rng, rayCount, 16.0f, &scene);
+    // tMax: half unlimited, a quarter random, a quarter half-way to the closest hit (so
+    // any-hit must report nothing while a hit lies further along).
+    for (uint32_t i = 0; i < rayCount; ++i) {
+        if (i % 4 == 2) rays[i].originTMax.w = rng.uniform(0.5f, 20.0f);
+        if (i % 4 == 3) {
+            auto hit = intersectClosest(bvh, vec3(rays[i].originTMax), vec3(rays[i].dir), kInf);
+            if (hit) rays[i].originTMax.w = 0.5f * hit->t;
+        }
+    }
+    expectGpuMatchesCpuBruteForce(scene, bvh, rays, {}, "bvh_gpu");
+}
+
+// (b') The same with every primitive inline (shaders/geometry/inline_geometry.glsl): the
+// kernel tests the specialization constants in leaf order instead of traversing, and
+// must find what the CPU finds, with as many primitives as the kernel declares.
+TEST(Bvh, InlineGeometryMatchesCpuBruteForce) {
+    Random rng(777);
+    auto scene = randomScene(rng, INLINE_MAX_PRIMITIVES - 16, 8, 8, 3.0f);
+    ASSERT_EQ(scene.size(), size_t(INLINE_MAX_PRIMITIVES));
+    Bvh bvh = buildBvh(scene);
+    const uint32_t rayCount = 1u << 14;
+    auto rays = randomRays(rng, rayCount, 5.0f, &scene);
+    for (uint32_t i = 0; i < rayCount; ++i) {
+        if (i % 4 == 2) rays[i].originTMax.w = rng.uniform(0.5f, 8.0f);
+        if (i % 4 == 3) {
+            auto hit = intersectClosest(bvh, vec3(rays[i].originTMax), vec3(rays[i].dir), kInf);
+            if (hit) rays[i].originTMax.w = 0.5f * hit->t;
+        }
+    }
+    KernelOptions options;
+    options.inlineWords = inlineGeometryWords(bvh.primitives);
+    expectGpuMatchesCpuBruteForce(scene, bvh, rays, options.specialization(), "inline_gpu");
 }
 
 // ---- (c) Degenerate builds ---------------------------------------------------------------

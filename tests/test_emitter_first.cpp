@@ -77,11 +77,14 @@ json openSceneOnDenseMesh() {
     return doc;
 }
 
+// Rendered with the BVH: the rule weighs the emitter-first path against the BVH's closest
+// hit, and these rooms are small enough to go inline otherwise (render/inline_geometry.h).
 Image render(const json& doc, const std::string& name, EmitterFirst mode, KernelOptions* options = nullptr) {
     Scene scene = test::sceneFromJson(doc, name);
     Renderer renderer(test::gpuContext(), scene);
     renderer.setEmitterFirst(mode);
-    if (options) *options = makeKernelOptions(scene, renderer.arrays(), mode);
+    renderer.setInlineGeometry(InlineGeometry::Off);
+    if (options) *options = makeKernelOptions(scene, renderer.arrays(), mode, InlineGeometry::Off);
     renderer.renderAll();
     return renderer.readback(0.0);
 }

@@ -221,6 +221,7 @@ int main(int argc, char** argv) {
     bool countOnly = false, lowSpp = false, fatesOnly = false, instructions = false;
     uint32_t spp = 0;
     EmitterFirst emitterFirst = EmitterFirst::Rule;
+    InlineGeometry inlineGeometry = InlineGeometry::Rule;
     std::vector<std::string> scenes;
     for (int i = 1; i < argc; ++i) {
         if (!std::strcmp(argv[i], "--runs") && i + 1 < argc) runs = std::atoi(argv[++i]);
@@ -239,6 +240,13 @@ int main(int argc, char** argv) {
             emitterFirst = mode == "off"     ? EmitterFirst::Off
                            : mode == "exact" ? EmitterFirst::Exact
                                              : EmitterFirst::Rule;
+        } else if (!std::strcmp(argv[i], "--inline") && i + 1 < argc) {
+            const std::string mode = argv[++i];
+            if (mode != "rule" && mode != "off") {
+                std::fprintf(stderr, "penumbra_bench: --inline takes rule or off, not %s\n", mode.c_str());
+                return 2;
+            }
+            inlineGeometry = mode == "off" ? InlineGeometry::Off : InlineGeometry::Rule;
         } else if (!std::strcmp(argv[i], "--write-mesh") && i + 2 < argc)
             return writeMesh(std::atoi(argv[i + 1]), argv[i + 2]);
         else scenes.push_back(argv[i]);
@@ -249,7 +257,7 @@ int main(int argc, char** argv) {
     }
     if (scenes.empty()) {
         std::fprintf(stderr,
-                     "usage: penumbra_bench [--runs N] [--spp N] [--emitter-first rule|off|exact]\n"
+                     "usage: penumbra_bench [--runs N] [--spp N] [--emitter-first rule|off|exact] [--inline rule|off]\n"
                      "                      [--count-rays | --low-spp | --brdf-ray-fates | --instructions]\n"
                      "                      SCENE|procedural:N ...\n"
                      "       penumbra_bench --write-mesh N FILE\n");
@@ -287,6 +295,7 @@ int main(int argc, char** argv) {
                 if (spp > 0) scene.sampler.spp = spp;
                 Renderer renderer(context, scene);
                 renderer.setEmitterFirst(emitterFirst);
+                renderer.setInlineGeometry(inlineGeometry);
                 renderer.compileKernel();
                 // Zeroing and dumping cover every thread (llvmpipe's workers run the kernel);
                 // collection on and off would cover this thread alone. All passes go in one
@@ -314,6 +323,7 @@ int main(int argc, char** argv) {
                 Scene scene = benchScene(name);
                 Renderer renderer(context, scene);
                 renderer.setEmitterFirst(emitterFirst);
+                renderer.setInlineGeometry(inlineGeometry);
                 std::printf("%s %.4f\n", name.c_str(), raysPerSample(renderer, scene));
             }
             return 0;
@@ -331,6 +341,7 @@ int main(int argc, char** argv) {
             t0 = Clock::now();
             Renderer renderer(context, scene);
             renderer.setEmitterFirst(emitterFirst);
+            renderer.setInlineGeometry(inlineGeometry);
             double upload = secondsSince(t0);
             t0 = Clock::now();
             context.submitAndWait([&](VkCommandBuffer cmd) { renderer.recordPasses(cmd, 0, 1, 0, scene.film.height); });

@@ -1,6 +1,7 @@
 // Integrator options and scene features -> specialization constants (see kernel_options.h).
 #include "render/kernel_options.h"
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -43,6 +44,8 @@ std::vector<uint32_t> KernelOptions::specialization() const {
     values[SPEC_TRIANGLE_SAMPLING] = uint32_t(direct.triangleSampling);
     values[SPEC_TEXTURES] = textures;
     values[SPEC_EMITTER_FIRST] = ao ? 0u : emitterFirstLights;
+    values[SPEC_INLINE_COUNT] = uint32_t(inlineWords.size() / INLINE_PRIMITIVE_WORDS);
+    std::copy(inlineWords.begin(), inlineWords.end(), values.begin() + SPEC_INLINE_FIRST);
     return values;
 }
 
@@ -84,14 +87,19 @@ uint32_t sceneFeatures(const SceneArrays& arrays) {
 // most kEmitterFirstMaxLights of them.
 static_assert(kEmitterFirstMaxLights > 0 && SPEC_EMITTER_FIRST < SPEC_COUNT);
 
-KernelOptions makeKernelOptions(const Scene& scene, const SceneArrays& arrays, EmitterFirst emitterFirst) {
+KernelOptions makeKernelOptions(const Scene& scene, const SceneArrays& arrays, EmitterFirst emitterFirst,
+                                InlineGeometry inlineGeometry) {
     KernelOptions o;
     o.integrator = scene.integrator;
     o.sampler = scene.sampler.type;
     o.sceneFeatures = sceneFeatures(arrays);
     o.textures = arrays.textures.textured ? 1u : 0u;
+    const bool inlined = inlineGeometry == InlineGeometry::Rule && inlineGeometryPays(arrays);
+    if (inlined) o.inlineWords = inlineGeometryWords(arrays.bvh.primitives);
+    // With the primitives inline a closest hit costs what an any hit costs, so the rule's
+    // saving is gone while its emitter loop stays (docs/PERFORMANCE.md, "Round 8").
     const bool on = emitterFirst == EmitterFirst::Exact  ? emitterFirstExact(scene.integrator, arrays)
-                    : emitterFirst == EmitterFirst::Rule ? emitterFirstPays(scene, arrays)
+                    : emitterFirst == EmitterFirst::Rule ? !inlined && emitterFirstPays(scene, arrays)
                                                          : false;
     o.emitterFirstLights = on ? uint32_t(arrays.lights.size()) : 0u;
     return o;

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "render/emitter_first.h"
+#include "render/inline_geometry.h"
 #include "render/scene_arrays.h"
 #include "scene/scene.h"
 
@@ -19,6 +20,7 @@ struct KernelOptions {
     uint32_t countRays = 0;
     uint32_t textures = 0;            // 1: some material is textured
     uint32_t emitterFirstLights = 0;  // 0, or the light count: emitter-first BRDF rays
+    std::vector<uint32_t> inlineWords;  // empty, or the primitives inline (render/inline_geometry.h)
 
     // Values in constant_id order, for gpu::Pipeline.
     std::vector<uint32_t> specialization() const;
@@ -31,7 +33,8 @@ struct KernelOptions {
 // The integrator and sampler settings of `scene`, the features of `arrays`, and whether
 // BRDF-sampled rays go emitter first (render/emitter_first.h).
 KernelOptions makeKernelOptions(const Scene& scene, const SceneArrays& arrays,
-                                EmitterFirst emitterFirst = EmitterFirst::Rule);
+                                EmitterFirst emitterFirst = EmitterFirst::Rule,
+                                InlineGeometry inlineGeometry = InlineGeometry::Rule);
 
 // FEATURE_* bits of what `arrays` contains.
 uint32_t sceneFeatures(const SceneArrays& arrays);

@@ -122,8 +122,13 @@ void Renderer::setEmitterFirst(EmitterFirst mode) {
     updateKernel();
 }
 
+void Renderer::setInlineGeometry(InlineGeometry mode) {
+    m_inlineGeometry = mode;
+    updateKernel();
+}
+
 void Renderer::updateKernel() {
-    KernelOptions options = makeKernelOptions(m_scene, m_arrays, m_emitterFirst);
+    KernelOptions options = makeKernelOptions(m_scene, m_arrays, m_emitterFirst, m_inlineGeometry);
     if (m_kernel && options == m_options) return;
     m_options = options;
     m_kernel = createKernel(m_options);

@@ -58,6 +58,8 @@ public:
     // How BRDF-sampled rays find emitters (render/emitter_first.h); EmitterFirst::Rule
     // unless set. Tests and benchmarks set Off or Exact to compare the two paths.
     void setEmitterFirst(EmitterFirst mode);
+    // Whether small scenes' primitives go inline (render/inline_geometry.h); Rule unless set.
+    void setInlineGeometry(InlineGeometry mode);
     // Makes the driver compile the current kernel now, with a dispatch that covers no
     // pixels: llvmpipe compiles on the first dispatch, and callers that time the render
     // (penumbra:render_seconds) count that compilation as start-up, not as rendering.
@@ -100,6 +102,7 @@ private:
     SceneArrays m_arrays;
     gpu::RenderParams m_params;
     EmitterFirst m_emitterFirst = EmitterFirst::Rule;
+    InlineGeometry m_inlineGeometry = InlineGeometry::Rule;
     KernelOptions m_options;
     // Declaration order is teardown order in reverse: the kernel goes before the buffers.
     gpu::Buffer m_paramsBuffer, m_accum, m_nodes, m_primitives, m_normals, m_materials, m_lights, m_lightTable,

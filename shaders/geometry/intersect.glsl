@@ -49,31 +49,27 @@ bool intersectTriangle(vec3 p0, vec3 p1, vec3 p2, vec3 origin, vec3 dir, float t
 // Intersection", Ray Tracing Gems ch. 7: the discriminant from the squared distance of the
 // centre to the ray line (eq. 10: no cancellation in b^2 - ac), the roots as c/q and q/a
 // (eq. 13-15) so the smaller keeps its digits. Returns the nearer root inside (0, tMax):
-// from inside the sphere that is the far root.
+// from inside the sphere that is the far root. Computed without early returns, like
+// intersectFlat: a negative discriminant (sqrt of its clamp is then unused) and q = 0 (a
+// tangent at the origin itself) fail the final test; host/bvh/intersect.h returns early
+// with the same values.
 bool intersectSphere(vec3 centre, float radius, vec3 origin, vec3 dir, float tMax, out float t) {
-    t = 0.0;
     vec3 f = origin - centre;
     float a = dot(dir, dir);
     float b = -dot(f, dir);                                   // half the usual b, sign flipped
     vec3 l = f + (b / a) * dir;                               // centre -> closest point on the line
     float discriminant = a * (radius * radius - dot(l, l));   // = b^2 - a c, robustly
-    if (discriminant < 0.0) return false;
     float c = dot(f, f) - radius * radius;
-    float q = b + (b >= 0.0 ? 1.0 : -1.0) * sqrt(discriminant);
-    if (q == 0.0) return false;  // tangent at the origin itself
+    float q = b + (b >= 0.0 ? 1.0 : -1.0) * sqrt(max(discriminant, 0.0));
     float t0 = c / q;
     float t1 = q / a;
     float tNear = min(t0, t1);
     float tFar = max(t0, t1);
-    if (tNear > 0.0 && tNear < tMax) {
-        t = tNear;
-        return true;
-    }
-    if (tFar > 0.0 && tFar < tMax) {
-        t = tFar;
-        return true;
-    }
-    return false;
+    bool nearHit = tNear > 0.0 && tNear < tMax;
+    bool farHit = tFar > 0.0 && tFar < tMax;
+    bool hit = discriminant >= 0.0 && q != 0.0 && (nearHit || farHit);
+    t = hit ? (nearHit ? tNear : tFar) : 0.0;
+    return hit;
 }
 
 // Parallelogram corner + s edgeU + t edgeV, s, t in [0, 1]; uv = (s, t).
@@ -81,18 +77,24 @@ bool intersectQuad(vec3 corner, vec3 edgeU, vec3 edgeV, vec3 origin, vec3 dir, f
     return intersectFlat(corner, edgeU, edgeV, true, origin, dir, tMax, t, uv);
 }
 
-// Dispatch on the PRIM_* type (shared/types.h). Sphere hits leave uv = (0, 0). Triangles
-// and quads share intersectFlat, their edges picked by the type.
-bool intersectPrimitive(Primitive primitive, vec3 origin, vec3 dir, float tMax, out float t, out vec2 uv) {
-    uint type = primitive.typeAndNormals & PRIM_TYPE_MASK;
+// Dispatch on the PRIM_* type (shared/types.h) of a shape given by the points of
+// Primitive. Sphere hits leave uv = (0, 0). Triangles and quads share intersectFlat,
+// their edges picked by the type.
+bool intersectShape(uint type, vec3 p0, vec3 p1, vec3 p2, vec3 origin, vec3 dir, float tMax, out float t,
+                    out vec2 uv) {
     uv = vec2(0.0);
     t = 0.0;
-    if (hasPrimitive(PRIM_SPHERE) && type == PRIM_SPHERE) return intersectSphere(primitive.p0, primitive.p1.x, origin, dir, tMax, t);
+    if (hasPrimitive(PRIM_SPHERE) && type == PRIM_SPHERE) return intersectSphere(p0, p1.x, origin, dir, tMax, t);
     if (!hasPrimitive(PRIM_TRIANGLE) && !hasPrimitive(PRIM_QUAD)) return false;
     bool quad = hasPrimitive(PRIM_QUAD) && (!hasPrimitive(PRIM_TRIANGLE) || type == PRIM_QUAD);
-    vec3 e1 = quad ? primitive.p1 : primitive.p1 - primitive.p0;
-    vec3 e2 = quad ? primitive.p2 : primitive.p2 - primitive.p0;
-    return intersectFlat(primitive.p0, e1, e2, quad, origin, dir, tMax, t, uv);
+    vec3 e1 = quad ? p1 : p1 - p0;
+    vec3 e2 = quad ? p2 : p2 - p0;
+    return intersectFlat(p0, e1, e2, quad, origin, dir, tMax, t, uv);
+}
+
+bool intersectPrimitive(Primitive primitive, vec3 origin, vec3 dir, float tMax, out float t, out vec2 uv) {
+    return intersectShape(primitive.typeAndNormals & PRIM_TYPE_MASK, primitive.p0, primitive.p1, primitive.p2, origin,
+                          dir, tMax, t, uv);
 }
 
 // 1 / dir with components below 1e-20 in magnitude replaced by +-1e-20, so every inverse is

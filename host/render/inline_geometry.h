@@ -1,0 +1,27 @@
+// Small scenes skip the BVH: every primitive goes into the kernel as specialization
+// constants (shaders/geometry/inline_geometry.glsl) and every ray tests each in turn.
+// Where that pays was measured (docs/PERFORMANCE.md, "Round 8").
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "render/scene_arrays.h"
+
+namespace penumbra {
+
+// Whether the kernel holds the scene's primitives inline.
+enum class InlineGeometry {
+    Rule,  // inline where inlineGeometryPays says so (every render)
+    Off,   // always the BVH (tests and benchmarks compare)
+};
+
+// Whether `arrays` is small enough for the inline path to beat the BVH.
+bool inlineGeometryPays(const SceneArrays& arrays);
+
+// The INLINE_PRIMITIVE_WORDS words of each of `primitives` (in leaf order, as the kernel
+// indexes them; shared/types.h), for SPEC_INLINE_FIRST onwards; at most
+// INLINE_MAX_PRIMITIVES primitives.
+std::vector<uint32_t> inlineGeometryWords(const std::vector<gpu::Primitive>& primitives);
+
+}  // namespace penumbra

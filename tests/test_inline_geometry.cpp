@@ -1,0 +1,134 @@
+// Inline geometry (shaders/geometry/inline_geometry.glsl, render/inline_geometry.h): which
+// scenes the rule puts inline, and that a render with the primitives inline is the same
+// render as with the BVH: the same rays find the same primitives at the same distances, so
+// with the same samples the images agree to rounding. The scene mixes every primitive kind
+// (quads, triangles of a mesh, spheres), emitting and not, and a textured-free Phong
+// material whose lobe makes the BRDF-sampled rays find the small lights.
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "gpu_fixture.h"
+#include "render/renderer.h"
+#include "render_helpers.h"
+
+using namespace penumbra;
+using nlohmann::json;
+
+namespace {
+
+// A room of quads with a mesh box (12 triangles), a sphere and a sphere light, a quad light
+// and a point light: 20 primitives, seen by a 32 x 32 film. `extra` more spheres line
+// the back wall, to push the primitive count past the rule's limit.
+json mixedRoom(const std::string& strategy, int extra = 0) {
+    auto quad = [](json origin, json u, json v) {
+        return json{{"type", "quad"}, {"origin", origin}, {"edge_u", u}, {"edge_v", v}, {"material", "walls"}};
+    };
+    json shapes = json::array({quad({-2, 0, -2}, {0, 0, 4}, {4, 0, 0}), quad({-2, 3, -2}, {4, 0, 0}, {0, 0, 4}),
+                               quad({-2, 0, -2}, {0, 3, 0}, {0, 0, 4}), quad({2, 0, -2}, {0, 3, 0}, {0, 0, 4}),
+                               quad({-2, 0, -2}, {4, 0, 0}, {0, 3, 0})});
+    shapes.push_back({{"type", "quad"},
+                      {"origin", {-0.3, 2.9, -0.3}},
+                      {"edge_u", {0.6, 0, 0}},
+                      {"edge_v", {0, 0, 0.6}},
+                      {"emission", {8, 8, 8}}});
+    shapes.push_back({{"type", "sphere"}, {"center", {0.8, 0.4, -0.5}}, {"radius", 0.4}, {"material", "walls"}});
+    shapes.push_back({{"type", "sphere"}, {"center", {-0.9, 1.8, -0.8}}, {"radius", 0.15}, {"emission", {6, 4, 2}}});
+    const double x0 = -1.2, x1 = -0.4, z0 = -0.6, z1 = 0.2, h = 0.9;
+    shapes.push_back({{"type", "mesh"},
+                      {"positions", {x0, 0, z0, x1, 0, z0, x1, 0, z1, x0, 0, z1, x0, h, z0, x1, h, z0, x1, h, z1, x0, h, z1}},
+                      {"indices", {0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4,
+                                   1, 2, 6, 1, 6, 5, 2, 3, 7, 2, 7, 6, 3, 0, 4, 3, 4, 7}},
+                      {"material", "walls"}});
+    for (int i = 0; i < extra; ++i)
+        shapes.push_back({{"type", "sphere"},
+                          {"center", {-1.8 + 3.6 * (i + 0.5) / extra, 2.5, -1.9}},
+                          {"radius", 0.04},
+                          {"material", "walls"}});
+    return {
+        {"camera", {{"eye", {0, 1.5, 1.9}}, {"target", {0, 0.8, -1}}, {"up", {0, 1, 0}}, {"fov_y", 75}}},
+        {"film", {{"width", 32}, {"height", 32}}},
+        {"sampler", {{"spp", 16}, {"seed", 3}}},
+        {"integrator", {{"type", "direct"}, {"strategy", strategy}}},
+        {"materials",
+         {{"walls", {{"type", "phong"}, {"kd", {0.5, 0.5, 0.5}}, {"ks", {0.3, 0.3, 0.3}}, {"exponent", 8}}}}},
+        {"shapes", shapes},
+        {"lights", {{{"type", "point"}, {"position", {1.5, 1.0, 1.5}}, {"power", 2}}}},
+    };
+}
+
+Image render(const json& doc, const std::string& name, InlineGeometry mode, KernelOptions* options) {
+    Scene scene = test::sceneFromJson(doc, name);
+    Renderer renderer(test::gpuContext(), scene);
+    renderer.setInlineGeometry(mode);
+    *options = makeKernelOptions(scene, renderer.arrays(), EmitterFirst::Rule, mode);
+    renderer.renderAll();
+    return renderer.readback(0.0);
+}
+
+size_t primitiveCount(const json& doc, const std::string& name) {
+    Scene scene = test::sceneFromJson(doc, name);
+    return buildSceneArrays(scene).bvh.primitives.size();
+}
+
+}  // namespace
+
+TEST(InlineGeometry, RuleTakesSmallScenesOnly) {
+    auto inlined = [](const json& doc, const std::string& name) {
+        Scene scene = test::sceneFromJson(doc, name);
+        return !makeKernelOptions(scene, buildSceneArrays(scene)).inlineWords.empty();
+    };
+    const json small = mixedRoom("mis");
+    ASSERT_EQ(primitiveCount(small, "inline-rule-small"), 20u);
+    EXPECT_TRUE(inlined(small, "inline-rule-small"));
+    const int limit = int(INLINE_MAX_PRIMITIVES);
+    const json atLimit = mixedRoom("mis", limit - 20);
+    ASSERT_EQ(primitiveCount(atLimit, "inline-rule-limit"), size_t(limit));
+    EXPECT_TRUE(inlined(atLimit, "inline-rule-limit"));
+    EXPECT_FALSE(inlined(mixedRoom("mis", limit - 19), "inline-rule-over"));
+    // A scene of lights alone has no primitive to put inline (and an empty BVH).
+    json empty = mixedRoom("light");
+    empty["shapes"] = json::array();
+    EXPECT_FALSE(inlined(empty, "inline-rule-empty"));
+}
+
+TEST(InlineGeometry, SameSamplesGiveTheSameImageAsTheBvh) {
+    for (const std::string strategy : {"mis", "light", "bsdf"}) {
+        SCOPED_TRACE(strategy);
+        const json doc = mixedRoom(strategy);
+        const std::string name = "inline-same-" + strategy;
+        KernelOptions inlined, traversed;
+        Image a = render(doc, name, InlineGeometry::Rule, &inlined);
+        ASSERT_EQ(inlined.inlineWords.size(), 20u * INLINE_PRIMITIVE_WORDS);
+        Image b = render(doc, name, InlineGeometry::Off, &traversed);
+        ASSERT_TRUE(traversed.inlineWords.empty());
+        ASSERT_EQ(a.rgb.size(), b.rgb.size());
+        int differing = 0, lit = 0;
+        double worst = 0;
+        for (size_t i = 0; i < a.rgb.size(); ++i) {
+            double d = std::abs(double(a.rgb[i]) - double(b.rgb[i]));
+            worst = std::max(worst, d);
+            differing += d > 1e-4 * (1.0 + std::abs(double(b.rgb[i])));
+            lit += b.rgb[i] > 0.0f;
+        }
+        EXPECT_GT(lit, int(a.rgb.size()) * 9 / 10) << "the room should be lit almost everywhere";
+        EXPECT_EQ(differing, 0) << "largest difference " << worst;
+    }
+}
+
+TEST(InlineGeometry, AmbientOcclusionSameSamplesSameImage) {
+    json doc = mixedRoom("mis");
+    doc["integrator"] = {{"type", "ao"}};
+    KernelOptions inlined, traversed;
+    Image a = render(doc, "inline-same-ao", InlineGeometry::Rule, &inlined);
+    ASSERT_FALSE(inlined.inlineWords.empty());
+    Image b = render(doc, "inline-same-ao", InlineGeometry::Off, &traversed);
+    ASSERT_EQ(a.rgb.size(), b.rgb.size());
+    int differing = 0;
+    for (size_t i = 0; i < a.rgb.size(); ++i)
+        differing += std::abs(double(a.rgb[i]) - double(b.rgb[i])) > 1e-4 * (1.0 + std::abs(double(b.rgb[i])));
+    EXPECT_EQ(differing, 0);
+}
