@@ -105,8 +105,7 @@ struct SceneBuffers {
 template <class Result, class Input>
 std::vector<Result> runSceneKernel(const char* name, const Bvh& bvh,
                                    const std::vector<gpu::TriangleNormals>& shadingNormals,
-                                   const std::vector<Input>& inputs,
-                                   const std::vector<uint32_t>& specialization = {}) {
+                                   const std::vector<Input>& inputs, const std::vector<uint32_t>& specialization = {}) {
     auto& ctx = test::gpuContext();
     auto inputBuffer = gpu::Buffer::fromVector(ctx, inputs);
     gpu::Buffer results(ctx, inputs.size() * sizeof(Result), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
@@ -237,8 +236,9 @@ void expectGpuMatchesCpuBruteForce(const std::vector<gpu::Primitive>& scene, con
                 << " t=" << g.t << ", " << describe(ray) << "\n";
         }
     }
-    std::cout << "[ " << label << " ] " << rayCount << " rays, " << hits << " hit, " << samePrimitive << " same primitive, "
-              << ties << " ties, " << failures << " disagreements, " << anyMismatch << " any-hit mismatches; "
+    std::cout << "[ " << label << " ] " << rayCount << " rays, " << hits << " hit, " << samePrimitive
+              << " same primitive, " << ties << " ties, " << failures << " disagreements, " << anyMismatch
+              << " any-hit mismatches; "
               << "lavapipe " << gpuSeconds << " s (incl. pipeline compile)\n";
     if (failures || anyMismatch) std::ofstream(test::outputPath(label + "_mismatches.txt")) << log.str();
     EXPECT_GT(hits, rayCount / 4) << "most rays should hit something";
@@ -257,9 +257,15 @@ TEST(Bvh, CpuTraversalMatchesBruteForce) {
         uint32_t triangles, spheres, quads;
         BvhOptions options;
     };
-    const Case cases[] = {{2, 0, 0, {}},       {5, 3, 2, {}},        {200, 20, 20, {}},
-                          {2000, 150, 150, {}}, {2000, 150, 150, {1, 16}}, {2000, 150, 150, {8, 4}},
-                          {500, 0, 0, {2, 32}}, {0, 300, 0, {}},     {0, 0, 300, {}}};
+    const Case cases[] = {{2, 0, 0, {}},
+                          {5, 3, 2, {}},
+                          {200, 20, 20, {}},
+                          {2000, 150, 150, {}},
+                          {2000, 150, 150, {1, 16}},
+                          {2000, 150, 150, {8, 4}},
+                          {500, 0, 0, {2, 32}},
+                          {0, 300, 0, {}},
+                          {0, 0, 300, {}}};
     for (const Case& c : cases) {
         auto scene = randomScene(rng, c.triangles, c.spheres, c.quads);
         Bvh bvh = buildBvh(scene, c.options);

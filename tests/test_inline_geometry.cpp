@@ -38,11 +38,12 @@ json mixedRoom(const std::string& strategy, int extra = 0) {
     shapes.push_back({{"type", "sphere"}, {"center", {0.8, 0.4, -0.5}}, {"radius", 0.4}, {"material", "walls"}});
     shapes.push_back({{"type", "sphere"}, {"center", {-0.9, 1.8, -0.8}}, {"radius", 0.15}, {"emission", {6, 4, 2}}});
     const double x0 = -1.2, x1 = -0.4, z0 = -0.6, z1 = 0.2, h = 0.9;
-    shapes.push_back({{"type", "mesh"},
-                      {"positions", {x0, 0, z0, x1, 0, z0, x1, 0, z1, x0, 0, z1, x0, h, z0, x1, h, z0, x1, h, z1, x0, h, z1}},
-                      {"indices", {0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4,
-                                   1, 2, 6, 1, 6, 5, 2, 3, 7, 2, 7, 6, 3, 0, 4, 3, 4, 7}},
-                      {"material", "walls"}});
+    shapes.push_back(
+        {{"type", "mesh"},
+         {"positions", {x0, 0, z0, x1, 0, z0, x1, 0, z1, x0, 0, z1, x0, h, z0, x1, h, z0, x1, h, z1, x0, h, z1}},
+         {"indices",
+          {0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4, 1, 2, 6, 1, 6, 5, 2, 3, 7, 2, 7, 6, 3, 0, 4, 3, 4, 7}},
+         {"material", "walls"}});
     for (int i = 0; i < extra; ++i)
         shapes.push_back({{"type", "sphere"},
                           {"center", {-1.8 + 3.6 * (i + 0.5) / extra, 2.5, -1.9}},
