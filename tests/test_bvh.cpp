@@ -180,6 +180,18 @@ CpuComparison compareCpu(const std::vector<gpu::Primitive>& scene, const Bvh& bv
     return result;
 }
 
+// tMax of `rays`: half unlimited, a quarter random in [0.5, longest), a quarter half-way to
+// the closest hit (so any-hit must report nothing while a hit lies further along).
+void mixRayLengths(Random& rng, const Bvh& bvh, std::vector<TraceRay>& rays, float longest) {
+    for (size_t i = 0; i < rays.size(); ++i) {
+        if (i % 4 == 2) rays[i].originTMax.w = rng.uniform(0.5f, longest);
+        if (i % 4 == 3) {
+            auto hit = intersectClosest(bvh, vec3(rays[i].originTMax), vec3(rays[i].dir), kInf);
+            if (hit) rays[i].originTMax.w = 0.5f * hit->t;
+        }
+    }
+}
+
 // The GPU's closest and any hits of `rays` (tests/bvh_trace.comp with `specialization`)
 // against CPU brute force over `scene`; `label` names the summary line and the log file.
 void expectGpuMatchesCpuBruteForce(const std::vector<gpu::Primitive>& scene, const Bvh& bvh,
@@ -290,15 +302,7 @@ TEST(Bvh, GpuTraversalMatchesCpuBruteForce) {
     const uint32_t rayCount = 1u << 17;  // 131072
     // Origins inside and outside the scene's [-10, 10]^3; half the rays aimed at primitives.
     auto rays = randomRays(rng, rayCount, 16.0f, &scene);
-    // tMax: half unlimited, a quarter random, a quarter half-way to the closest hit (so
-    // any-hit must report nothing while a hit lies further along).
-    for (uint32_t i = 0; i < rayCount; ++i) {
-        if (i % 4 == 2) rays[i].originTMax.w = rng.uniform(0.5f, 20.0f);
-        if (i % 4 == 3) {
-            auto hit = intersectClosest(bvh, vec3(rays[i].originTMax), vec3(rays[i].dir), kInf);
-            if (hit) rays[i].originTMax.w = 0.5f * hit->t;
-        }
-    }
+    mixRayLengths(rng, bvh, rays, 20.0f);
     expectGpuMatchesCpuBruteForce(scene, bvh, rays, {}, "bvh_gpu");
 }
 
@@ -312,13 +316,7 @@ TEST(Bvh, InlineGeometryMatchesCpuBruteForce) {
     Bvh bvh = buildBvh(scene);
     const uint32_t rayCount = 1u << 14;
     auto rays = randomRays(rng, rayCount, 5.0f, &scene);
-    for (uint32_t i = 0; i < rayCount; ++i) {
-        if (i % 4 == 2) rays[i].originTMax.w = rng.uniform(0.5f, 8.0f);
-        if (i % 4 == 3) {
-            auto hit = intersectClosest(bvh, vec3(rays[i].originTMax), vec3(rays[i].dir), kInf);
-            if (hit) rays[i].originTMax.w = 0.5f * hit->t;
-        }
-    }
+    mixRayLengths(rng, bvh, rays, 8.0f);
     KernelOptions options;
     options.inlineWords = inlineGeometryWords(bvh.primitives);
     expectGpuMatchesCpuBruteForce(scene, bvh, rays, options.specialization(), "inline_gpu");
