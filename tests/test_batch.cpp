@@ -398,13 +398,23 @@ TEST(Batch, FailingJobsFailAloneWithTheDocumentedStatus) {
     EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 4) << "three failures and the summary: " << err;
 }
 
+// A batch compiles a pipeline once for every job whose kernel options agree: the same
+// integrator settings and scene features and, for a scene small enough to go inline
+// (render/inline_geometry.h), the same shapes, whose coordinates are compiled into the
+// kernel. Materials, emission, light power and the camera never split a pipeline; moving a
+// small scene's shapes does (docs/PERFORMANCE.md, "Round 8": what that costs and what
+// keeping the coordinates out of the kernel cost instead); a large scene's never does.
 TEST(Batch, KernelCacheCompilesEachIntegratorOnce) {
     const gpu::Context& context = test::gpuContext();
     gpu::KernelCache cache(context);
-    json a = litScene(), b = litScene();
-    b["shapes"][1]["radius"] = 0.7;
+    json a = litScene(), b = litScene(), c = litScene();
+    b["materials"]["floor"]["albedo"] = {0.8, 0.3, 0.2};
+    b["shapes"][2]["emission"] = {9, 3, 1};
+    b["lights"][0]["power"] = {5, 30, 5};
+    c["shapes"][1]["radius"] = 0.7;
     Scene sa = test::sceneFromJson(a, "batch-cache-a"), sb = test::sceneFromJson(b, "batch-cache-b");
-    Image first, second;
+    Scene sc = test::sceneFromJson(c, "batch-cache-c");
+    Image first, second, third;
     {
         Renderer r(context, sa, &cache);
         r.renderAll();
@@ -417,8 +427,28 @@ TEST(Batch, KernelCacheCompilesEachIntegratorOnce) {
     }
     EXPECT_EQ(cache.pipelinesCreated(), 1u);
     EXPECT_EQ(cache.pipelinesReused(), 1u);
+    {
+        Renderer r(context, sc, &cache);
+        r.renderAll();
+        third = r.readback(0);
+    }
+    EXPECT_EQ(cache.pipelinesCreated(), 2u) << "the small scene's moved sphere is compiled into its kernel";
     EXPECT_TRUE(samePixels(first, test::renderScene(sa)));  // same as without the cache
     EXPECT_TRUE(samePixels(second, test::renderScene(sb)));
+    EXPECT_TRUE(samePixels(third, test::renderScene(sc)));
+    EXPECT_FALSE(samePixels(first, second));
+
+    // Past the inline limit the shapes stay in the BVH's buffers: moving them keeps the kernel.
+    json large = litScene();
+    for (int i = 0; i < int(INLINE_MAX_PRIMITIVES); ++i)
+        large["shapes"].push_back({{"type", "sphere"}, {"center", {-2 + 0.08 * i, 0.05, -1.5}}, {"radius", 0.03}});
+    json largeMoved = large;
+    largeMoved["shapes"][1]["radius"] = 0.7;
+    largeMoved["shapes"][5]["center"] = {0, 0.05, -1.2};
+    Scene sl = test::sceneFromJson(large, "batch-cache-large"), slm = test::sceneFromJson(largeMoved, "batch-cache-lm");
+    const KernelOptions kl = makeKernelOptions(sl, buildSceneArrays(sl));
+    EXPECT_EQ(kl.inlineWords.size(), 0u);
+    EXPECT_TRUE(kl == makeKernelOptions(slm, buildSceneArrays(slm)));
 
     // Retarget keeps the upload and equals a fresh Renderer of the new camera.
     json moved = a;
