@@ -1,6 +1,8 @@
 // Compute pipelines kept for reuse: a process that renders many scenes (penumbra batch)
-// creates each integrator's pipeline once, since creating it is where the driver compiles
-// the shader (the costly part on lavapipe). Descriptor sets stay per Kernel.
+// creates each pipeline once, since creating it is where the driver compiles the shader
+// (the costly part on lavapipe). A pipeline is keyed by all its specialization constants,
+// so scenes share one when their kernel options agree (render/kernel_options.h; a small
+// scene's shapes are among them: render/inline_geometry.h). Descriptor sets stay per Kernel.
 #pragma once
 
 #include <cstddef>

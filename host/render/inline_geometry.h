@@ -1,6 +1,9 @@
 // Small scenes skip the BVH: every primitive goes into the kernel as specialization
 // constants (shaders/geometry/inline_geometry.glsl) and every ray tests each in turn.
-// Where that pays was measured (docs/PERFORMANCE.md, "Round 8").
+// Where that pays was measured (docs/PERFORMANCE.md, "Round 8"). The price: the kernel
+// depends on the coordinates, so each distinct small geometry compiles its own pipeline
+// (a batch sweeping one pays per job); keeping them in a uniform buffer instead, so that
+// pipelines depend on the shape types alone, was measured slower (same section).
 #pragma once
 
 #include <cstdint>
