@@ -11,10 +11,19 @@ std::unique_ptr<Kernel> KernelCache::kernel(std::string_view shaderName, const s
         ++m_reused;
     } else {
         auto pipeline = std::make_shared<const Pipeline>(m_context, shaderName, bindings, pushConstantBytes, specialization);
-        it = m_pipelines.emplace(std::move(key), std::move(pipeline)).first;
+        if (m_pipelines.size() >= m_maxPipelines) {
+            // A linear scan: the cache holds at most kMaxPipelines entries, and each miss
+            // costs a driver compilation, far more than the scan.
+            auto oldest = m_pipelines.begin();
+            for (auto e = m_pipelines.begin(); e != m_pipelines.end(); ++e)
+                if (e->second.lastUse < oldest->second.lastUse) oldest = e;
+            m_pipelines.erase(oldest);
+        }
+        it = m_pipelines.emplace(std::move(key), Entry{std::move(pipeline)}).first;
         ++m_created;
     }
-    return std::make_unique<Kernel>(m_context, it->second);
+    it->second.lastUse = ++m_requests;
+    return std::make_unique<Kernel>(m_context, it->second.pipeline);
 }
 
 }  // namespace penumbra::gpu

@@ -20,7 +20,15 @@ namespace penumbra::gpu {
 
 class KernelCache {
 public:
-    explicit KernelCache(const Context& context) : m_context(context) {}
+    // How many pipelines stay held. Small scenes compile their shapes into the kernel, so
+    // a batch that sweeps a small scene's geometry makes a pipeline per job; unbounded,
+    // the compiled code of every job would stay in memory. Past the limit the least
+    // recently requested pipeline is dropped (Kernels using it keep it alive); a batch
+    // alternating between a few integrators or scenes keeps all of its pipelines.
+    static constexpr size_t kMaxPipelines = 16;
+
+    explicit KernelCache(const Context& context, size_t maxPipelines = kMaxPipelines)
+        : m_context(context), m_maxPipelines(maxPipelines == 0 ? 1 : maxPipelines) {}
     KernelCache(const KernelCache&) = delete;
     KernelCache& operator=(const KernelCache&) = delete;
 
@@ -32,12 +40,19 @@ public:
 
     size_t pipelinesCreated() const { return m_created; }
     size_t pipelinesReused() const { return m_reused; }
+    size_t pipelinesHeld() const { return m_pipelines.size(); }
 
 private:
     using Key = std::tuple<std::string, std::vector<VkDescriptorType>, uint32_t, std::vector<uint32_t>>;
+    struct Entry {
+        std::shared_ptr<const Pipeline> pipeline;
+        uint64_t lastUse = 0;  // m_requests when last requested
+    };
     const Context& m_context;
-    std::map<Key, std::shared_ptr<const Pipeline>> m_pipelines;
+    size_t m_maxPipelines;
+    std::map<Key, Entry> m_pipelines;
     size_t m_created = 0, m_reused = 0;
+    uint64_t m_requests = 0;
 };
 
 }  // namespace penumbra::gpu
