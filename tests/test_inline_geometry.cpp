@@ -120,16 +120,22 @@ TEST(InlineGeometry, SameSamplesGiveTheSameImageAsTheBvh) {
     }
 }
 
+// Also for each kernel capacity (integrators/ao_inline16, 32 and 48): 8, 20 and 48 primitives.
 TEST(InlineGeometry, AmbientOcclusionSameSamplesSameImage) {
-    json doc = mixedRoom("mis");
-    doc["integrator"] = {{"type", "ao"}};
-    KernelOptions inlined, traversed;
-    Image a = render(doc, "inline-same-ao", InlineGeometry::Rule, &inlined);
-    ASSERT_FALSE(inlined.inlineWords.empty());
-    Image b = render(doc, "inline-same-ao", InlineGeometry::Off, &traversed);
-    ASSERT_EQ(a.rgb.size(), b.rgb.size());
-    int differing = 0;
-    for (size_t i = 0; i < a.rgb.size(); ++i)
-        differing += std::abs(double(a.rgb[i]) - double(b.rgb[i])) > 1e-4 * (1.0 + std::abs(double(b.rgb[i])));
-    EXPECT_EQ(differing, 0);
+    for (const int extra : {-12, 0, int(INLINE_MAX_PRIMITIVES) - 20}) {
+        json doc = mixedRoom("mis", std::max(extra, 0));
+        if (extra < 0) doc["shapes"].erase(8);  // the mesh box: 12 triangles
+        doc["integrator"] = {{"type", "ao"}};
+        const std::string name = "inline-same-ao" + std::to_string(extra);
+        SCOPED_TRACE(name);
+        KernelOptions inlined, traversed;
+        Image a = render(doc, name, InlineGeometry::Rule, &inlined);
+        ASSERT_EQ(inlined.inlineWords.size(), size_t(20 + extra) * INLINE_PRIMITIVE_WORDS);
+        Image b = render(doc, name, InlineGeometry::Off, &traversed);
+        ASSERT_EQ(a.rgb.size(), b.rgb.size());
+        int differing = 0;
+        for (size_t i = 0; i < a.rgb.size(); ++i)
+            differing += std::abs(double(a.rgb[i]) - double(b.rgb[i])) > 1e-4 * (1.0 + std::abs(double(b.rgb[i])));
+        EXPECT_EQ(differing, 0);
+    }
 }

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstdint>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "gpu/gpu_timer.h"
@@ -19,8 +20,14 @@ namespace {
 
 constexpr uint32_t kTile = PassBands::kTile;  // local_size_x/y of the integrator kernels
 
-const char* kernelName(IntegratorType type) {
-    return type == IntegratorType::AmbientOcclusion ? "integrators/ao" : "integrators/direct";
+// The integrator's module: with `inlineCount` primitives inline, the *_inline<N> twin of
+// the smallest capacity N that holds them (shaders/integrators/direct.comp says why).
+std::string kernelName(IntegratorType type, uint32_t inlineCount) {
+    std::string name = type == IntegratorType::AmbientOcclusion ? "integrators/ao" : "integrators/direct";
+    if (inlineCount == 0) return name;
+    static_assert(INLINE_MAX_PRIMITIVES == 48, "the shaders declare capacities 16, 32 and 48");
+    if (inlineCount > INLINE_MAX_PRIMITIVES) throw std::logic_error("kernelName: more inline primitives than 48");
+    return name + (inlineCount <= 16 ? "_inline16" : inlineCount <= 32 ? "_inline32" : "_inline48");
 }
 
 }  // namespace
@@ -93,7 +100,8 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
 }
 
 std::unique_ptr<gpu::Kernel> Renderer::createKernel(const KernelOptions& options) const {
-    const char* name = kernelName(m_scene.integrator.type);
+    const std::string name =
+        kernelName(m_scene.integrator.type, uint32_t(options.inlineWords.size() / INLINE_PRIMITIVE_WORDS));
     const uint32_t pushBytes = uint32_t(sizeof(gpu::PassConstants));
     auto spec = options.specialization();
     auto kernel = m_kernels ? m_kernels->kernel(name, renderBindings(), pushBytes, spec)

@@ -36,7 +36,10 @@ struct Hit {
     vec2 uv;           // triangle: barycentrics of p1, p2; quad: (s, t); sphere: unused
 };
 
+// Only the *_inline kernels carry the inline tests (see integrators/direct.comp).
+#ifdef PENUMBRA_INLINE_GEOMETRY
 #include "geometry/inline_geometry.glsl"
+#endif
 
 // The traversal is "while-while" (Aila & Laine 2009, "Understanding the Efficiency of Ray
 // Traversal on GPUs"): an inner loop descends through interior nodes until this ray reaches
@@ -125,10 +128,12 @@ bool traverse(vec3 origin, vec3 dir, float tMax, bool anyHit, out Hit hit) {
     // A NaN or infinite ray misses. It must not enter the loop: NaN can make the slab test
     // pass for every box (min/max may drop NaN operands).
     if (!isFiniteVec(origin) || !isFiniteVec(dir)) return false;
+#ifdef PENUMBRA_INLINE_GEOMETRY
     if (kInlineCount > 0u) {
         inlineClosest(origin, dir, hit);
         return hit.primitive != NO_HIT;
     }
+#endif
     vec3 invDir = rayInverseDirection(dir);
     uint stack[BVH_MAX_DEPTH];  // node | children still to visit << WIDE_STACK_MASK_SHIFT
     int sp = 0;

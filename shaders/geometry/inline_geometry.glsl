@@ -1,7 +1,8 @@
 // Small scenes without a BVH: every primitive's shape is compiled into the kernel as
 // specialization constants, and a ray is tested against each primitive in turn, in leaf
 // order, with no branch and no memory read. bvh.glsl calls this instead of its traversal
-// when the host filled the constants (render/inline_geometry.h says when that pays).
+// when the host filled the constants (render/inline_geometry.h says when that pays), in the
+// kernels built with PENUMBRA_INLINE_GEOMETRY (integrators/*_inline.comp) alone.
 //
 // Why it pays on llvmpipe: a BVH step reads its node through a texel fetch (a call to a
 // generated sampling function) and keeps a per-lane stack, and eight rays in SIMD lanes
@@ -13,6 +14,17 @@
 
 #include "shared/types.h"
 #include "geometry/intersect.glsl"
+
+// How many tests this module unrolls: 16, 32 or INLINE_MAX_PRIMITIVES, set by the
+// integrators/*_inline<N>.comp that includes this (the host picks the smallest that holds
+// the scene). llvmpipe's front end inlines every trace site's tests before the constants
+// remove the unused ones, and pays for that on every start (docs/PERFORMANCE.md, "Round 8").
+#ifndef PENUMBRA_INLINE_CAPACITY
+#define PENUMBRA_INLINE_CAPACITY INLINE_MAX_PRIMITIVES
+#endif
+#if PENUMBRA_INLINE_CAPACITY != 16 && PENUMBRA_INLINE_CAPACITY != 32 && PENUMBRA_INLINE_CAPACITY != 48
+#error "PENUMBRA_INLINE_CAPACITY is 16, 32 or 48"
+#endif
 
 // How many of the first primitives are inline (0: none, the kernel traverses the BVH).
 layout(constant_id = SPEC_INLINE_COUNT) const uint kInlineCount = 0u;
@@ -65,14 +77,18 @@ void inlineClosest(vec3 origin, vec3 dir, inout Hit hit) {
     INLINE_TEST(4) INLINE_TEST(5) INLINE_TEST(6) INLINE_TEST(7)
     INLINE_TEST(8) INLINE_TEST(9) INLINE_TEST(10) INLINE_TEST(11)
     INLINE_TEST(12) INLINE_TEST(13) INLINE_TEST(14) INLINE_TEST(15)
+#if PENUMBRA_INLINE_CAPACITY > 16
     INLINE_TEST(16) INLINE_TEST(17) INLINE_TEST(18) INLINE_TEST(19)
     INLINE_TEST(20) INLINE_TEST(21) INLINE_TEST(22) INLINE_TEST(23)
     INLINE_TEST(24) INLINE_TEST(25) INLINE_TEST(26) INLINE_TEST(27)
     INLINE_TEST(28) INLINE_TEST(29) INLINE_TEST(30) INLINE_TEST(31)
+#endif
+#if PENUMBRA_INLINE_CAPACITY > 32
     INLINE_TEST(32) INLINE_TEST(33) INLINE_TEST(34) INLINE_TEST(35)
     INLINE_TEST(36) INLINE_TEST(37) INLINE_TEST(38) INLINE_TEST(39)
     INLINE_TEST(40) INLINE_TEST(41) INLINE_TEST(42) INLINE_TEST(43)
     INLINE_TEST(44) INLINE_TEST(45) INLINE_TEST(46) INLINE_TEST(47)
+#endif
 }
 
 #endif
