@@ -2,7 +2,7 @@
 // specialization constants, and a ray is tested against each primitive in turn, in leaf
 // order, with no branch and no memory read. bvh.glsl calls this instead of its traversal
 // when the host filled the constants (render/inline_geometry.h says when that pays), in the
-// kernels built with PENUMBRA_INLINE_GEOMETRY (integrators/*_inline.comp) alone.
+// kernels built with PENUMBRA_INLINE_GEOMETRY (integrators/*_inline<N>.comp) alone.
 //
 // Why it pays on llvmpipe: a BVH step reads its node through a texel fetch (a call to a
 // generated sampling function) and keeps a per-lane stack, and eight rays in SIMD lanes
