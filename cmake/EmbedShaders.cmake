@@ -1,7 +1,13 @@
 # Compiles every shaders/**/*.comp to SPIR-V and embeds the words in the binary, so
 # penumbra runs from any directory. Each shader is known by its path without the
 # extension, e.g. "integrators/ao"; host/gpu/shaders.h looks them up by that name.
+#
+# The shaders named in INLINE_VARIANTS are also compiled with small scenes' primitives
+# inline (shaders/geometry/inline_geometry.glsl), once per capacity N in INLINE_CAPACITIES,
+# as "<name>_inline<N>": the module without the suffix carries none of the inline code,
+# whose front end llvmpipe runs again on every start (docs/PERFORMANCE.md, "Round 8").
 function(penumbra_embed_shaders target shader_dir)
+  cmake_parse_arguments(PARSE_ARGV 2 arg "" "" "INLINE_VARIANTS;INLINE_CAPACITIES")
   file(GLOB_RECURSE comps CONFIGURE_DEPENDS ${shader_dir}/*.comp)
   set(out_dir ${CMAKE_CURRENT_BINARY_DIR}/spv)
   file(MAKE_DIRECTORY ${out_dir})
@@ -11,21 +17,34 @@ function(penumbra_embed_shaders target shader_dir)
   set(names "")
   foreach(comp ${comps})
     file(RELATIVE_PATH rel ${shader_dir} ${comp})
-    string(REGEX REPLACE "\\.comp$" "" name ${rel})
-    string(MAKE_C_IDENTIFIER "spv_${name}" var)
-    set(header ${out_dir}/${var}.h)
-    add_custom_command(
-      OUTPUT ${header}
-      COMMAND ${Vulkan_GLSLANG_VALIDATOR_EXECUTABLE} -V --target-env vulkan1.1 --quiet
-              -I${shader_dir} --depfile ${header}.d --vn ${var} -o ${header} ${comp}
-      DEPENDS ${comp}
-      DEPFILE ${header}.d
-      COMMENT "GLSL -> SPIR-V ${name}"
-      VERBATIM)
-    list(APPEND headers ${header})
-    string(APPEND includes "#include \"${var}.h\"\n")
-    string(APPEND names "    \"${name}\",\n")
-    string(APPEND entries "    {\"${name}\", {${var}, sizeof(${var}) / sizeof(uint32_t)}},\n")
+    string(REGEX REPLACE "\\.comp$" "" base ${rel})
+    # Each variant is "name|define|define...".
+    set(variants "${base}")
+    if(base IN_LIST arg_INLINE_VARIANTS)
+      foreach(capacity ${arg_INLINE_CAPACITIES})
+        list(APPEND variants "${base}_inline${capacity}|-DPENUMBRA_INLINE_GEOMETRY|-DPENUMBRA_INLINE_CAPACITY=${capacity}")
+      endforeach()
+    endif()
+    foreach(variant ${variants})
+      string(REPLACE "|" ";" parts "${variant}")
+      list(GET parts 0 name)
+      set(defines ${parts})
+      list(REMOVE_AT defines 0)
+      string(MAKE_C_IDENTIFIER "spv_${name}" var)
+      set(header ${out_dir}/${var}.h)
+      add_custom_command(
+        OUTPUT ${header}
+        COMMAND ${Vulkan_GLSLANG_VALIDATOR_EXECUTABLE} -V --target-env vulkan1.1 --quiet ${defines}
+                -I${shader_dir} --depfile ${header}.d --vn ${var} -o ${header} ${comp}
+        DEPENDS ${comp}
+        DEPFILE ${header}.d
+        COMMENT "GLSL -> SPIR-V ${name}"
+        VERBATIM)
+      list(APPEND headers ${header})
+      string(APPEND includes "#include \"${var}.h\"\n")
+      string(APPEND names "    \"${name}\",\n")
+      string(APPEND entries "    {\"${name}\", {${var}, sizeof(${var}) / sizeof(uint32_t)}},\n")
+    endforeach()
   endforeach()
   set(registry ${out_dir}/shader_registry.cpp)
   file(CONFIGURE OUTPUT ${registry} CONTENT

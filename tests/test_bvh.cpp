@@ -121,12 +121,13 @@ std::vector<Result> runSceneKernel(const char* name, const Bvh& bvh,
     return out;
 }
 
-// tests/bvh_trace, or its _inline twin where `specialization` puts primitives inline.
+// tests/bvh_trace, or its "_inline<N>" variant where `specialization` puts primitives inline.
 std::vector<TraceResult> traceOnGpu(const Bvh& bvh, const std::vector<TraceRay>& rays,
                                     const std::vector<uint32_t>& specialization = {}) {
-    const bool inlined = specialization.size() > SPEC_INLINE_COUNT && specialization[SPEC_INLINE_COUNT] > 0;
-    return runSceneKernel<TraceResult>(inlined ? "tests/bvh_trace_inline" : "tests/bvh_trace", bvh, {}, rays,
-                                       specialization);
+    const uint32_t inlined = specialization.size() > SPEC_INLINE_COUNT ? specialization[SPEC_INLINE_COUNT] : 0;
+    const std::string name = inlined > 0 ? "tests/bvh_trace_inline" + std::to_string(inlineKernelCapacity(inlined))
+                                         : "tests/bvh_trace";
+    return runSceneKernel<TraceResult>(name.c_str(), bvh, {}, rays, specialization);
 }
 
 // Origins uniform in [-originExtent, originExtent]^3, directions uniform on the sphere; with
@@ -195,7 +196,7 @@ void mixRayLengths(Random& rng, const Bvh& bvh, std::vector<TraceRay>& rays, flo
     }
 }
 
-// The GPU's closest and any hits of `rays` (tests/bvh_trace*.comp with `specialization`)
+// The GPU's closest and any hits of `rays` (tests/bvh_trace.comp with `specialization`)
 // against CPU brute force over `scene`; `label` names the summary line and the log file.
 void expectGpuMatchesCpuBruteForce(const std::vector<gpu::Primitive>& scene, const Bvh& bvh,
                                    const std::vector<TraceRay>& rays, const std::vector<uint32_t>& specialization,

@@ -6,11 +6,13 @@
 // material whose lobe makes the BRDF-sampled rays find the small lights.
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 
+#include "gpu/shaders.h"
 #include "gpu_fixture.h"
 #include "render/renderer.h"
 #include "render_helpers.h"
@@ -94,6 +96,22 @@ TEST(InlineGeometry, RuleTakesSmallScenesOnly) {
     json empty = mixedRoom("light");
     empty["shapes"] = json::array();
     EXPECT_FALSE(inlined(empty, "inline-rule-empty"));
+}
+
+// Every primitive count the rule can put inline has a kernel: the host's capacity is the
+// smallest multiple of INLINE_CAPACITY_STEP that holds it, and cmake/EmbedShaders.cmake
+// compiled that variant of each kernel that traces.
+TEST(InlineGeometry, EveryCountHasAnEmbeddedKernel) {
+    for (uint32_t count = 1; count <= uint32_t(INLINE_MAX_PRIMITIVES); ++count) {
+        const uint32_t capacity = inlineKernelCapacity(count);
+        EXPECT_GE(capacity, count);
+        EXPECT_LT(capacity - count, uint32_t(INLINE_CAPACITY_STEP));
+        EXPECT_EQ(capacity % INLINE_CAPACITY_STEP, 0u);
+        for (const char* kernel : {"integrators/direct", "integrators/ao", "tests/bvh_trace"})
+            EXPECT_NO_THROW(shaderCode(std::string(kernel) + "_inline" + std::to_string(capacity))) << count;
+    }
+    EXPECT_THROW(inlineKernelCapacity(0), std::logic_error);
+    EXPECT_THROW(inlineKernelCapacity(INLINE_MAX_PRIMITIVES + 1), std::logic_error);
 }
 
 TEST(InlineGeometry, SameSamplesGiveTheSameImageAsTheBvh) {

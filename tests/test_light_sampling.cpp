@@ -248,7 +248,7 @@ struct LightCase {
 
 // The consistency check: each accepted sample's pdf equals lightPdf at the traced first hit
 // to kConsistency, and its distance lets the integrator's shadow ray (which stops at
-// dist (1 - 1e-4), direct.glsl) end before the traced hit on the light, unless the float
+// dist (1 - 1e-4), direct.comp) end before the traced hit on the light, unless the float
 // conditioning of the geometry at that sample allows more: `allowance(record)` gives the
 // extra relative error of each (0 where the geometry is well conditioned, infinity where
 // the traced ray may miss the light by rounding). Samples that need the allowance are

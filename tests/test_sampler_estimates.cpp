@@ -1,4 +1,4 @@
-// The Sobol' sampler through the real render path (loader, renderer, ao.glsl on lavapipe),
+// The Sobol' sampler through the real render path (loader, renderer, ao.comp on lavapipe),
 // against closed forms.
 //
 // Unbiased: ambient occlusion of a sphere (centre height h, radius r) above a plane of

@@ -3,12 +3,20 @@
 
 #include <bit>
 #include <stdexcept>
+#include <string>
 
 namespace penumbra {
 
 bool inlineGeometryPays(const SceneArrays& arrays) {
     const size_t n = arrays.bvh.primitives.size();
     return n > 0 && n <= size_t(INLINE_MAX_PRIMITIVES);
+}
+
+uint32_t inlineKernelCapacity(uint32_t count) {
+    static_assert(INLINE_MAX_PRIMITIVES % INLINE_CAPACITY_STEP == 0);
+    if (count == 0 || count > uint32_t(INLINE_MAX_PRIMITIVES))
+        throw std::logic_error("inlineKernelCapacity: no inline kernel for " + std::to_string(count) + " primitives");
+    return (count + INLINE_CAPACITY_STEP - 1) / INLINE_CAPACITY_STEP * INLINE_CAPACITY_STEP;
 }
 
 std::vector<uint32_t> inlineGeometryWords(const std::vector<gpu::Primitive>& primitives) {

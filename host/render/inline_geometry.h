@@ -22,6 +22,11 @@ enum class InlineGeometry {
 // Whether `arrays` is small enough for the inline path to beat the BVH.
 bool inlineGeometryPays(const SceneArrays& arrays);
 
+// How many tests the inline kernel for `count` (1 to INLINE_MAX_PRIMITIVES) primitives
+// unrolls: the smallest multiple of INLINE_CAPACITY_STEP that holds them. The kernel is the
+// variant "<kernel>_inline<capacity>" that cmake/EmbedShaders.cmake compiles.
+uint32_t inlineKernelCapacity(uint32_t count);
+
 // The INLINE_PRIMITIVE_WORDS words of each of `primitives` (in leaf order, as the kernel
 // indexes them; shared/types.h), for SPEC_INLINE_FIRST onwards; at most
 // INLINE_MAX_PRIMITIVES primitives.

@@ -20,14 +20,12 @@ namespace {
 
 constexpr uint32_t kTile = PassBands::kTile;  // local_size_x/y of the integrator kernels
 
-// The integrator's module: with `inlineCount` primitives inline, the *_inline<N> twin of
-// the smallest capacity N that holds them (shaders/integrators/direct.comp says why).
+// The integrator's kernel: with `inlineCount` primitives inline, its "_inline<N>" variant
+// (render/inline_geometry.h, cmake/EmbedShaders.cmake).
 std::string kernelName(IntegratorType type, uint32_t inlineCount) {
     std::string name = type == IntegratorType::AmbientOcclusion ? "integrators/ao" : "integrators/direct";
     if (inlineCount == 0) return name;
-    static_assert(INLINE_MAX_PRIMITIVES == 48, "the shaders declare capacities 16, 32 and 48");
-    if (inlineCount > INLINE_MAX_PRIMITIVES) throw std::logic_error("kernelName: more inline primitives than 48");
-    return name + (inlineCount <= 16 ? "_inline16" : inlineCount <= 32 ? "_inline32" : "_inline48");
+    return name + "_inline" + std::to_string(inlineKernelCapacity(inlineCount));
 }
 
 }  // namespace

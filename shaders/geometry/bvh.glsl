@@ -36,8 +36,8 @@ struct Hit {
     vec2 uv;           // triangle: barycentrics of p1, p2; quad: (s, t); sphere: unused
 };
 
-// Only the kernels built with PENUMBRA_INLINE_GEOMETRY carry the inline tests
-// (integrators/*_inline<N>.comp, tests/bvh_trace_inline.comp; integrators/direct.comp says why).
+// Only the kernels built with PENUMBRA_INLINE_GEOMETRY carry the inline tests: the
+// "<kernel>_inline<N>" variants that cmake/EmbedShaders.cmake compiles (it says why).
 #ifdef PENUMBRA_INLINE_GEOMETRY
 #include "geometry/inline_geometry.glsl"
 #endif

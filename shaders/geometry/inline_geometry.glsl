@@ -2,7 +2,7 @@
 // specialization constants, and a ray is tested against each primitive in turn, in leaf
 // order, with no branch and no memory read. bvh.glsl calls this instead of its traversal
 // when the host filled the constants (render/inline_geometry.h says when that pays), in the
-// kernels built with PENUMBRA_INLINE_GEOMETRY (integrators/*_inline<N>.comp) alone.
+// kernels built with PENUMBRA_INLINE_GEOMETRY (the "_inline<N>" variants) alone.
 //
 // Why it pays on llvmpipe: a BVH step reads its node through a texel fetch (a call to a
 // generated sampling function) and keeps a per-lane stack, and eight rays in SIMD lanes
@@ -15,15 +15,14 @@
 #include "shared/types.h"
 #include "geometry/intersect.glsl"
 
-// How many tests this module unrolls: 16, 32 or INLINE_MAX_PRIMITIVES, set by the
-// integrators/*_inline<N>.comp that includes this (the host picks the smallest that holds
-// the scene). llvmpipe's front end inlines every trace site's tests before the constants
-// remove the unused ones, and pays for that on every start (docs/PERFORMANCE.md, "Round 8").
-#ifndef PENUMBRA_INLINE_CAPACITY
-#define PENUMBRA_INLINE_CAPACITY INLINE_MAX_PRIMITIVES
-#endif
-#if PENUMBRA_INLINE_CAPACITY != 16 && PENUMBRA_INLINE_CAPACITY != 32 && PENUMBRA_INLINE_CAPACITY != 48
-#error "PENUMBRA_INLINE_CAPACITY is 16, 32 or 48"
+// How many tests this module unrolls: a multiple of INLINE_CAPACITY_STEP up to
+// INLINE_MAX_PRIMITIVES, set where cmake/EmbedShaders.cmake compiles the "<kernel>_inline<N>"
+// variants (the host picks the smallest that holds the scene: render/inline_geometry.h).
+// llvmpipe's front end inlines every trace site's tests before the constants remove the
+// unused ones, and pays for that on every start (docs/PERFORMANCE.md, "Round 8").
+#if !defined(PENUMBRA_INLINE_CAPACITY) || PENUMBRA_INLINE_CAPACITY % INLINE_CAPACITY_STEP != 0 || \
+    PENUMBRA_INLINE_CAPACITY > INLINE_MAX_PRIMITIVES || INLINE_CAPACITY_STEP != 16
+#error "PENUMBRA_INLINE_CAPACITY: a multiple of 16 (the groups below) up to INLINE_MAX_PRIMITIVES"
 #endif
 
 // How many of the first primitives are inline (0: none, the kernel traverses the BVH).

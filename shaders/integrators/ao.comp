@@ -1,8 +1,56 @@
-// The ambient-occlusion kernel over the BVH; the code is in integrators/ao.glsl. Its twin
-// ao_inline<N>.comp is the same kernel for scenes whose primitives are compiled in
-// (geometry/inline_geometry.glsl). Two modules, so that a kernel that traverses carries
-// none of the unrolled inline tests, whose front end llvmpipe runs again on every start
-// (docs/PERFORMANCE.md, "Round 8").
+// Ambient occlusion (lecture, "Sampling the Cosine Term"; SCENE_FORMAT.md "ao"):
+//   L(x) = albedo/pi * integral over H^2 of V(x, w) cos(theta) dw,
+// one hemisphere direction per pixel sample, drawn uniformly (p = 1/(2 pi), estimate
+// 2 albedo V cos) or cosine-weighted (p = cos/pi, estimate albedo V). Camera rays that
+// miss everything see 1. cmake/EmbedShaders.cmake also compiles it as ao_inline<N>, with
+// small scenes' primitives inline instead of the BVH (geometry/inline_geometry.glsl).
 #version 450
 #extension GL_GOOGLE_include_directive : require
-#include "integrators/ao.glsl"
+
+#include "integrators/kernel_common.glsl"
+#include "common/specialization.glsl"
+#include "geometry/bvh.glsl"
+#include "geometry/surface.glsl"
+#include "sampling/warp.glsl"
+
+#include "bsdf/materials.glsl"
+#include "textures/textures.glsl"
+
+void main() {
+    uvec2 pixel;
+    if (!invocationPixel(pixel)) return;
+    Rng rng = pixelRng(pixel, pass.sampleIndex);
+
+    vec3 origin, dir;
+    cameraRay(pixel, rand2(rng), origin, dir);
+    Hit hit;
+    if (!traceClosest(origin, dir, FLOAT_MAX, hit)) {
+        accumulate(pixel, vec3(1.0));
+        return;
+    }
+    SurfacePoint sp = surfaceAt(hit, origin, dir);
+    // Two-sided shading: use the side facing the viewer.
+    vec3 ng = dot(sp.geometricNormal, dir) < 0.0 ? sp.geometricNormal : -sp.geometricNormal;
+    vec3 ns = dot(sp.shadingNormal, ng) < 0.0 ? -sp.shadingNormal : sp.shadingNormal;
+    vec3 albedo = applyTextures(loadMaterial(sp.material), sp.material, sp.uv).kd;
+
+    vec2 u = rand2(rng);
+    vec3 local;
+    float pdf;
+    if (kAoSampling == AO_COSINE) {
+        local = squareToCosineHemisphere(u);
+        pdf = cosineHemispherePdf(local.z);
+    } else {
+        local = squareToUniformHemisphere(u);
+        pdf = uniformHemispherePdf(local);
+    }
+    vec3 w = frameToWorld(local, ns);
+    float cosTheta = local.z;
+    vec3 L = vec3(0.0);
+    // Directions below the geometric surface (possible with shading normals) are blocked.
+    if (pdf > 0.0 && cosTheta > 0.0 && dot(w, ng) > 0.0 &&
+        !traceAny(offsetRayOrigin(sp.position, ng), w, params.aoMaxDistance)) {
+        L = albedo * INV_PI * cosTheta / pdf;
+    }
+    accumulate(pixel, L);
+}

@@ -1,8 +1,230 @@
-// The direct-illumination kernel over the BVH; the code is in integrators/direct.glsl. Its twin
-// direct_inline<N>.comp is the same kernel for scenes whose primitives are compiled in
-// (geometry/inline_geometry.glsl). Two modules, so that a kernel that traverses carries
-// none of the unrolled inline tests, whose front end llvmpipe runs again on every start
-// (docs/PERFORMANCE.md, "Round 8").
+// One bounce of direct illumination (SCENE_FORMAT.md "direct"; lecture, "Importance
+// Sampling Incident Radiance" onwards): emitted radiance seen by the camera ray, plus light
+// reflected once from every light, estimated with one of four strategies:
+//   light    N1 light samples              (f Le cos / (P(l) p_l))
+//   bsdf     N2 BRDF samples               (f Le cos / p_f), counted when they hit an emitter
+//   mis      N1 light + N2 BRDF samples weighted by the balance or power heuristic
+//   mixture  N1 + N2 samples from 0.5 p_light + 0.5 p_f (lecture, "Sample from Average PDF")
+// Delta lights cannot be hit: every strategy samples them explicitly (light and mis through
+// the full selection table; bsdf and mixture with one delta-only draw per sample).
+// The strategy, heuristic, N1, N2 and sphere, quad and triangle sampling are specialization constants
+// (common/specialization.glsl): each combination is its own compiled kernel.
+// cmake/EmbedShaders.cmake also compiles it as direct_inline<N>, with small scenes'
+// primitives inline instead of the BVH (geometry/inline_geometry.glsl).
 #version 450
 #extension GL_GOOGLE_include_directive : require
-#include "integrators/direct.glsl"
+
+#include "integrators/kernel_common.glsl"
+#include "common/specialization.glsl"
+#include "geometry/bvh.glsl"
+#include "geometry/surface.glsl"
+#include "sampling/warp.glsl"
+#include "lights/lights.glsl"
+#include "bsdf/bsdf.glsl"
+#include "integrators/mis.glsl"
+#include "integrators/emitter_first.glsl"
+
+#include "bsdf/materials.glsl"
+#include "textures/textures.glsl"
+
+// How area lights are sampled, for sampleLight and lightPdf alike.
+LightSamplingModes lightModes() {
+    return LightSamplingModes(kSphereSampling, kQuadSampling, kTriangleSampling, SPHERICAL_MIN_SOLID_ANGLE,
+                              SPHERICAL_MIN_ELEVATION_SINE);
+}
+
+// The shading point, with normals turned to the viewer's side (two-sided materials).
+struct Shading {
+    vec3 x;       // position
+    // x offset off the surface for rays leaving on the viewer's side. Light samples and
+    // their densities are taken from here, not from x, so that each shadow ray runs
+    // exactly along the sampled segment: sampling from x and tracing from the offset
+    // origin shifts the ray sideways, and near a small sphere light's silhouette the
+    // shifted ray enters the sphere before the sampled point (measured: 0.05% of the
+    // light lost for a sphere of radius 0.05 at distance 3).
+    vec3 origin;
+    vec3 ng;      // geometric normal
+    vec3 ns;      // shading normal
+    vec3 wo;      // toward the viewer
+    Material m;
+};
+
+// The shadow ray toward a light sample stops just short of the sampled point, so that
+// the light's own surface does not count as an occluder.
+bool visible(Shading s, LightSample ls) {
+    float tMax = ls.dist == FLOAT_MAX ? FLOAT_MAX : ls.dist * (1.0 - 1e-4);
+    return !traceAny(s.origin, ls.wi, tMax);
+}
+
+// f * cos for a direction whose BRDF value is f, zero below either normal.
+vec3 cosineWeighted(Shading s, vec3 wi, vec3 f) {
+    float cosI = dot(wi, s.ns);
+    if (cosI <= 0.0 || dot(wi, s.ng) <= 0.0) return vec3(0.0);
+    return f * cosI;
+}
+
+// How a one-sample estimate is weighted against the other technique's samples.
+const uint WEIGHT_NONE = 0u;     // its own density alone
+const uint WEIGHT_MIS = 1u;      // MIS weight against the other technique's samples (nLight, nBsdf)
+const uint WEIGHT_MIXTURE = 2u;  // the mixture density 0.5 p_light + 0.5 p_f (lecture, "Sample from Average PDF")
+
+// One sample of light `index` drawn with probability `pmf` from a selection table,
+// weighted against N2 BRDF samples (WEIGHT_MIS) or by the mixture density. quadSolidAnglePdf
+// receives the sample's LightSample.quadSolidAnglePdf when the light was sampled.
+vec3 lightSampleEstimate(Shading s, uint index, float pmf, uint weighting, float nLight, float nBsdf,
+                         inout Rng rng, inout float quadSolidAnglePdf) {
+    vec3 u = vec3(rand2(rng), rand1(rng));
+    if (!(pmf > 0.0)) return vec3(0.0);
+    LightSample ls;
+    bool sampled = sampleLight(index, s.origin, s.ns, u, lightModes(), ls);
+    quadSolidAnglePdf = ls.quadSolidAnglePdf;
+    if (!sampled) return vec3(0.0);
+    BsdfValue b = bsdfEvalPdf(s.m, s.ns, s.wo, ls.wi);
+    vec3 fc = cosineWeighted(s, ls.wi, b.f);
+    if (fc == vec3(0.0) || !visible(s, ls)) return vec3(0.0);
+    if (ls.isDelta) return fc * ls.radiance / pmf;
+    float pLight = pmf * ls.pdf;
+    float density = pLight;
+    float weight = 1.0;
+    if (weighting == WEIGHT_MIS) {
+        weight = misWeight(nLight * pLight, nBsdf * b.pdf, kHeuristic);
+    } else if (weighting == WEIGHT_MIXTURE) {
+        density = 0.5 * pLight + 0.5 * b.pdf;
+    }
+    return fc * ls.radiance * weight / density;
+}
+
+// Emitted radiance reaching x along wi (first hit, or the environment when nothing is
+// hit), and the light-selection-times-light density of that direction, with `selection`
+// turning Light::selectionProb into the probability in the table actually sampled.
+// With the emitter-first path (integrators/emitter_first.glsl; only in scenes without an
+// environment light) the hit is the nearest emitter, checked for occluders once it is known
+// to emit toward x. `quad`: the light's quad density at x where a light sample knows it.
+vec3 incidentEmission(Shading s, vec3 wi, float selectionScale, KnownQuadDensity quad, out float pLight) {
+    pLight = 0.0;
+    Hit hit;
+    if (!traceForEmission(s.origin, wi, hit)) {
+        // The environment's own density, not lightPdf's dispatch over every kind: llvmpipe
+        // would run the area lights' densities here too, for a light known to be none.
+        if (!hasLight(LIGHT_ENVIRONMENT) || params.environmentLight == NO_LIGHT) return vec3(0.0);
+        Light env = loadLight(params.environmentLight);
+        pLight = env.selectionProb * selectionScale * environmentPdf(env, s.ns, wi);
+        return environmentRadiance(env, wi);
+    }
+    SurfacePoint y = surfaceAt(hit, s.origin, wi);
+    if (y.light == NO_LIGHT) return vec3(0.0);
+    Light light = loadLight(y.light);
+    vec3 Le = emittedRadiance(light, y.geometricNormal, wi);
+    if (Le == vec3(0.0) || emitterHidden(s.origin, wi, hit)) return vec3(0.0);
+    pLight = light.selectionProb * selectionScale *
+             lightPdf(y.light, s.origin, s.ns, wi, y.position, y.geometricNormal, hit.t, hit.primitive, lightModes(), quad);
+    return Le;
+}
+
+// One BRDF sample, weighted against N1 light samples from the full table (WEIGHT_MIS) or
+// by the mixture density with the continuous-light table (WEIGHT_MIXTURE).
+vec3 bsdfSampleEstimate(Shading s, uint weighting, float nLight, float nBsdf, KnownQuadDensity quad, inout Rng rng) {
+    vec2 u = rand2(rng);
+    float lobe = rand1(rng);
+    vec3 wi;
+    BsdfValue b;
+    if (!bsdfSample(s.m, s.ns, s.wo, u, lobe, wi, b)) return vec3(0.0);
+    vec3 fc = cosineWeighted(s, wi, b.f);
+    if (fc == vec3(0.0)) return vec3(0.0);
+    float pBsdf = b.pdf;
+    float pLight;
+    float scale = weighting == WEIGHT_MIXTURE ? params.continuousScale : 1.0;
+    vec3 Le = incidentEmission(s, wi, scale, quad, pLight);
+    if (Le == vec3(0.0)) return vec3(0.0);
+    float density = pBsdf;
+    float weight = 1.0;
+    if (weighting == WEIGHT_MIS) weight = misWeight(nBsdf * pBsdf, nLight * pLight, kHeuristic);
+    else if (weighting == WEIGHT_MIXTURE) density = 0.5 * pLight + 0.5 * pBsdf;
+    return fc * Le * weight / density;
+}
+
+// One draw from the delta-only table: the explicit estimate of point and directional
+// lights for strategies whose other samples cannot find them.
+vec3 deltaLightEstimate(Shading s, inout Rng rng) {
+    if (params.deltaCount == 0u) return vec3(0.0);
+    float pmf;
+    uint index = selectLight(params.deltaTableOffset, params.deltaCount, rand1(rng), pmf);
+    float unused;
+    return lightSampleEstimate(s, index, pmf, WEIGHT_NONE, 0.0, 0.0, rng, unused);
+}
+
+vec3 reflectedRadiance(Shading s, inout Rng rng) {
+    uint n1 = kLightSamples, n2 = kBsdfSamples;
+    vec3 L = vec3(0.0);
+    // With one light in the scene, MIS draws its light samples from x before its BRDF
+    // samples, and any BRDF-sampled ray that finds a light finds that one: its quad density
+    // at x is what the light samples computed (the same for every one of them). It stays 0
+    // (the area density) only where the light's selection probability is 0, and then the
+    // MIS weight multiplies it by that 0.
+    float quadSolidAnglePdf = 0.0;
+    if (kStrategy == STRATEGY_LIGHT || kStrategy == STRATEGY_MIS) {
+        uint weighting = kStrategy == STRATEGY_MIS ? WEIGHT_MIS : WEIGHT_NONE;
+        for (uint i = 0u; i < n1; ++i) {
+            float pmf;
+            uint index = selectLight(0u, params.lightCount, rand1(rng), pmf);
+            L += lightSampleEstimate(s, index, pmf, weighting, float(n1), float(n2), rng, quadSolidAnglePdf) /
+                 float(n1);
+        }
+    }
+    if (kStrategy == STRATEGY_BSDF || kStrategy == STRATEGY_MIS) {
+        uint weighting = kStrategy == STRATEGY_MIS ? WEIGHT_MIS : WEIGHT_NONE;
+        float nLight = kStrategy == STRATEGY_MIS ? float(n1) : 0.0;
+        KnownQuadDensity quad = KnownQuadDensity(kStrategy == STRATEGY_MIS && n1 > 0u && hasSingleLight(), quadSolidAnglePdf);
+        for (uint i = 0u; i < n2; ++i) {
+            L += bsdfSampleEstimate(s, weighting, nLight, float(n2), quad, rng) / float(n2);
+            // Without light samples, delta lights get their own explicit draw.
+            if (nLight == 0.0) L += deltaLightEstimate(s, rng) / float(n2);
+        }
+    }
+    if (kStrategy == STRATEGY_MIXTURE) {
+        uint n = n1 + n2;
+        for (uint i = 0u; i < n; ++i) {
+            if (rand1(rng) < 0.5) {
+                if (params.continuousCount > 0u) {
+                    float pmf;
+                    uint index = selectLight(params.continuousTableOffset, params.continuousCount, rand1(rng), pmf);
+                    float unused;
+                    L += lightSampleEstimate(s, index, pmf, WEIGHT_MIXTURE, 0.0, 0.0, rng, unused) / float(n);
+                }
+            } else {
+                L += bsdfSampleEstimate(s, WEIGHT_MIXTURE, 0.0, 0.0, unknownQuadDensity(), rng) / float(n);
+            }
+            L += deltaLightEstimate(s, rng) / float(n);
+        }
+    }
+    return L;
+}
+
+void main() {
+    uvec2 pixel;
+    if (!invocationPixel(pixel)) return;
+    Rng rng = pixelRng(pixel, pass.sampleIndex);
+
+    vec3 origin, dir;
+    cameraRay(pixel, rand2(rng), origin, dir);
+    Hit hit;
+    if (!traceClosest(origin, dir, FLOAT_MAX, hit)) {
+        accumulate(pixel,
+                   params.environmentLight == NO_LIGHT ? vec3(0.0) : environmentRadiance(loadLight(params.environmentLight), dir));
+        return;
+    }
+    SurfacePoint sp = surfaceAt(hit, origin, dir);
+    vec3 L = sp.light == NO_LIGHT ? vec3(0.0) : emittedRadiance(loadLight(sp.light), sp.geometricNormal, dir);
+
+    Shading s;
+    s.x = sp.position;
+    s.wo = -dir;
+    s.ng = dot(sp.geometricNormal, s.wo) >= 0.0 ? sp.geometricNormal : -sp.geometricNormal;
+    s.ns = dot(sp.shadingNormal, s.ng) >= 0.0 ? sp.shadingNormal : -sp.shadingNormal;
+    // A shading normal facing away from the viewer would reflect nothing: fall back.
+    if (dot(s.ns, s.wo) <= 0.0) s.ns = s.ng;
+    s.origin = offsetRayOrigin(s.x, s.ng);
+    s.m = applyTextures(loadMaterial(sp.material), sp.material, sp.uv);
+    L += reflectedRadiance(s, rng);
+    accumulate(pixel, L);
+}

@@ -303,6 +303,7 @@ PENUMBRA_CONST uint SAMPLER_SOBOL = 1u;        // padded Owen-scrambled Sobol' (
 #define SPEC_INLINE_COUNT 13       // 0 or the primitive count: primitives inline, no BVH (render/inline_geometry.h)
 #define SPEC_INLINE_FIRST 14       // first of INLINE_MAX_PRIMITIVES x INLINE_PRIMITIVE_WORDS inline words
 #define INLINE_MAX_PRIMITIVES 48   // inline_geometry.glsl declares this many; the measured break-even
+#define INLINE_CAPACITY_STEP 16    // inline kernels unroll a multiple of this many tests (render/inline_geometry.h)
 #define INLINE_PRIMITIVE_WORDS 10  // PRIM_* type, p0, p1, p2 (float bits)
 #define SPEC_COUNT (SPEC_INLINE_FIRST + INLINE_MAX_PRIMITIVES * INLINE_PRIMITIVE_WORDS)
 

@@ -24,7 +24,7 @@ void main() {
     r.b = vec4(0.0);
     if (push.mode == BSDF_TEST_MODE_SAMPLE) {
         Rng rng = makeRng(0u, i, push.seed);
-        vec2 u = rand2(rng);  // the integrator's order (direct.glsl, bsdfSampleEstimate)
+        vec2 u = rand2(rng);  // the integrator's order (direct.comp, bsdfSampleEstimate)
         float lobe = rand1(rng);
         vec3 wi;
         BsdfValue value;

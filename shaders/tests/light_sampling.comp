@@ -65,7 +65,7 @@ void main() {
     r.flags = 0u;
     if (push.mode == LIGHT_TEST_MODE_SAMPLE) {
         Rng rng = makeRng(0u, i, push.seed);
-        vec3 u = vec3(rand2(rng), rand1(rng));  // the integrator's order (direct.glsl)
+        vec3 u = vec3(rand2(rng), rand1(rng));  // the integrator's order (direct.comp)
         LightSample ls;
         if (sampleLight(push.light, push.x, push.n, u,
                         testModes(), ls)) {
