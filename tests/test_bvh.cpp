@@ -322,7 +322,9 @@ TEST(Bvh, InlineGeometryMatchesCpuBruteForce) {
     auto rays = randomRays(rng, rayCount, 5.0f, &scene);
     mixRayLengths(rng, bvh, rays, 8.0f);
     KernelOptions options;
-    options.inlineWords = inlineGeometryWords(bvh.primitives);
+    InlineGeometryWords words = inlineGeometryWords(bvh);
+    options.inlineWords = words.slots;
+    options.inlineGroupWords = words.groups;
     // The kernel gets a tree with no children, so only the inline tests can find a hit.
     Bvh hollow = bvh;
     hollow.wideNodes = buildBvh({}).wideNodes;

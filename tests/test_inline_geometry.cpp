@@ -5,6 +5,7 @@
 // (quads, triangles of a mesh, spheres), emitting and not, and a textured-free Phong
 // material whose lobe makes the BRDF-sampled rays find the small lights.
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -12,6 +13,7 @@
 
 #include <gtest/gtest.h>
 
+#include "bvh/bvh.h"
 #include "gpu/shaders.h"
 #include "gpu_fixture.h"
 #include "render/renderer.h"
@@ -121,7 +123,7 @@ TEST(InlineGeometry, SameSamplesGiveTheSameImageAsTheBvh) {
         const std::string name = "inline-same-" + strategy;
         KernelOptions inlined, traversed;
         Image a = render(doc, name, InlineGeometry::Rule, &inlined);
-        ASSERT_EQ(inlined.inlineWords.size(), 20u * INLINE_PRIMITIVE_WORDS);
+        ASSERT_FALSE(inlined.inlineWords.empty());
         Image b = render(doc, name, InlineGeometry::Off, &traversed);
         ASSERT_TRUE(traversed.inlineWords.empty());
         ASSERT_EQ(a.rgb.size(), b.rgb.size());
@@ -140,6 +142,7 @@ TEST(InlineGeometry, SameSamplesGiveTheSameImageAsTheBvh) {
 
 // Also for each kernel capacity (integrators/ao_inline16, 32 and 48): 8, 20 and 48 primitives.
 TEST(InlineGeometry, AmbientOcclusionSameSamplesSameImage) {
+    std::vector<uint32_t> capacities;
     for (const int extra : {-12, 0, int(INLINE_MAX_PRIMITIVES) - 20}) {
         json doc = mixedRoom("mis", std::max(extra, 0));
         if (extra < 0) doc["shapes"].erase(8);  // the mesh box: 12 triangles
@@ -148,12 +151,65 @@ TEST(InlineGeometry, AmbientOcclusionSameSamplesSameImage) {
         SCOPED_TRACE(name);
         KernelOptions inlined, traversed;
         Image a = render(doc, name, InlineGeometry::Rule, &inlined);
-        ASSERT_EQ(inlined.inlineWords.size(), size_t(20 + extra) * INLINE_PRIMITIVE_WORDS);
+        ASSERT_FALSE(inlined.inlineWords.empty());
+        capacities.push_back(inlineKernelCapacity(uint32_t(inlined.inlineWords.size() / INLINE_PRIMITIVE_WORDS)));
         Image b = render(doc, name, InlineGeometry::Off, &traversed);
         ASSERT_EQ(a.rgb.size(), b.rgb.size());
         int differing = 0;
         for (size_t i = 0; i < a.rgb.size(); ++i)
             differing += std::abs(double(a.rgb[i]) - double(b.rgb[i])) > 1e-4 * (1.0 + std::abs(double(b.rgb[i])));
         EXPECT_EQ(differing, 0);
+    }
+    EXPECT_EQ(capacities, (std::vector<uint32_t>{16u, 32u, 48u}));
+}
+
+// The slots hold every primitive exactly once, with its own type and points, empty slots
+// only where a group is padded; each group's box holds its primitives' bounds (else the
+// kernel would skip hits); and the room's layout does use what it is for: primitives out
+// of leaf order and some group behind its box test.
+TEST(InlineGeometry, SlotsHoldEveryPrimitiveOnceInsideItsGroupsBox) {
+    for (int extra = -12; extra <= int(INLINE_MAX_PRIMITIVES) - 20; ++extra) {
+        if (extra < 0 && extra != -12) continue;
+        json doc = mixedRoom("mis", std::max(extra, 0));
+        if (extra < 0) doc["shapes"].erase(8);
+        const Scene scene = test::sceneFromJson(doc, "inline-slots" + std::to_string(extra));
+        const SceneArrays arrays = buildSceneArrays(scene);
+        const std::vector<gpu::Primitive>& primitives = arrays.bvh.primitives;
+        SCOPED_TRACE(primitives.size());
+        const InlineGeometryWords words = inlineGeometryWords(arrays.bvh);
+        ASSERT_EQ(words.slots.size() % INLINE_PRIMITIVE_WORDS, 0u);
+        const size_t slots = words.slots.size() / INLINE_PRIMITIVE_WORDS;
+        ASSERT_GE(slots, primitives.size());
+        ASSERT_LE(slots, size_t(INLINE_MAX_PRIMITIVES));
+        const size_t groups = (slots + INLINE_GROUP_SIZE - 1) / INLINE_GROUP_SIZE;
+        ASSERT_EQ(words.groups.size(), groups * INLINE_GROUP_WORDS);
+        std::vector<int> seen(primitives.size(), 0);
+        bool reordered = false, someTested = false;
+        for (size_t slot = 0; slot < slots; ++slot) {
+            const uint32_t* w = &words.slots[slot * INLINE_PRIMITIVE_WORDS];
+            const uint32_t* box = &words.groups[(slot / INLINE_GROUP_SIZE) * INLINE_GROUP_WORDS];
+            ASSERT_LE(box[6], 1u);
+            someTested = someTested || box[6] == 1u;
+            if ((w[0] & INLINE_SLOT_TYPE_MASK) == INLINE_SLOT_EMPTY) continue;
+            const uint32_t index = w[0] >> INLINE_SLOT_INDEX_SHIFT;
+            ASSERT_LT(index, primitives.size());
+            ++seen[index];
+            reordered = reordered || index != slot;
+            const gpu::Primitive& p = primitives[index];
+            EXPECT_EQ(w[0] & INLINE_SLOT_TYPE_MASK, p.typeAndNormals & gpu::PRIM_TYPE_MASK);
+            const glm::vec3 points[3] = {p.p0, p.p1, p.p2};
+            for (int k = 0; k < 9; ++k) EXPECT_EQ(std::bit_cast<float>(w[1 + k]), points[k / 3][k % 3]);
+            glm::vec3 lo, hi;
+            primitiveBounds(p, lo, hi);
+            for (int k = 0; k < 3; ++k) {
+                EXPECT_LE(std::bit_cast<float>(box[k]), lo[k]) << "slot " << slot;
+                EXPECT_GE(std::bit_cast<float>(box[3 + k]), hi[k]) << "slot " << slot;
+            }
+        }
+        for (size_t i = 0; i < seen.size(); ++i) EXPECT_EQ(seen[i], 1) << "primitive " << i;
+        if (extra == 0) {
+            EXPECT_TRUE(reordered);
+            EXPECT_TRUE(someTested);
+        }
     }
 }

@@ -6,6 +6,7 @@
 // pipelines depend on the shape types alone, was measured slower (same section).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -27,9 +28,23 @@ bool inlineGeometryPays(const SceneArrays& arrays);
 // variant "<kernel>_inline<capacity>" that cmake/EmbedShaders.cmake compiles.
 uint32_t inlineKernelCapacity(uint32_t count);
 
-// The INLINE_PRIMITIVE_WORDS words of each of `primitives` (in leaf order, as the kernel
-// indexes them; shared/types.h), for SPEC_INLINE_FIRST onwards; at most
-// INLINE_MAX_PRIMITIVES primitives.
-std::vector<uint32_t> inlineGeometryWords(const std::vector<gpu::Primitive>& primitives);
+// A group's box is tested before its primitives when it holds at least this many and its
+// area is below this share of the scene box's (docs/PERFORMANCE.md, "Round 9").
+constexpr size_t kInlineGroupTestedFrom = 3;
+constexpr float kInlineGroupTestedBelow = 0.5f;
+
+// The specialization words of a scene's primitives inline (SPEC_INLINE_FIRST and
+// SPEC_INLINE_GROUP_FIRST onwards; shared/types.h). The kernel's slots come in groups of
+// INLINE_GROUP_SIZE, each behind a bounding box that it tests first where the box is small
+// against the scene's: a driver that skips a branch no SIMD lane takes (Mesa >= 24.3) then
+// skips the group's tests whenever none of its eight rays comes near. A group is a compact
+// subtree of `bvh`'s binary tree, so the slots hold the primitives out of leaf order, each
+// slot naming its primitive's leaf-order index (what Hit.primitive reports), and a group
+// may end with empty slots.
+struct InlineGeometryWords {
+    std::vector<uint32_t> slots;   // INLINE_PRIMITIVE_WORDS per slot, at most INLINE_MAX_PRIMITIVES slots
+    std::vector<uint32_t> groups;  // INLINE_GROUP_WORDS per group: box lo, box hi (float bits), tested (0/1)
+};
+InlineGeometryWords inlineGeometryWords(const Bvh& bvh);
 
 }  // namespace penumbra

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace penumbra {
 
@@ -46,6 +47,7 @@ std::vector<uint32_t> KernelOptions::specialization() const {
     values[SPEC_EMITTER_FIRST] = ao ? 0u : emitterFirstLights;
     values[SPEC_INLINE_COUNT] = uint32_t(inlineWords.size() / INLINE_PRIMITIVE_WORDS);
     std::copy(inlineWords.begin(), inlineWords.end(), values.begin() + SPEC_INLINE_FIRST);
+    std::copy(inlineGroupWords.begin(), inlineGroupWords.end(), values.begin() + SPEC_INLINE_GROUP_FIRST);
     return values;
 }
 
@@ -95,7 +97,11 @@ KernelOptions makeKernelOptions(const Scene& scene, const SceneArrays& arrays, E
     o.sceneFeatures = sceneFeatures(arrays);
     o.textures = arrays.textures.textured ? 1u : 0u;
     const bool inlined = inlineGeometry == InlineGeometry::Rule && inlineGeometryPays(arrays);
-    if (inlined) o.inlineWords = inlineGeometryWords(arrays.bvh.primitives);
+    if (inlined) {
+        InlineGeometryWords words = inlineGeometryWords(arrays.bvh);
+        o.inlineWords = std::move(words.slots);
+        o.inlineGroupWords = std::move(words.groups);
+    }
     // With the primitives inline a closest hit costs what an any hit costs, so the rule's
     // saving is gone while its emitter loop stays (docs/PERFORMANCE.md, "Round 8").
     const bool on = emitterFirst == EmitterFirst::Exact  ? emitterFirstExact(scene.integrator, arrays)

@@ -20,7 +20,8 @@ struct KernelOptions {
     uint32_t countRays = 0;
     uint32_t textures = 0;              // 1: some material is textured
     uint32_t emitterFirstLights = 0;    // 0, or the light count: emitter-first BRDF rays
-    std::vector<uint32_t> inlineWords;  // empty, or the primitives inline (render/inline_geometry.h)
+    std::vector<uint32_t> inlineWords;       // empty, or the inline slots (render/inline_geometry.h)
+    std::vector<uint32_t> inlineGroupWords;  // with inlineWords, their groups (the same)
 
     // Values in constant_id order, for gpu::Pipeline.
     std::vector<uint32_t> specialization() const;

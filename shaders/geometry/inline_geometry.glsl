@@ -1,6 +1,7 @@
 // Small scenes without a BVH: every primitive's shape is compiled into the kernel as
-// specialization constants, and a ray is tested against each primitive in turn, in leaf
-// order, with no branch and no memory read. bvh.glsl calls this instead of its traversal
+// specialization constants, and a ray is tested against each primitive in turn, with no
+// memory read, in groups of eight slots, each behind its bounding box where the box is small
+// against the scene (render/inline_geometry.h). bvh.glsl calls this instead of its traversal
 // when the host filled the constants (render/inline_geometry.h says when that pays), in the
 // kernels built with PENUMBRA_INLINE_GEOMETRY (the "_inline<N>" variants) alone.
 //
@@ -25,11 +26,12 @@
 #error "PENUMBRA_INLINE_CAPACITY: a multiple of 16 (the groups below) up to INLINE_MAX_PRIMITIVES"
 #endif
 
-// How many of the first primitives are inline (0: none, the kernel traverses the BVH).
+// How many of the slots are in use (0: none, the kernel traverses the BVH).
 layout(constant_id = SPEC_INLINE_COUNT) const uint kInlineCount = 0u;
 
-// Primitive i's INLINE_PRIMITIVE_WORDS constants (shared/types.h): its PRIM_* type, then
-// p0, p1, p2 as in Primitive (float bits), for i below INLINE_MAX_PRIMITIVES.
+// Slot i's INLINE_PRIMITIVE_WORDS constants (shared/types.h): its slot word (the PRIM_* type
+// and the primitive's leaf-order index, or INLINE_SLOT_EMPTY), then p0, p1, p2 as in
+// Primitive (float bits), for i below INLINE_MAX_PRIMITIVES.
 #define INLINE_FLOAT(i, k) \
     layout(constant_id = SPEC_INLINE_FIRST + INLINE_PRIMITIVE_WORDS * (i) + (k)) const float kInline##i##_##k = 0.0;
 #define INLINE_PRIMITIVE(i)                                                                          \
@@ -51,7 +53,21 @@ INLINE_PRIMITIVE(36) INLINE_PRIMITIVE(37) INLINE_PRIMITIVE(38) INLINE_PRIMITIVE(
 INLINE_PRIMITIVE(40) INLINE_PRIMITIVE(41) INLINE_PRIMITIVE(42) INLINE_PRIMITIVE(43)
 INLINE_PRIMITIVE(44) INLINE_PRIMITIVE(45) INLINE_PRIMITIVE(46) INLINE_PRIMITIVE(47)
 
-// Primitive `index` of type `type` tested against the ray; a hit nearer than hit.t
+// Group g of INLINE_GROUP_SIZE slots (shared/types.h): its box lo.xyz, hi.xyz, and whether
+// the box is tested before the slots.
+#define INLINE_GROUP_FLOAT(g, k) \
+    layout(constant_id = SPEC_INLINE_GROUP_FIRST + INLINE_GROUP_WORDS * (g) + (k)) const float kInlineGroup##g##_##k = 0.0;
+#define INLINE_GROUP_BOX(g)                                                                                   \
+    INLINE_GROUP_FLOAT(g, 0) INLINE_GROUP_FLOAT(g, 1) INLINE_GROUP_FLOAT(g, 2)                              \
+    INLINE_GROUP_FLOAT(g, 3) INLINE_GROUP_FLOAT(g, 4) INLINE_GROUP_FLOAT(g, 5)                              \
+    layout(constant_id = SPEC_INLINE_GROUP_FIRST + INLINE_GROUP_WORDS * (g) + 6) const uint kInlineGroupTested##g = 0u;
+INLINE_GROUP_BOX(0) INLINE_GROUP_BOX(1) INLINE_GROUP_BOX(2)
+INLINE_GROUP_BOX(3) INLINE_GROUP_BOX(4) INLINE_GROUP_BOX(5)
+#if INLINE_MAX_GROUPS != 6 || INLINE_CAPACITY_STEP % INLINE_GROUP_SIZE != 0 || INLINE_GROUP_WORDS != 7
+#error "inline_geometry.glsl declares six groups of eight slots, seven words each"
+#endif
+
+// Primitive `index` (leaf order) of type `type` tested against the ray; a hit nearer than hit.t
 // replaces hit (selects, not branches: every lane runs every test anyway).
 void inlineTest(uint index, uint type, vec3 p0, vec3 p1, vec3 p2, vec3 origin, vec3 dir, inout Hit hit) {
     float t;
@@ -62,31 +78,44 @@ void inlineTest(uint index, uint type, vec3 p0, vec3 p1, vec3 p2, vec3 origin, v
     hit.uv = found ? uv : hit.uv;
 }
 
-// Primitive i's test, compiled out past kInlineCount (the condition is a constant).
+// Slot i's test, compiled out past kInlineCount and for an empty slot (constant conditions).
 #define INLINE_TEST(i)                                                                                        \
-    if ((i) < kInlineCount)                                                                                   \
-        inlineTest((i), kInlineType##i, vec3(kInline##i##_1, kInline##i##_2, kInline##i##_3),                \
+    if ((i) < kInlineCount && (kInlineType##i & INLINE_SLOT_TYPE_MASK) != INLINE_SLOT_EMPTY)                  \
+        inlineTest(kInlineType##i >> INLINE_SLOT_INDEX_SHIFT, kInlineType##i & INLINE_SLOT_TYPE_MASK,        \
+                   vec3(kInline##i##_1, kInline##i##_2, kInline##i##_3),                                      \
                    vec3(kInline##i##_4, kInline##i##_5, kInline##i##_6),                                      \
                    vec3(kInline##i##_7, kInline##i##_8, kInline##i##_9), origin, dir, hit);
 
+// Group g's slots, compiled out past kInlineCount, behind its box where the host asks for
+// the box test (constant conditions). The box is tested as the BVH tests its nodes
+// (intersectBox, up to the nearest hit so far). Where no lane's ray hits it, a driver that
+// skips the branches no lane takes (Mesa >= 24.3) skips the group's tests; Mesa 22.3 runs
+// them anyway, masked, and pays for the box test too (docs/PERFORMANCE.md, "Round 9").
+#define INLINE_GROUP(g, a, b, c, d, e, f, h, i)                                                                  \
+    if (INLINE_GROUP_SIZE * (g) < kInlineCount) {                                                                \
+        float tEntry;                                                                                            \
+        if (kInlineGroupTested##g == 0u ||                                                                       \
+            intersectBox(vec3(kInlineGroup##g##_0, kInlineGroup##g##_1, kInlineGroup##g##_2),                   \
+                         vec3(kInlineGroup##g##_3, kInlineGroup##g##_4, kInlineGroup##g##_5), origin, invDir, hit.t, \
+                         tEntry)) {                                                                              \
+            INLINE_TEST(a) INLINE_TEST(b) INLINE_TEST(c) INLINE_TEST(d)                                          \
+            INLINE_TEST(e) INLINE_TEST(f) INLINE_TEST(h) INLINE_TEST(i)                                          \
+        }                                                                                                        \
+    }
+
 // The nearest of the inline primitives hit with t in (0, hit.t): hit must come in with
-// t = tMax and primitive = NO_HIT. Ties go to the lower index, as the test runs in order.
+// t = tMax and primitive = NO_HIT. Ties go to the earlier slot, as the tests run in order.
 void inlineClosest(vec3 origin, vec3 dir, inout Hit hit) {
-    INLINE_TEST(0) INLINE_TEST(1) INLINE_TEST(2) INLINE_TEST(3)
-    INLINE_TEST(4) INLINE_TEST(5) INLINE_TEST(6) INLINE_TEST(7)
-    INLINE_TEST(8) INLINE_TEST(9) INLINE_TEST(10) INLINE_TEST(11)
-    INLINE_TEST(12) INLINE_TEST(13) INLINE_TEST(14) INLINE_TEST(15)
+    vec3 invDir = rayInverseDirection(dir);
+    INLINE_GROUP(0, 0, 1, 2, 3, 4, 5, 6, 7)
+    INLINE_GROUP(1, 8, 9, 10, 11, 12, 13, 14, 15)
 #if PENUMBRA_INLINE_CAPACITY > 16
-    INLINE_TEST(16) INLINE_TEST(17) INLINE_TEST(18) INLINE_TEST(19)
-    INLINE_TEST(20) INLINE_TEST(21) INLINE_TEST(22) INLINE_TEST(23)
-    INLINE_TEST(24) INLINE_TEST(25) INLINE_TEST(26) INLINE_TEST(27)
-    INLINE_TEST(28) INLINE_TEST(29) INLINE_TEST(30) INLINE_TEST(31)
+    INLINE_GROUP(2, 16, 17, 18, 19, 20, 21, 22, 23)
+    INLINE_GROUP(3, 24, 25, 26, 27, 28, 29, 30, 31)
 #endif
 #if PENUMBRA_INLINE_CAPACITY > 32
-    INLINE_TEST(32) INLINE_TEST(33) INLINE_TEST(34) INLINE_TEST(35)
-    INLINE_TEST(36) INLINE_TEST(37) INLINE_TEST(38) INLINE_TEST(39)
-    INLINE_TEST(40) INLINE_TEST(41) INLINE_TEST(42) INLINE_TEST(43)
-    INLINE_TEST(44) INLINE_TEST(45) INLINE_TEST(46) INLINE_TEST(47)
+    INLINE_GROUP(4, 32, 33, 34, 35, 36, 37, 38, 39)
+    INLINE_GROUP(5, 40, 41, 42, 43, 44, 45, 46, 47)
 #endif
 }
 

@@ -300,12 +300,23 @@ PENUMBRA_CONST uint SAMPLER_SOBOL = 1u;        // padded Owen-scrambled Sobol' (
 #define SPEC_TRIANGLE_SAMPLING 10  // TRIANGLE_*
 #define SPEC_TEXTURES 11           // 1: some material is textured (uvs computed, textures read)
 #define SPEC_EMITTER_FIRST 12      // 0 or the light count: BRDF rays go emitter first (render/emitter_first.h)
-#define SPEC_INLINE_COUNT 13       // 0 or the primitive count: primitives inline, no BVH (render/inline_geometry.h)
+#define SPEC_INLINE_COUNT 13       // 0 or the inline slots in use: primitives inline, no BVH (render/inline_geometry.h)
 #define SPEC_INLINE_FIRST 14       // first of INLINE_MAX_PRIMITIVES x INLINE_PRIMITIVE_WORDS inline words
 #define INLINE_MAX_PRIMITIVES 48   // inline_geometry.glsl declares this many; the measured break-even
 #define INLINE_CAPACITY_STEP 16    // inline kernels unroll a multiple of this many tests (render/inline_geometry.h)
-#define INLINE_PRIMITIVE_WORDS 10  // PRIM_* type, p0, p1, p2 (float bits)
-#define SPEC_COUNT (SPEC_INLINE_FIRST + INLINE_MAX_PRIMITIVES * INLINE_PRIMITIVE_WORDS)
+#define INLINE_PRIMITIVE_WORDS 10  // slot word (below), p0, p1, p2 (float bits)
+// An inline slot's first word: PRIM_* type | leaf-order primitive index << INLINE_SLOT_INDEX_SHIFT,
+// or INLINE_SLOT_EMPTY for a slot that pads its group (render/inline_geometry.h).
+#define INLINE_SLOT_INDEX_SHIFT 8
+#define INLINE_SLOT_TYPE_MASK 0xffu
+#define INLINE_SLOT_EMPTY 0xffu
+// The slots come in groups of INLINE_GROUP_SIZE, each with a bounding box (lo.xyz, hi.xyz as
+// float bits) and whether the kernel tests it before the group's slots (1) or not (0).
+#define INLINE_GROUP_SIZE 8
+#define INLINE_MAX_GROUPS (INLINE_MAX_PRIMITIVES / INLINE_GROUP_SIZE)
+#define INLINE_GROUP_WORDS 7
+#define SPEC_INLINE_GROUP_FIRST (SPEC_INLINE_FIRST + INLINE_MAX_PRIMITIVES * INLINE_PRIMITIVE_WORDS)
+#define SPEC_COUNT (SPEC_INLINE_GROUP_FIRST + INLINE_MAX_GROUPS * INLINE_GROUP_WORDS)
 
 // Scene feature bits: bit FEATURE_PRIMITIVE + PRIM_*, FEATURE_LIGHT + LIGHT_*,
 // FEATURE_MATERIAL + MATERIAL_* is set when the scene has such a primitive, light or
