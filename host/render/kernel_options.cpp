@@ -102,10 +102,12 @@ KernelOptions makeKernelOptions(const Scene& scene, const SceneArrays& arrays, E
         o.inlineWords = std::move(words.slots);
         o.inlineGroupWords = std::move(words.groups);
     }
-    // With the primitives inline a closest hit costs what an any hit costs, so the rule's
-    // saving is gone while its emitter loop stays (docs/PERFORMANCE.md, "Round 8").
+    // The rule holds for inline scenes too: on Mesa 25, which skips the branches no SIMD
+    // lane takes, a BRDF-sampled ray that misses every emitter skips the occlusion test and
+    // the emitter's surface point, as through the BVH (on Mesa 22.3, which runs every branch,
+    // it did not pay inline: docs/PERFORMANCE.md, "Round 8" and "Round 9").
     const bool on = emitterFirst == EmitterFirst::Exact  ? emitterFirstExact(scene.integrator, arrays)
-                    : emitterFirst == EmitterFirst::Rule ? !inlined && emitterFirstPays(scene, arrays)
+                    : emitterFirst == EmitterFirst::Rule ? emitterFirstPays(scene, arrays)
                                                          : false;
     o.emitterFirstLights = on ? uint32_t(arrays.lights.size()) : 0u;
     return o;

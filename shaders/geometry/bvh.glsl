@@ -120,8 +120,9 @@ uint nearestChild(uint hits, vec4 tEntry) {
 // root, so BVH_MAX_DEPTH entries suffice (host/bvh/wide.cpp: the wide tree is no deeper
 // than the binary one). With `anyHit` it returns at the first hit found. `anyHit` is a
 // constant at both call sites below, so after inlining the compiler keeps a copy of the
-// loop specialised for each query.
-bool traverse(vec3 origin, vec3 dir, float tMax, bool anyHit, out Hit hit) {
+// loop specialised for each query. Primitive `ignore` (NO_HIT: none) does not count in the
+// inline tests; the tree's own tests need no such rule (traceAnyIgnoring says why).
+bool traverse(vec3 origin, vec3 dir, float tMax, bool anyHit, uint ignore, out Hit hit) {
     countRay();
     hit.t = tMax;
     hit.primitive = NO_HIT;
@@ -131,7 +132,7 @@ bool traverse(vec3 origin, vec3 dir, float tMax, bool anyHit, out Hit hit) {
     if (!isFiniteVec(origin) || !isFiniteVec(dir)) return false;
 #ifdef PENUMBRA_INLINE_GEOMETRY
     if (kInlineCount > 0u) {
-        inlineClosest(origin, dir, hit);
+        inlineClosest(origin, dir, ignore, hit);
         return hit.primitive != NO_HIT;
     }
 #endif
@@ -185,13 +186,27 @@ bool traverse(vec3 origin, vec3 dir, float tMax, bool anyHit, out Hit hit) {
 }
 
 // Nearest hit with t in (0, tMax), for camera and bounce rays.
-bool traceClosest(vec3 origin, vec3 dir, float tMax, out Hit hit) { return traverse(origin, dir, tMax, false, hit); }
+bool traceClosest(vec3 origin, vec3 dir, float tMax, out Hit hit) {
+    return traverse(origin, dir, tMax, false, NO_HIT, hit);
+}
 
 // Whether anything is hit with t in (0, tMax): for shadow rays, stops at the first hit
 // found, in no particular order.
 bool traceAny(vec3 origin, vec3 dir, float tMax) {
     Hit hit;
-    return traverse(origin, dir, tMax, true, hit);
+    return traverse(origin, dir, tMax, true, NO_HIT, hit);
+}
+
+// traceAny up to tMax = the distance at which the ray meets primitive `ignore`, found by
+// intersectPrimitive on the primitive as loadPrimitive reads it, with that primitive left
+// out. The tree's leaves test the same data with the same code, so they find the same
+// distance, never strictly below tMax; an inline test computes it from the constants, where
+// the compiler folds the arithmetic differently and can land an ulp below, which would make
+// the primitive hide itself. Leaving it out is exact: a quad is met once, and tMax is the
+// nearer of a sphere's two distances.
+bool traceAnyIgnoring(vec3 origin, vec3 dir, float tMax, uint ignore) {
+    Hit hit;
+    return traverse(origin, dir, tMax, true, ignore, hit);
 }
 
 #endif

@@ -69,10 +69,10 @@ INLINE_GROUP_BOX(3) INLINE_GROUP_BOX(4) INLINE_GROUP_BOX(5)
 
 // Primitive `index` (leaf order) of type `type` tested against the ray; a hit nearer than hit.t
 // replaces hit (selects, not branches: every lane runs every test anyway).
-void inlineTest(uint index, uint type, vec3 p0, vec3 p1, vec3 p2, vec3 origin, vec3 dir, inout Hit hit) {
+void inlineTest(uint index, uint type, vec3 p0, vec3 p1, vec3 p2, vec3 origin, vec3 dir, uint ignore, inout Hit hit) {
     float t;
     vec2 uv;
-    bool found = intersectShape(type, p0, p1, p2, origin, dir, hit.t, t, uv);
+    bool found = intersectShape(type, p0, p1, p2, origin, dir, hit.t, t, uv) && index != ignore;
     hit.t = found ? t : hit.t;
     hit.primitive = found ? index : hit.primitive;
     hit.uv = found ? uv : hit.uv;
@@ -84,7 +84,7 @@ void inlineTest(uint index, uint type, vec3 p0, vec3 p1, vec3 p2, vec3 origin, v
         inlineTest(kInlineType##i >> INLINE_SLOT_INDEX_SHIFT, kInlineType##i & INLINE_SLOT_TYPE_MASK,        \
                    vec3(kInline##i##_1, kInline##i##_2, kInline##i##_3),                                      \
                    vec3(kInline##i##_4, kInline##i##_5, kInline##i##_6),                                      \
-                   vec3(kInline##i##_7, kInline##i##_8, kInline##i##_9), origin, dir, hit);
+                   vec3(kInline##i##_7, kInline##i##_8, kInline##i##_9), origin, dir, ignore, hit);
 
 // Group g's slots, compiled out past kInlineCount, behind its box where the host asks for
 // the box test (constant conditions). The box is tested as the BVH tests its nodes
@@ -105,7 +105,8 @@ void inlineTest(uint index, uint type, vec3 p0, vec3 p1, vec3 p2, vec3 origin, v
 
 // The nearest of the inline primitives hit with t in (0, hit.t): hit must come in with
 // t = tMax and primitive = NO_HIT. Ties go to the earlier slot, as the tests run in order.
-void inlineClosest(vec3 origin, vec3 dir, inout Hit hit) {
+// Primitive `ignore` (NO_HIT: none) is never hit (bvh.glsl, traceAnyIgnoring).
+void inlineClosest(vec3 origin, vec3 dir, uint ignore, inout Hit hit) {
     vec3 invDir = rayInverseDirection(dir);
     INLINE_GROUP(0, 0, 1, 2, 3, 4, 5, 6, 7)
     INLINE_GROUP(1, 8, 9, 10, 11, 12, 13, 14, 15)

@@ -51,10 +51,11 @@ bool traceForEmission(vec3 origin, vec3 dir, out Hit hit) {
 }
 
 // Whether a surface strictly nearer than the emitter found by traceForEmission hides it;
-// always false for a closest hit.
+// always false for a closest hit. The emitter itself is left out: it is met at hit.t and
+// nowhere nearer, and with the primitives inline its own test could land an ulp below.
 bool emitterHidden(vec3 origin, vec3 dir, Hit hit) {
     if (!emitterFirst()) return false;
-    return traceAny(origin, dir, hit.t);
+    return traceAnyIgnoring(origin, dir, hit.t, hit.primitive);
 }
 
 #endif
