@@ -18,8 +18,8 @@ struct KernelOptions {
     SamplerType sampler = SamplerType::Sobol;
     uint32_t sceneFeatures = gpu::FEATURES_ALL;
     uint32_t countRays = 0;
-    uint32_t textures = 0;              // 1: some material is textured
-    uint32_t emitterFirstLights = 0;    // 0, or the light count: emitter-first BRDF rays
+    uint32_t textures = 0;                   // 1: some material is textured
+    uint32_t emitterFirstLights = 0;         // 0, or the light count: emitter-first BRDF rays
     std::vector<uint32_t> inlineWords;       // empty, or the inline slots (render/inline_geometry.h)
     std::vector<uint32_t> inlineGroupWords;  // with inlineWords, their groups (the same)
 
