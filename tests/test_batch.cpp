@@ -447,7 +447,7 @@ TEST(Batch, KernelCacheCompilesEachIntegratorOnce) {
     largeMoved["shapes"][5]["center"] = {0, 0.05, -1.2};
     Scene sl = test::sceneFromJson(large, "batch-cache-large"), slm = test::sceneFromJson(largeMoved, "batch-cache-lm");
     const KernelOptions kl = makeKernelOptions(sl, buildSceneArrays(sl));
-    EXPECT_EQ(kl.inlineWords.size(), 0u);
+    EXPECT_EQ(kl.inlineGeometry.slots.size(), 0u);
     EXPECT_TRUE(kl == makeKernelOptions(slm, buildSceneArrays(slm)));
 
     // Retarget keeps the upload and equals a fresh Renderer of the new camera.

@@ -311,24 +311,33 @@ TEST(Bvh, GpuTraversalMatchesCpuBruteForce) {
 }
 
 // (b') The same with every primitive inline (shaders/geometry/inline_geometry.glsl): the
-// kernel tests the specialization constants in leaf order instead of traversing, and
-// must find what the CPU finds, with as many primitives as the kernel declares.
+// kernel tests the specialization constants in their slots instead of traversing, and
+// must find what the CPU finds (the leaf-order index each slot names). Both layouts the
+// host makes: 48 random primitives (as many as the kernel declares) come as runs of eight
+// in leaf order, 24 as subtrees of the BVH in padded groups, out of leaf order.
 TEST(Bvh, InlineGeometryMatchesCpuBruteForce) {
-    Random rng(777);
-    auto scene = randomScene(rng, INLINE_MAX_PRIMITIVES - 16, 8, 8, 3.0f);
-    ASSERT_EQ(scene.size(), size_t(INLINE_MAX_PRIMITIVES));
-    Bvh bvh = buildBvh(scene);
-    const uint32_t rayCount = 1u << 14;
-    auto rays = randomRays(rng, rayCount, 5.0f, &scene);
-    mixRayLengths(rng, bvh, rays, 8.0f);
-    KernelOptions options;
-    InlineGeometryWords words = inlineGeometryWords(bvh);
-    options.inlineWords = words.slots;
-    options.inlineGroupWords = words.groups;
-    // The kernel gets a tree with no children, so only the inline tests can find a hit.
-    Bvh hollow = bvh;
-    hollow.wideNodes = buildBvh({}).wideNodes;
-    expectGpuMatchesCpuBruteForce(scene, hollow, rays, options.specialization(), "inline_gpu");
+    for (const uint32_t triangles : {uint32_t(INLINE_MAX_PRIMITIVES) - 16u, 8u}) {
+        Random rng(777);
+        auto scene = randomScene(rng, triangles, 8, 8, 3.0f);
+        SCOPED_TRACE(scene.size());
+        Bvh bvh = buildBvh(scene);
+        const uint32_t rayCount = 1u << 14;
+        auto rays = randomRays(rng, rayCount, 5.0f, &scene);
+        mixRayLengths(rng, bvh, rays, 8.0f);
+        KernelOptions options;
+        options.inlineGeometry = inlineGeometryWords(bvh);
+        bool reordered = false;
+        for (uint32_t slot = 0; slot < options.inlineGeometry.slotCount(); ++slot) {
+            const uint32_t word = options.inlineGeometry.slots[slot * INLINE_PRIMITIVE_WORDS];
+            reordered = reordered || ((word & INLINE_SLOT_TYPE_MASK) != INLINE_SLOT_EMPTY &&
+                                      word >> INLINE_SLOT_INDEX_SHIFT != slot);
+        }
+        EXPECT_EQ(reordered, scene.size() < INLINE_MAX_PRIMITIVES) << "not the layout this case is for";
+        // The kernel gets a tree with no children, so only the inline tests can find a hit.
+        Bvh hollow = bvh;
+        hollow.wideNodes = buildBvh({}).wideNodes;
+        expectGpuMatchesCpuBruteForce(scene, hollow, rays, options.specialization(), "inline_gpu");
+    }
 }
 
 // ---- (c) Degenerate builds ---------------------------------------------------------------

@@ -84,7 +84,7 @@ size_t primitiveCount(const json& doc, const std::string& name) {
 TEST(InlineGeometry, RuleTakesSmallScenesOnly) {
     auto inlined = [](const json& doc, const std::string& name) {
         Scene scene = test::sceneFromJson(doc, name);
-        return !makeKernelOptions(scene, buildSceneArrays(scene)).inlineWords.empty();
+        return !makeKernelOptions(scene, buildSceneArrays(scene)).inlineGeometry.slots.empty();
     };
     const json small = mixedRoom("mis");
     ASSERT_EQ(primitiveCount(small, "inline-rule-small"), 20u);
@@ -123,12 +123,12 @@ TEST(InlineGeometry, SameSamplesGiveTheSameImageAsTheBvh) {
         const std::string name = "inline-same-" + strategy;
         KernelOptions inlined, traversed;
         Image a = render(doc, name, InlineGeometry::Rule, &inlined);
-        ASSERT_FALSE(inlined.inlineWords.empty());
+        ASSERT_FALSE(inlined.inlineGeometry.slots.empty());
         // BRDF-sampled rays go emitter first here, inline as through the BVH: the emitter
         // must not hide itself in the inline occlusion test (bvh.glsl, traceAnyIgnoring).
         if (strategy != "light") EXPECT_GT(inlined.emitterFirstLights, 0u);
         Image b = render(doc, name, InlineGeometry::Off, &traversed);
-        ASSERT_TRUE(traversed.inlineWords.empty());
+        ASSERT_TRUE(traversed.inlineGeometry.slots.empty());
         EXPECT_EQ(traversed.emitterFirstLights, inlined.emitterFirstLights);
         ASSERT_EQ(a.rgb.size(), b.rgb.size());
         int differing = 0, lit = 0;
@@ -155,8 +155,8 @@ TEST(InlineGeometry, AmbientOcclusionSameSamplesSameImage) {
         SCOPED_TRACE(name);
         KernelOptions inlined, traversed;
         Image a = render(doc, name, InlineGeometry::Rule, &inlined);
-        ASSERT_FALSE(inlined.inlineWords.empty());
-        capacities.push_back(inlineKernelCapacity(uint32_t(inlined.inlineWords.size() / INLINE_PRIMITIVE_WORDS)));
+        ASSERT_FALSE(inlined.inlineGeometry.slots.empty());
+        capacities.push_back(inlineKernelCapacity(inlined.inlineGeometry.slotCount()));
         Image b = render(doc, name, InlineGeometry::Off, &traversed);
         ASSERT_EQ(a.rgb.size(), b.rgb.size());
         int differing = 0;

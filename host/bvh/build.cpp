@@ -16,26 +16,6 @@ namespace penumbra {
 
 namespace {
 
-struct Aabb {
-    glm::vec3 lo{FLT_MAX};
-    glm::vec3 hi{-FLT_MAX};
-
-    void grow(glm::vec3 p) {
-        lo = glm::min(lo, p);
-        hi = glm::max(hi, p);
-    }
-    void grow(const Aabb& b) {
-        lo = glm::min(lo, b.lo);
-        hi = glm::max(hi, b.hi);
-    }
-    // Surface area; 0 for an empty (inverted) box.
-    float area() const {
-        glm::vec3 d = hi - lo;
-        if (d.x < 0.0f || d.y < 0.0f || d.z < 0.0f) return 0.0f;
-        return 2.0f * (d.x * d.y + d.y * d.z + d.z * d.x);
-    }
-};
-
 // ceil(log2(n)) for n >= 1: the depth a median split needs below a node of n primitives.
 uint32_t ceilLog2(uint32_t n) {
     uint32_t bits = 0;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -12,6 +13,27 @@
 #include "shared/types.h"
 
 namespace penumbra {
+
+// An axis-aligned box; empty (inverted) until grown.
+struct Aabb {
+    glm::vec3 lo{std::numeric_limits<float>::max()};
+    glm::vec3 hi{-std::numeric_limits<float>::max()};
+
+    void grow(glm::vec3 p) {
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+    }
+    void grow(const Aabb& b) {
+        lo = glm::min(lo, b.lo);
+        hi = glm::max(hi, b.hi);
+    }
+    // Surface area; 0 for an empty (inverted) box.
+    float area() const {
+        glm::vec3 d = hi - lo;
+        if (d.x < 0.0f || d.y < 0.0f || d.z < 0.0f) return 0.0f;
+        return 2.0f * (d.x * d.y + d.y * d.z + d.z * d.x);
+    }
+};
 
 struct BvhOptions {
     uint32_t maxLeafSize = 4;  // primitives per leaf at most (fewer when SAH says so)

@@ -25,28 +25,16 @@ uint32_t inlineKernelCapacity(uint32_t count) {
 
 namespace {
 
-struct Box {
-    glm::vec3 lo{std::numeric_limits<float>::infinity()}, hi{-std::numeric_limits<float>::infinity()};
-    void grow(const Box& b) {
-        lo = glm::min(lo, b.lo);
-        hi = glm::max(hi, b.hi);
-    }
-    float area() const {
-        const glm::vec3 d = glm::max(hi - lo, glm::vec3(0.0f));
-        return 2.0f * (d.x * d.y + d.y * d.z + d.z * d.x);
-    }
-};
-
 // A set of primitives (leaf-order indices) that will share a group's slots, and their box.
 struct Cluster {
     std::vector<uint32_t> members;
-    Box box;
+    Aabb box;
 };
 
-Box boundsOf(const gpu::Primitive& p) {
+Aabb boundsOf(const gpu::Primitive& p) {
     // The same bounds the BVH's leaves get (bvh/build.cpp), tested by the kernel with the
     // BVH's own box test (intersectBox), so no group holding a hit is ever skipped.
-    Box b;
+    Aabb b;
     primitiveBounds(p, b.lo, b.hi);
     return b;
 }
@@ -88,7 +76,7 @@ bool mergeClusters(std::vector<Cluster>& clusters, size_t maxGroups) {
         for (size_t a = 0; a < clusters.size(); ++a)
             for (size_t b = a + 1; b < clusters.size(); ++b) {
                 if (clusters[a].members.size() + clusters[b].members.size() > INLINE_GROUP_SIZE) continue;
-                Box joint = clusters[a].box;
+                Aabb joint = clusters[a].box;
                 joint.grow(clusters[b].box);
                 if (joint.area() < bestArea) {
                     bestArea = joint.area();
@@ -141,7 +129,7 @@ InlineGeometryWords inlineGeometryWords(const Bvh& bvh) {
     // The fullest group last, so that the fewest empty slots are declared.
     std::stable_sort(groups.begin(), groups.end(),
                      [](const Cluster& a, const Cluster& b) { return a.members.size() < b.members.size(); });
-    Box scene;
+    Aabb scene;
     for (const Cluster& g : groups) scene.grow(g.box);
 
     InlineGeometryWords words;
@@ -170,5 +158,7 @@ InlineGeometryWords inlineGeometryWords(const Bvh& bvh) {
     }
     return words;
 }
+
+uint32_t InlineGeometryWords::slotCount() const { return uint32_t(slots.size() / INLINE_PRIMITIVE_WORDS); }
 
 }  // namespace penumbra

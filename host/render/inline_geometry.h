@@ -41,9 +41,12 @@ constexpr float kInlineGroupTestedBelow = 0.5f;
 // subtree of `bvh`'s binary tree, so the slots hold the primitives out of leaf order, each
 // slot naming its primitive's leaf-order index (what Hit.primitive reports), and a group
 // may end with empty slots.
+// Empty (no slots) when the kernel traverses the BVH.
 struct InlineGeometryWords {
     std::vector<uint32_t> slots;   // INLINE_PRIMITIVE_WORDS per slot, at most INLINE_MAX_PRIMITIVES slots
     std::vector<uint32_t> groups;  // INLINE_GROUP_WORDS per group: box lo, box hi (float bits), tested (0/1)
+
+    uint32_t slotCount() const;  // SPEC_INLINE_COUNT; the kernel variant's capacity follows it
 };
 InlineGeometryWords inlineGeometryWords(const Bvh& bvh);
 

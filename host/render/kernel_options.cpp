@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <stdexcept>
 #include <string>
-#include <utility>
 
 namespace penumbra {
 
@@ -45,9 +44,9 @@ std::vector<uint32_t> KernelOptions::specialization() const {
     values[SPEC_TRIANGLE_SAMPLING] = uint32_t(direct.triangleSampling);
     values[SPEC_TEXTURES] = textures;
     values[SPEC_EMITTER_FIRST] = ao ? 0u : emitterFirstLights;
-    values[SPEC_INLINE_COUNT] = uint32_t(inlineWords.size() / INLINE_PRIMITIVE_WORDS);
-    std::copy(inlineWords.begin(), inlineWords.end(), values.begin() + SPEC_INLINE_FIRST);
-    std::copy(inlineGroupWords.begin(), inlineGroupWords.end(), values.begin() + SPEC_INLINE_GROUP_FIRST);
+    values[SPEC_INLINE_COUNT] = inlineGeometry.slotCount();
+    std::copy(inlineGeometry.slots.begin(), inlineGeometry.slots.end(), values.begin() + SPEC_INLINE_FIRST);
+    std::copy(inlineGeometry.groups.begin(), inlineGeometry.groups.end(), values.begin() + SPEC_INLINE_GROUP_FIRST);
     return values;
 }
 
@@ -97,11 +96,7 @@ KernelOptions makeKernelOptions(const Scene& scene, const SceneArrays& arrays, E
     o.sceneFeatures = sceneFeatures(arrays);
     o.textures = arrays.textures.textured ? 1u : 0u;
     const bool inlined = inlineGeometry == InlineGeometry::Rule && inlineGeometryPays(arrays);
-    if (inlined) {
-        InlineGeometryWords words = inlineGeometryWords(arrays.bvh);
-        o.inlineWords = std::move(words.slots);
-        o.inlineGroupWords = std::move(words.groups);
-    }
+    if (inlined) o.inlineGeometry = inlineGeometryWords(arrays.bvh);
     // The rule holds for inline scenes too: on Mesa 25, which skips the branches no SIMD
     // lane takes, a BRDF-sampled ray that misses every emitter skips the occlusion test and
     // the emitter's surface point, as through the BVH (on Mesa 22.3, which runs every branch,

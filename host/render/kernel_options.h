@@ -18,10 +18,9 @@ struct KernelOptions {
     SamplerType sampler = SamplerType::Sobol;
     uint32_t sceneFeatures = gpu::FEATURES_ALL;
     uint32_t countRays = 0;
-    uint32_t textures = 0;                   // 1: some material is textured
-    uint32_t emitterFirstLights = 0;         // 0, or the light count: emitter-first BRDF rays
-    std::vector<uint32_t> inlineWords;       // empty, or the inline slots (render/inline_geometry.h)
-    std::vector<uint32_t> inlineGroupWords;  // with inlineWords, their groups (the same)
+    uint32_t textures = 0;               // 1: some material is textured
+    uint32_t emitterFirstLights = 0;     // 0, or the light count: emitter-first BRDF rays
+    InlineGeometryWords inlineGeometry;  // no slots, or the primitives inline (render/inline_geometry.h)
 
     // Values in constant_id order, for gpu::Pipeline.
     std::vector<uint32_t> specialization() const;

@@ -20,7 +20,7 @@ namespace {
 
 constexpr uint32_t kTile = PassBands::kTile;  // local_size_x/y of the integrator kernels
 
-// The integrator's kernel: with `inlineCount` primitives inline, its "_inline<N>" variant
+// The integrator's kernel: with `inlineCount` inline slots in use, its "_inline<N>" variant
 // (render/inline_geometry.h, cmake/EmbedShaders.cmake).
 std::string kernelName(IntegratorType type, uint32_t inlineCount) {
     std::string name = type == IntegratorType::AmbientOcclusion ? "integrators/ao" : "integrators/direct";
@@ -98,8 +98,7 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
 }
 
 std::unique_ptr<gpu::Kernel> Renderer::createKernel(const KernelOptions& options) const {
-    const std::string name =
-        kernelName(m_scene.integrator.type, uint32_t(options.inlineWords.size() / INLINE_PRIMITIVE_WORDS));
+    const std::string name = kernelName(m_scene.integrator.type, options.inlineGeometry.slotCount());
     const uint32_t pushBytes = uint32_t(sizeof(gpu::PassConstants));
     auto spec = options.specialization();
     auto kernel = m_kernels ? m_kernels->kernel(name, renderBindings(), pushBytes, spec)
