@@ -33,7 +33,8 @@ gpu::Kernel& lightTestKernel() {
 LightKernel::LightKernel(const SceneArrays& arrays)
     : m_ctx(gpuContext()),
       m_dummy(m_ctx, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT),
-      m_nodes(gpu::Buffer::fromVector(m_ctx, arrays.bvh.wideNodes, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT)),
+      m_nodes(gpu::Buffer::fromVector(m_ctx, arrays.bvh.wideNodes,
+                                      VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT)),
       m_primitives(gpu::Buffer::fromVector(
           m_ctx, arrays.bvh.primitives, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT)),
       m_normals(gpu::Buffer::fromVector(m_ctx, arrays.normals)),
@@ -54,6 +55,7 @@ std::vector<gpu::LightTestRecord> LightKernel::run(gpu::LightTestPush push, cons
     for (uint32_t b : {uint32_t(BINDING_PARAMS), uint32_t(BINDING_ACCUM), uint32_t(BINDING_MATERIALS)})
         kernel.bind(b, m_dummy);
     kernel.bind(BINDING_NODES, m_nodes);
+    kernel.bind(BINDING_NODE_WORDS, m_nodes);
     kernel.bind(BINDING_PRIMITIVES, m_primitives);
     kernel.bind(BINDING_PRIMITIVE_TEXELS, m_primitives);
     kernel.bind(BINDING_NORMALS, m_normals);

@@ -88,12 +88,14 @@ std::vector<VkDescriptorType> sceneBindings() {
 struct SceneBuffers {
     gpu::Buffer nodes, primitives, normals;
     SceneBuffers(const gpu::Context& ctx, const Bvh& bvh, const std::vector<gpu::TriangleNormals>& shadingNormals)
-        : nodes(gpu::Buffer::fromVector(ctx, bvh.wideNodes, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT)),
+        : nodes(gpu::Buffer::fromVector(ctx, bvh.wideNodes,
+                                        VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT)),
           primitives(gpu::Buffer::fromVector(
               ctx, bvh.primitives, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT)),
           normals(gpu::Buffer::fromVector(ctx, shadingNormals)) {}
     void bind(gpu::Kernel& kernel) const {
         kernel.bind(BINDING_NODES, nodes);
+        kernel.bind(BINDING_NODE_WORDS, nodes);
         kernel.bind(BINDING_PRIMITIVES, primitives);
         kernel.bind(BINDING_PRIMITIVE_TEXELS, primitives);
         kernel.bind(BINDING_NORMALS, normals);
@@ -307,7 +309,12 @@ TEST(Bvh, GpuTraversalMatchesCpuBruteForce) {
     // Origins inside and outside the scene's [-10, 10]^3; half the rays aimed at primitives.
     auto rays = randomRays(rng, rayCount, 16.0f, &scene);
     mixRayLengths(rng, bvh, rays, 20.0f);
+    // Both ways the kernel may read nodes (render/node_reads.h): the texel buffer (the
+    // shader's default) and the storage buffer.
     expectGpuMatchesCpuBruteForce(scene, bvh, rays, {}, "bvh_gpu");
+    KernelOptions storage;
+    storage.nodeReads = NODE_READS_STORAGE;
+    expectGpuMatchesCpuBruteForce(scene, bvh, rays, storage.specialization(), "bvh_gpu_storage");
 }
 
 // (b') The same with every primitive inline (shaders/geometry/inline_geometry.glsl): the
@@ -546,10 +553,13 @@ TEST(Bvh, NonFiniteRaysMissAndTerminate) {
             EXPECT_FALSE(intersectClosest(bvh, vec3(ray.originTMax), vec3(ray.dir), kInf)) << describe(ray);
             EXPECT_FALSE(intersectAny(bvh, vec3(ray.originTMax), vec3(ray.dir), kInf)) << describe(ray);
         }
-        for (const TraceResult& r : traceOnGpu(bvh, rays)) {
-            EXPECT_EQ(r.primitive, gpu::NO_HIT);
-            EXPECT_EQ(r.anyHit, 0u);
-        }
+        KernelOptions storage;
+        storage.nodeReads = NODE_READS_STORAGE;
+        for (const std::vector<uint32_t>& specialization : {std::vector<uint32_t>{}, storage.specialization()})
+            for (const TraceResult& r : traceOnGpu(bvh, rays, specialization)) {
+                EXPECT_EQ(r.primitive, gpu::NO_HIT);
+                EXPECT_EQ(r.anyHit, 0u);
+            }
     }
 }
 

@@ -126,7 +126,9 @@ TEST(InlineGeometry, SameSamplesGiveTheSameImageAsTheBvh) {
         ASSERT_FALSE(inlined.inlineGeometry.slots.empty());
         // BRDF-sampled rays go emitter first here, inline as through the BVH: the emitter
         // must not hide itself in the inline occlusion test (bvh.glsl, traceAnyIgnoring).
-        if (strategy != "light") EXPECT_GT(inlined.emitterFirstLights, 0u);
+        if (strategy != "light") {
+            EXPECT_GT(inlined.emitterFirstLights, 0u);
+        }
         Image b = render(doc, name, InlineGeometry::Off, &traversed);
         ASSERT_TRUE(traversed.inlineGeometry.slots.empty());
         EXPECT_EQ(traversed.emitterFirstLights, inlined.emitterFirstLights);

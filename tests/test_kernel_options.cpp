@@ -89,3 +89,55 @@ TEST(KernelOptions, RayCounterCountsCameraAndOcclusionRays) {
     fresh.renderAll();
     EXPECT_EQ(plane.readback(0.0).rgb, fresh.readback(0.0).rgb);
 }
+
+// render/node_reads.h: lavapipe before Mesa 25 reads nodes from texels, everything else
+// from the storage buffer; a driverInfo without a Mesa version counts as a later one.
+TEST(NodeReads, DriverPicksWhereNodesComeFrom) {
+    EXPECT_EQ(mesaMajorVersion("Mesa 22.3.6 (LLVM 15.0.6)"), 22);
+    EXPECT_EQ(mesaMajorVersion("Mesa 25.0.7 (LLVM 15.0.6)"), 25);
+    EXPECT_EQ(mesaMajorVersion("Mesa 100.1"), 100);
+    EXPECT_EQ(mesaMajorVersion("Mesa devel"), 0);
+    EXPECT_EQ(mesaMajorVersion("575.57.08"), 0);
+    EXPECT_EQ(mesaMajorVersion(""), 0);
+    auto device = [](const std::string& driverName, const std::string& driverInfo) {
+        gpu::DeviceInfo info;
+        info.driverName = driverName;
+        info.driverInfo = driverInfo;
+        return info;
+    };
+    EXPECT_EQ(nodeReadsFor(device("llvmpipe", "Mesa 22.3.6 (LLVM 15.0.6)")), NODE_READS_TEXELS);
+    EXPECT_EQ(nodeReadsFor(device("llvmpipe", "Mesa 24.2.8-1 (LLVM 19.1.4)")), NODE_READS_TEXELS);
+    EXPECT_EQ(nodeReadsFor(device("llvmpipe", "Mesa 25.0.7-2~bpo12+1 (LLVM 15.0.6)")), NODE_READS_STORAGE);
+    EXPECT_EQ(nodeReadsFor(device("llvmpipe", "")), NODE_READS_STORAGE);
+    EXPECT_EQ(nodeReadsFor(device("NVIDIA", "575.57.08")), NODE_READS_STORAGE);
+    EXPECT_EQ(nodeReadsValue(NodeReads::Texels, device("NVIDIA", "575.57.08")), NODE_READS_TEXELS);
+    EXPECT_EQ(nodeReadsValue(NodeReads::Storage, device("llvmpipe", "Mesa 22.3.6")), NODE_READS_STORAGE);
+    EXPECT_EQ(nodeReadsValue(NodeReads::Device, device("llvmpipe", "Mesa 22.3.6")), NODE_READS_TEXELS);
+}
+
+// The two node reads are the same bytes through two views: the same samples give the same
+// image, bit for bit, on a scene traced through the BVH (not inline).
+TEST(NodeReads, TexelsAndStorageGiveTheSameImage) {
+    json doc = planeScene(false);
+    for (int i = 0; i < 12; ++i)
+        doc["shapes"].push_back({{"type", "sphere"},
+                                 {"center", {-0.5 + 0.09 * i, 0.05 * (i % 3), 0.04 * i - 0.2}},
+                                 {"radius", 0.04 + 0.01 * (i % 4)}});
+    Scene scene = test::sceneFromJson(doc, "node-reads");
+    auto render = [&](NodeReads mode) {
+        Renderer renderer(test::gpuContext(), scene);
+        renderer.setInlineGeometry(InlineGeometry::Off);
+        renderer.setNodeReads(mode);
+        renderer.renderAll();
+        return renderer.readback(0.0);
+    };
+    const Image texels = render(NodeReads::Texels), storage = render(NodeReads::Storage);
+    ASSERT_EQ(texels.rgb.size(), storage.rgb.size());
+    size_t differing = 0, occluded = 0;
+    for (size_t i = 0; i < texels.rgb.size(); ++i) {
+        differing += texels.rgb[i] != storage.rgb[i];
+        occluded += texels.rgb[i] < 0.99f;
+    }
+    EXPECT_GT(occluded, texels.rgb.size() / 20) << "the spheres should occlude part of the plane";
+    EXPECT_EQ(differing, 0u);
+}

@@ -17,6 +17,8 @@
 // --spp N renders every scene at N samples per pixel (throughput does not depend on spp).
 // --emitter-first rule|off|exact: how BRDF-sampled rays find emitters (render/emitter_first.h,
 // EmitterFirst; default rule), so that one build measures both paths on any scene.
+// --node-reads device|texels|storage: where the traversal reads BVH nodes from
+// (render/node_reads.h; default device, the driver's choice), likewise.
 // --brdf-ray-fates prints, per scene, what the emitter-first rule sees (the fractions of
 // probe rays that hit an emitter, something else, or nothing, and the mean work of their
 // closest-hit traversal) and what it chooses.
@@ -222,6 +224,7 @@ int main(int argc, char** argv) {
     uint32_t spp = 0;
     EmitterFirst emitterFirst = EmitterFirst::Rule;
     InlineGeometry inlineGeometry = InlineGeometry::Rule;
+    NodeReads nodeReads = NodeReads::Device;
     std::vector<std::string> scenes;
     for (int i = 1; i < argc; ++i) {
         if (!std::strcmp(argv[i], "--runs") && i + 1 < argc) runs = std::atoi(argv[++i]);
@@ -247,6 +250,16 @@ int main(int argc, char** argv) {
                 return 2;
             }
             inlineGeometry = mode == "off" ? InlineGeometry::Off : InlineGeometry::Rule;
+        } else if (!std::strcmp(argv[i], "--node-reads") && i + 1 < argc) {
+            const std::string mode = argv[++i];
+            if (mode != "device" && mode != "texels" && mode != "storage") {
+                std::fprintf(stderr, "penumbra_bench: --node-reads takes device, texels or storage, not %s\n",
+                             mode.c_str());
+                return 2;
+            }
+            nodeReads = mode == "texels"    ? NodeReads::Texels
+                        : mode == "storage" ? NodeReads::Storage
+                                            : NodeReads::Device;
         } else if (!std::strcmp(argv[i], "--write-mesh") && i + 2 < argc)
             return writeMesh(std::atoi(argv[i + 1]), argv[i + 2]);
         else scenes.push_back(argv[i]);
@@ -258,6 +271,7 @@ int main(int argc, char** argv) {
     if (scenes.empty()) {
         std::fprintf(stderr,
                      "usage: penumbra_bench [--runs N] [--spp N] [--emitter-first rule|off|exact] [--inline rule|off]\n"
+                     "                      [--node-reads device|texels|storage]\n"
                      "                      [--count-rays | --low-spp | --brdf-ray-fates | --instructions]\n"
                      "                      SCENE|procedural:N ...\n"
                      "       penumbra_bench --write-mesh N FILE\n");
@@ -296,6 +310,7 @@ int main(int argc, char** argv) {
                 Renderer renderer(context, scene);
                 renderer.setEmitterFirst(emitterFirst);
                 renderer.setInlineGeometry(inlineGeometry);
+                renderer.setNodeReads(nodeReads);
                 renderer.compileKernel();
                 // Zeroing and dumping cover every thread (llvmpipe's workers run the kernel);
                 // collection on and off would cover this thread alone. All passes go in one
@@ -324,6 +339,7 @@ int main(int argc, char** argv) {
                 Renderer renderer(context, scene);
                 renderer.setEmitterFirst(emitterFirst);
                 renderer.setInlineGeometry(inlineGeometry);
+                renderer.setNodeReads(nodeReads);
                 std::printf("%s %.4f\n", name.c_str(), raysPerSample(renderer, scene));
             }
             return 0;
@@ -342,6 +358,7 @@ int main(int argc, char** argv) {
             Renderer renderer(context, scene);
             renderer.setEmitterFirst(emitterFirst);
             renderer.setInlineGeometry(inlineGeometry);
+            renderer.setNodeReads(nodeReads);
             double upload = secondsSince(t0);
             t0 = Clock::now();
             context.submitAndWait([&](VkCommandBuffer cmd) { renderer.recordPasses(cmd, 0, 1, 0, scene.film.height); });

@@ -47,6 +47,7 @@ std::vector<uint32_t> KernelOptions::specialization() const {
     values[SPEC_INLINE_COUNT] = inlineGeometry.slotCount();
     std::copy(inlineGeometry.slots.begin(), inlineGeometry.slots.end(), values.begin() + SPEC_INLINE_FIRST);
     std::copy(inlineGeometry.groups.begin(), inlineGeometry.groups.end(), values.begin() + SPEC_INLINE_GROUP_FIRST);
+    values[SPEC_NODE_READS] = nodeReads;
     return values;
 }
 

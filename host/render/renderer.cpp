@@ -53,6 +53,7 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
       m_arrays(buildSceneArrays(scene, {}, EnvironmentTexels::LeftOut)),
       m_params(makeRenderParams(scene, m_arrays)),
       m_options(makeKernelOptions(scene, m_arrays)) {
+    m_options.nodeReads = nodeReadsValue(m_nodeReads, context.info());
     using gpu::Buffer;
     m_paramsBuffer = Buffer(context, sizeof(gpu::RenderParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, 0,
                             VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, "render parameters");
@@ -60,10 +61,12 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
     m_accum = Buffer(context, VkDeviceSize(m_params.width) * m_params.height * sizeof(glm::vec4),
                      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, "accumulation");
     // Nodes, primitives, materials, lights and alias tables are read as texel buffers
-    // (bvh.glsl, materials.glsl, light_data.glsl); the primitives also as a storage buffer
-    // by the traversal tests' kernels.
+    // (bvh.glsl, materials.glsl, light_data.glsl); the nodes also as a storage buffer, where
+    // the device reads them so (render/node_reads.h), and the primitives by the traversal
+    // tests' kernels.
     const VkBufferUsageFlags texels = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
-    m_nodes = Buffer::fromVector(context, m_arrays.bvh.wideNodes, "BVH nodes", texels);
+    m_nodes =
+        Buffer::fromVector(context, m_arrays.bvh.wideNodes, "BVH nodes", texels | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     m_primitives =
         Buffer::fromVector(context, m_arrays.bvh.primitives, "primitives", texels | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     m_normals = Buffer::fromVector(context, m_arrays.normals, "triangle normals");
@@ -106,6 +109,7 @@ std::unique_ptr<gpu::Kernel> Renderer::createKernel(const KernelOptions& options
     kernel->bind(BINDING_PARAMS, m_paramsBuffer);
     kernel->bind(BINDING_ACCUM, m_accum);
     kernel->bind(BINDING_NODES, m_nodes);
+    kernel->bind(BINDING_NODE_WORDS, m_nodes);
     kernel->bind(BINDING_PRIMITIVES, m_primitives);
     kernel->bind(BINDING_PRIMITIVE_TEXELS, m_primitives);
     kernel->bind(BINDING_NORMALS, m_normals);
@@ -127,6 +131,11 @@ void Renderer::setEmitterFirst(EmitterFirst mode) {
     updateKernel();
 }
 
+void Renderer::setNodeReads(NodeReads mode) {
+    m_nodeReads = mode;
+    updateKernel();
+}
+
 void Renderer::setInlineGeometry(InlineGeometry mode) {
     m_inlineGeometry = mode;
     updateKernel();
@@ -134,6 +143,7 @@ void Renderer::setInlineGeometry(InlineGeometry mode) {
 
 void Renderer::updateKernel() {
     KernelOptions options = makeKernelOptions(m_scene, m_arrays, m_emitterFirst, m_inlineGeometry);
+    options.nodeReads = nodeReadsValue(m_nodeReads, m_context.info());
     if (m_kernel && options == m_options) return;
     m_options = options;
     m_kernel = createKernel(m_options);

@@ -14,6 +14,7 @@
 #include "gpu/kernel_cache.h"
 #include "image/image.h"
 #include "render/kernel_options.h"
+#include "render/node_reads.h"
 #include "render/scene_arrays.h"
 #include "scene/scene.h"
 
@@ -60,6 +61,8 @@ public:
     void setEmitterFirst(EmitterFirst mode);
     // Whether small scenes' primitives go inline (render/inline_geometry.h); Rule unless set.
     void setInlineGeometry(InlineGeometry mode);
+    // Where the traversal reads nodes from (render/node_reads.h); Device unless set.
+    void setNodeReads(NodeReads mode);
     // Makes the driver compile the current kernel now, with a dispatch that covers no
     // pixels: llvmpipe compiles on the first dispatch, and callers that time the render
     // (penumbra:render_seconds) count that compilation as start-up, not as rendering.
@@ -103,6 +106,7 @@ private:
     gpu::RenderParams m_params;
     EmitterFirst m_emitterFirst = EmitterFirst::Rule;
     InlineGeometry m_inlineGeometry = InlineGeometry::Rule;
+    NodeReads m_nodeReads = NodeReads::Device;
     KernelOptions m_options;
     // Declaration order is teardown order in reverse: the kernel goes before the buffers.
     gpu::Buffer m_paramsBuffer, m_accum, m_nodes, m_primitives, m_normals, m_materials, m_lights, m_lightTable,

@@ -23,6 +23,9 @@ layout(constant_id = SPEC_TEXTURES) const uint kTextures = 0u;
 // Off unless set: the emitter-first path is exact only for scenes the host's rule checked.
 layout(constant_id = SPEC_EMITTER_FIRST) const uint kEmitterFirstLights = 0u;
 
+// Texel fetches unless set: the shader tests run both (tests/test_bvh.cpp).
+layout(constant_id = SPEC_NODE_READS) const uint kNodeReads = NODE_READS_TEXELS;
+
 // Whether the scene has a primitive / light / material of this type; false compiles the
 // code that handles it out of the kernel.
 bool hasPrimitive(uint type) { return (kSceneFeatures & (1u << (FEATURE_PRIMITIVE + type))) != 0u; }

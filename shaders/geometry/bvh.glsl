@@ -7,16 +7,21 @@
 
 #include "shared/types.h"
 #include "common/math.glsl"
+#include "common/specialization.glsl"
 #include "geometry/intersect.glsl"
 #include "geometry/ray_count.glsl"
 
 // The tree in four-wide nodes with quantized child boxes (shared/types.h, WideNode). The
-// traversal reads nodes and primitives through texel buffers (texelFetch on a
-// usamplerBuffer): llvmpipe (Mesa 22.3) turns a storage-buffer load inside a loop into a
-// loop over the SIMD lanes with a bounds-check branch per component, a texel fetch into a
-// branch-free gather of four words (measured: docs/PERFORMANCE.md, "Round 2: the data the
-// kernels read").
+// traversal reads primitives through a texel buffer (texelFetch on a usamplerBuffer), and
+// nodes through a texel buffer or a storage buffer, as the specialization constant
+// kNodeReads says: llvmpipe 22.3 turns a storage-buffer load inside a loop into a loop over
+// the SIMD lanes with a bounds-check branch per component, a texel fetch into a branch-free
+// gather of four words (docs/PERFORMANCE.md, "Round 2: the data the kernels read"); 25.0
+// still loops over the lanes for the storage buffer, but a texel fetch has become an
+// indirect call to a function of the descriptor's, and on the BVH's nodes the loop is the
+// faster of the two ("Round 10"). host/render/node_reads.h picks per driver.
 layout(binding = BINDING_NODES) uniform usamplerBuffer nodeTexels;
+layout(std430, binding = BINDING_NODE_WORDS) readonly restrict buffer NodeWords { uvec4 nodeWords[]; };
 layout(binding = BINDING_PRIMITIVE_TEXELS) uniform usamplerBuffer primitiveTexels;
 // Primitives in leaf order: Hit.primitive indexes this array. The render kernels read them
 // through primitiveTexels only (loadPrimitive: traversal, shading, light sampling); the
@@ -66,11 +71,19 @@ vec4 minOfNumbers(vec4 a, vec4 b) { return mix(b, a, lessThan(a, b)); }
 // four at a time; host/bvh/traverse.cpp decodes and tests them one by one, with the same
 // operations.
 uint intersectWideNode(uint node, vec3 origin, vec3 invDir, float tMax, out vec4 tEntry, out uvec4 ref) {
-    int texel = int(WIDE_NODE_TEXELS * node);
-    uvec4 frame = texelFetch(nodeTexels, texel);
-    uvec4 planesA = texelFetch(nodeTexels, texel + 1);  // loX, loY, loZ, hiX
-    uvec4 planesB = texelFetch(nodeTexels, texel + 2);  // hiY, hiZ, child 0, child 1
-    uvec4 refsB = texelFetch(nodeTexels, texel + 3);    // child 2, child 3
+    uvec4 frame, planesA, planesB, refsB;  // origin, meta; loX, loY, loZ, hiX; hiY, hiZ, child 0, 1; child 2, 3
+    uint word = WIDE_NODE_TEXELS * node;
+    if (kNodeReads == NODE_READS_STORAGE) {
+        frame = nodeWords[word];
+        planesA = nodeWords[word + 1u];
+        planesB = nodeWords[word + 2u];
+        refsB = nodeWords[word + 3u];
+    } else {
+        frame = texelFetch(nodeTexels, int(word));
+        planesA = texelFetch(nodeTexels, int(word + 1u));
+        planesB = texelFetch(nodeTexels, int(word + 2u));
+        refsB = texelFetch(nodeTexels, int(word + 3u));
+    }
     ref = uvec4(planesB.zw, refsB.xy);
     vec3 corner = uintBitsToFloat(frame.xyz);
     // step = 2^(e - 127): the biased exponent e put in a float's exponent field.

@@ -21,7 +21,7 @@ using uint = std::uint32_t;
 // ---- Descriptor bindings of the render kernels (set 0) -------------------------------
 #define BINDING_PARAMS 0       // uniform RenderParams
 #define BINDING_ACCUM 1        // vec4 per pixel: rgb = sum of samples, w = sample count
-#define BINDING_NODES 2        // WideNode[] as a texel buffer (see below)
+#define BINDING_NODES 2        // WideNode[] as a texel buffer (see below; read where kNodeReads says)
 #define BINDING_PRIMITIVES 3   // Primitive[] in BVH leaf order (storage buffer: tests)
 #define BINDING_NORMALS 4      // TriangleNormals[]
 #define BINDING_MATERIALS 5    // Material[] as a texel buffer (MATERIAL_TEXELS texels each)
@@ -35,7 +35,8 @@ using uint = std::uint32_t;
 #define BINDING_UVS 13                // TriangleUvs[] per primitive in leaf order (textured scenes)
 #define BINDING_ENV_TEXELS 14         // texel buffer: environment map radiance, RGB32F + pad per texel
 #define BINDING_ENV_TABLE 15          // AliasEntry[] as a texel buffer: environment map texels (item = texel)
-#define BINDING_COUNT 16
+#define BINDING_NODE_WORDS 16         // the same WideNode[] as a storage buffer of uvec4 words (kNodeReads)
+#define BINDING_COUNT 17
 
 // ---- BVH ------------------------------------------------------------------------------
 // Flattened depth-first: an interior node's left child is the next node, `offset` is the
@@ -82,7 +83,8 @@ PENUMBRA_CONST uint WIDE_STACK_MASK_SHIFT = 28u;
 PENUMBRA_CONST uint WIDE_STACK_NODE_MASK = (1u << WIDE_STACK_MASK_SHIFT) - 1u;
 //
 // Texel buffers (BINDING_NODES, BINDING_PRIMITIVE_TEXELS) are views of the same bytes as
-// the structs, in RGBA32UI texels of 16 bytes: a WideNode is texels 4n to 4n + 3 in field
+// the structs, in RGBA32UI texels of 16 bytes (the storage-buffer view BINDING_NODE_WORDS
+// in uvec4 words of 16 bytes, numbered alike): a WideNode is texels 4n to 4n + 3 in field
 // order; a Primitive is texels 3i (p0, typeAndNormals), 3i + 1 (p1, material), 3i + 2
 // (p2, light). Floats are read back with uintBitsToFloat.
 PENUMBRA_CONST uint WIDE_NODE_TEXELS = 4u;
@@ -316,7 +318,13 @@ PENUMBRA_CONST uint SAMPLER_SOBOL = 1u;        // padded Owen-scrambled Sobol' (
 #define INLINE_MAX_GROUPS (INLINE_MAX_PRIMITIVES / INLINE_GROUP_SIZE)
 #define INLINE_GROUP_WORDS 7
 #define SPEC_INLINE_GROUP_FIRST (SPEC_INLINE_FIRST + INLINE_MAX_PRIMITIVES * INLINE_PRIMITIVE_WORDS)
-#define SPEC_COUNT (SPEC_INLINE_GROUP_FIRST + INLINE_MAX_GROUPS * INLINE_GROUP_WORDS)
+#define SPEC_NODE_READS (SPEC_INLINE_GROUP_FIRST + INLINE_MAX_GROUPS * INLINE_GROUP_WORDS)  // NODE_READS_*
+#define SPEC_COUNT (SPEC_NODE_READS + 1)
+// Where the traversal reads a BVH node from (SPEC_NODE_READS): the texel buffer at
+// BINDING_NODES or the storage buffer at BINDING_NODE_WORDS, the same bytes. Which is faster
+// depends on the driver (host/render/node_reads.h says which each gets, and why).
+#define NODE_READS_TEXELS 0u
+#define NODE_READS_STORAGE 1u
 
 // Scene feature bits: bit FEATURE_PRIMITIVE + PRIM_*, FEATURE_LIGHT + LIGHT_*,
 // FEATURE_MATERIAL + MATERIAL_* is set when the scene has such a primitive, light or

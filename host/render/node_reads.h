@@ -1,0 +1,36 @@
+// Where the traversal reads BVH nodes from on a given device (SPEC_NODE_READS,
+// shaders/geometry/bvh.glsl): a texel buffer or a storage buffer holding the same bytes.
+// Measured on lavapipe (docs/PERFORMANCE.md, "Round 10"): Mesa 22.3 compiles a texel fetch
+// into an inline gather and a storage-buffer load inside the traversal loop into a loop
+// over the SIMD lanes, and renders a million triangles 1.2-1.35x faster from texels;
+// Mesa 25.0 compiles the texel fetch into an indirect call, and the storage buffer is
+// 1.1-1.3x faster there.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "gpu/context.h"
+
+namespace penumbra {
+
+// How the render kernels read nodes.
+enum class NodeReads {
+    Device,   // what nodeReadsFor says for the device (every render)
+    Texels,   // always the texel buffer (benchmarks compare)
+    Storage,  // always the storage buffer
+};
+
+// NODE_READS_TEXELS for lavapipe before Mesa 25 (its driverInfo names the version,
+// "Mesa 22.3.6 (LLVM 15.0.6)"), NODE_READS_STORAGE for every other device: later lavapipes,
+// and GPUs, whose usual path storage buffers are.
+uint32_t nodeReadsFor(const gpu::DeviceInfo& device);
+
+// The SPEC_NODE_READS value `mode` gives on `device`.
+uint32_t nodeReadsValue(NodeReads mode, const gpu::DeviceInfo& device);
+
+// The major version in a Mesa driverInfo string ("Mesa 25.0.7 (LLVM 15.0.6)" -> 25), or 0
+// where the string names none.
+int mesaMajorVersion(const std::string& driverInfo);
+
+}  // namespace penumbra
