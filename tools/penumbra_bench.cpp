@@ -31,6 +31,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <initializer_list>
 #include <string>
 #include <vector>
 
@@ -54,6 +55,23 @@ using namespace penumbra;
 using Clock = std::chrono::steady_clock;
 
 namespace {
+
+// `value` as one of the named `choices` of `option`, into `out`; false (with a message naming
+// the choices) for any other value.
+template <class Mode>
+bool parseChoice(const char* option, const std::string& value,
+                 std::initializer_list<std::pair<const char*, Mode>> choices, Mode& out) {
+    std::string names;
+    for (const auto& [name, mode] : choices) {
+        if (value == name) {
+            out = mode;
+            return true;
+        }
+        names += names.empty() ? name : std::string(", ") + name;
+    }
+    std::fprintf(stderr, "penumbra_bench: %s takes %s, not %s\n", option, names.c_str(), value.c_str());
+    return false;
+}
 
 double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
@@ -79,7 +97,8 @@ Shape displacedSphere(int triangles) {
         for (int j = 0; j <= 2 * rings; ++j) {
             float theta = float(M_PI) * i / rings, phi = 2 * float(M_PI) * j / (2 * rings);
             glm::vec3 d(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
-            float r = 0.8f * (1.0f + 0.08f * std::sin(13 * theta) * std::sin(11 * phi) + 0.03f * std::sin(57 * theta + 3 * phi));
+            float r = 0.8f * (1.0f + 0.08f * std::sin(13 * theta) * std::sin(11 * phi) +
+                              0.03f * std::sin(57 * theta + 3 * phi));
             mesh.positions.push_back(glm::vec3(0, 0.85f, 0) + r * d);
         }
     auto at = [&](int i, int j) { return uint32_t(i * (2 * rings + 1) + j); };
@@ -234,32 +253,20 @@ int main(int argc, char** argv) {
         else if (!std::strcmp(argv[i], "--instructions")) instructions = true;
         else if (!std::strcmp(argv[i], "--spp") && i + 1 < argc) spp = uint32_t(std::max(1, std::atoi(argv[++i])));
         else if (!std::strcmp(argv[i], "--emitter-first") && i + 1 < argc) {
-            const std::string mode = argv[++i];
-            if (mode != "rule" && mode != "off" && mode != "exact") {
-                std::fprintf(stderr, "penumbra_bench: --emitter-first takes rule, off or exact, not %s\n",
-                             mode.c_str());
+            if (!parseChoice("--emitter-first", argv[++i],
+                             {{"rule", EmitterFirst::Rule}, {"off", EmitterFirst::Off}, {"exact", EmitterFirst::Exact}},
+                             emitterFirst))
                 return 2;
-            }
-            emitterFirst = mode == "off"     ? EmitterFirst::Off
-                           : mode == "exact" ? EmitterFirst::Exact
-                                             : EmitterFirst::Rule;
         } else if (!std::strcmp(argv[i], "--inline") && i + 1 < argc) {
-            const std::string mode = argv[++i];
-            if (mode != "rule" && mode != "off") {
-                std::fprintf(stderr, "penumbra_bench: --inline takes rule or off, not %s\n", mode.c_str());
+            if (!parseChoice("--inline", argv[++i], {{"rule", InlineGeometry::Rule}, {"off", InlineGeometry::Off}},
+                             inlineGeometry))
                 return 2;
-            }
-            inlineGeometry = mode == "off" ? InlineGeometry::Off : InlineGeometry::Rule;
         } else if (!std::strcmp(argv[i], "--node-reads") && i + 1 < argc) {
-            const std::string mode = argv[++i];
-            if (mode != "device" && mode != "texels" && mode != "storage") {
-                std::fprintf(stderr, "penumbra_bench: --node-reads takes device, texels or storage, not %s\n",
-                             mode.c_str());
+            if (!parseChoice(
+                    "--node-reads", argv[++i],
+                    {{"device", NodeReads::Device}, {"texels", NodeReads::Texels}, {"storage", NodeReads::Storage}},
+                    nodeReads))
                 return 2;
-            }
-            nodeReads = mode == "texels"    ? NodeReads::Texels
-                        : mode == "storage" ? NodeReads::Storage
-                                            : NodeReads::Device;
         } else if (!std::strcmp(argv[i], "--write-mesh") && i + 2 < argc)
             return writeMesh(std::atoi(argv[i + 1]), argv[i + 2]);
         else scenes.push_back(argv[i]);
