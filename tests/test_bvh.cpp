@@ -132,6 +132,14 @@ std::vector<TraceResult> traceOnGpu(const Bvh& bvh, const std::vector<TraceRay>&
     return runSceneKernel<TraceResult>(name.c_str(), bvh, {}, rays, specialization);
 }
 
+// The traversal kernels' specialization with nodes read from the storage buffer; the
+// default ({}) reads them as texels (render/node_reads.h).
+std::vector<uint32_t> storageNodeReads() {
+    KernelOptions options;
+    options.nodeReads = NODE_READS_STORAGE;
+    return options.specialization();
+}
+
 // Origins uniform in [-originExtent, originExtent]^3, directions uniform on the sphere; with
 // `aimAt`, half of the rays instead head for the bounds centre of a random primitive (with a
 // little jitter), so that small scenes are hit often too.
@@ -312,9 +320,7 @@ TEST(Bvh, GpuTraversalMatchesCpuBruteForce) {
     // Both ways the kernel may read nodes (render/node_reads.h): the texel buffer (the
     // shader's default) and the storage buffer.
     expectGpuMatchesCpuBruteForce(scene, bvh, rays, {}, "bvh_gpu");
-    KernelOptions storage;
-    storage.nodeReads = NODE_READS_STORAGE;
-    expectGpuMatchesCpuBruteForce(scene, bvh, rays, storage.specialization(), "bvh_gpu_storage");
+    expectGpuMatchesCpuBruteForce(scene, bvh, rays, storageNodeReads(), "bvh_gpu_storage");
 }
 
 // (b') The same with every primitive inline (shaders/geometry/inline_geometry.glsl): the
@@ -553,9 +559,7 @@ TEST(Bvh, NonFiniteRaysMissAndTerminate) {
             EXPECT_FALSE(intersectClosest(bvh, vec3(ray.originTMax), vec3(ray.dir), kInf)) << describe(ray);
             EXPECT_FALSE(intersectAny(bvh, vec3(ray.originTMax), vec3(ray.dir), kInf)) << describe(ray);
         }
-        KernelOptions storage;
-        storage.nodeReads = NODE_READS_STORAGE;
-        for (const std::vector<uint32_t>& specialization : {std::vector<uint32_t>{}, storage.specialization()})
+        for (const std::vector<uint32_t>& specialization : {std::vector<uint32_t>{}, storageNodeReads()})
             for (const TraceResult& r : traceOnGpu(bvh, rays, specialization)) {
                 EXPECT_EQ(r.primitive, gpu::NO_HIT);
                 EXPECT_EQ(r.anyHit, 0u);

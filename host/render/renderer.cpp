@@ -52,8 +52,7 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
       m_scene(scene),
       m_arrays(buildSceneArrays(scene, {}, EnvironmentTexels::LeftOut)),
       m_params(makeRenderParams(scene, m_arrays)),
-      m_options(makeKernelOptions(scene, m_arrays)) {
-    m_options.nodeReads = nodeReadsValue(m_nodeReads, context.info());
+      m_options(kernelOptions()) {
     using gpu::Buffer;
     m_paramsBuffer = Buffer(context, sizeof(gpu::RenderParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, 0,
                             VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, "render parameters");
@@ -141,9 +140,14 @@ void Renderer::setInlineGeometry(InlineGeometry mode) {
     updateKernel();
 }
 
-void Renderer::updateKernel() {
+KernelOptions Renderer::kernelOptions() const {
     KernelOptions options = makeKernelOptions(m_scene, m_arrays, m_emitterFirst, m_inlineGeometry);
     options.nodeReads = nodeReadsValue(m_nodeReads, m_context.info());
+    return options;
+}
+
+void Renderer::updateKernel() {
+    const KernelOptions options = kernelOptions();
     if (m_kernel && options == m_options) return;
     m_options = options;
     m_kernel = createKernel(m_options);

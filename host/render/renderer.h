@@ -97,6 +97,9 @@ private:
     std::unique_ptr<gpu::Kernel> createKernel(const KernelOptions& options) const;
     // Switches to the kernel for the current integrator settings, unless it is already in use.
     void updateKernel();
+    // The kernel options of the scene, the integrator settings and the set modes
+    // (emitter first, inline geometry, node reads on this device).
+    KernelOptions kernelOptions() const;
     void uploadParams();
 
     const gpu::Context& m_context;
