@@ -4,14 +4,17 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
+#include <cstdlib>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "gpu/gpu_timer.h"
 #include "gpu/vk_check.h"
 #include "render/environment_map.h"
 #include "render/pass_bands.h"
+#include "render/tile_rows.h"
 #include "scene/enum_names.h"
 #include "scene/integrator_json.h"
 
@@ -52,7 +55,9 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
       m_scene(scene),
       m_arrays(buildSceneArrays(scene, {}, EnvironmentTexels::LeftOut)),
       m_params(makeRenderParams(scene, m_arrays)),
-      m_options(kernelOptions()) {
+      m_options(kernelOptions()),
+      m_tileRowSlices(
+          tileRowSlicesFor(context.info(), std::getenv("LP_NUM_THREADS"), std::thread::hardware_concurrency())) {
     using gpu::Buffer;
     m_paramsBuffer = Buffer(context, sizeof(gpu::RenderParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, 0,
                             VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, "render parameters");
@@ -204,11 +209,11 @@ void Renderer::recordPasses(VkCommandBuffer cmd, uint32_t first, uint32_t count,
     // columns is whole tiles, or ends at the edge.
     if (firstColumn % kTile != 0 || (columnCount % kTile != 0 && firstColumn + columnCount != m_params.width))
         throw std::logic_error("recordPasses: a run of columns must be whole tiles or end at the film's edge");
-    const uint32_t groupsX = (columnCount + kTile - 1) / kTile;
-    const uint32_t groupsY = (rowCount + kTile - 1) / kTile;
+    const DispatchShape groups =
+        interleavedDispatch((columnCount + kTile - 1) / kTile, (rowCount + kTile - 1) / kTile, m_tileRowSlices);
     for (uint32_t i = 0; i < count; ++i) {
         gpu::PassConstants pass{first + i, firstRow, rowCount, firstColumn};
-        m_kernel->record(cmd, groupsX, groupsY, 1, &pass);
+        m_kernel->record(cmd, groups.x, groups.y, groups.z, &pass);
         gpu::computeToComputeBarrier(cmd);  // this pass's sums -> the next pass / readback
     }
 }
@@ -252,8 +257,8 @@ uint64_t Renderer::countRays(uint32_t passes) {
     KernelOptions counting = m_options;
     counting.countRays = 1;
     auto kernel = createKernel(counting);
-    uint32_t groupsX = (m_params.width + kTile - 1) / kTile;
-    uint32_t groupsY = (m_params.height + kTile - 1) / kTile;
+    const DispatchShape groups = interleavedDispatch((m_params.width + kTile - 1) / kTile,
+                                                     (m_params.height + kTile - 1) / kTile, m_tileRowSlices);
     // One pass per submission, counted in 32 bits: at most a camera ray plus, per light or
     // BRDF sample, a traced ray and a shadow ray for a delta light.
     const uint64_t raysPerPixel = 1 + 2 * uint64_t(m_options.lightAndBsdfSamples());
@@ -263,7 +268,7 @@ uint64_t Renderer::countRays(uint32_t passes) {
     for (uint32_t i = 0; i < passes; ++i) {
         m_rayCount.clear();
         gpu::PassConstants pass{i, 0, m_params.height, 0};
-        kernel->run(groupsX, groupsY, 1, &pass);
+        kernel->run(groups.x, groups.y, groups.z, &pass);
         total += m_rayCount.read<uint32_t>()[0];
     }
     return total;

@@ -3,6 +3,7 @@
 // image is read back once at the end. The preview and batch modes drive the same object.
 #pragma once
 
+#include <algorithm>
 #include <atomic>
 #include <climits>
 #include <functional>
@@ -63,6 +64,9 @@ public:
     void setInlineGeometry(InlineGeometry mode);
     // Where the traversal reads nodes from (render/node_reads.h); Device unless set.
     void setNodeReads(NodeReads mode);
+    // How many z-slices the dispatches interleave tile rows over (render/tile_rows.h); what
+    // tileRowSlicesFor says for the device unless set (tests compare several, min 1).
+    void setTileRowSlices(uint32_t slices) { m_tileRowSlices = std::max<uint32_t>(slices, 1); }
     // Makes the driver compile the current kernel now, with a dispatch that covers no
     // pixels: llvmpipe compiles on the first dispatch, and callers that time the render
     // (penumbra:render_seconds) count that compilation as start-up, not as rendering.
@@ -111,6 +115,7 @@ private:
     InlineGeometry m_inlineGeometry = InlineGeometry::Rule;
     NodeReads m_nodeReads = NodeReads::Device;
     KernelOptions m_options;
+    uint32_t m_tileRowSlices = 1;  // the dispatches' tile-row interleave (render/tile_rows.h)
     // Declaration order is teardown order in reverse: the kernel goes before the buffers.
     gpu::Buffer m_paramsBuffer, m_accum, m_nodes, m_primitives, m_normals, m_materials, m_lights, m_lightTable,
         m_meshTable, m_rayCount;

@@ -17,9 +17,14 @@ layout(push_constant) uniform Pass { PassConstants pass; };
 layout(std430, binding = BINDING_RAY_COUNT) restrict buffer RayCount { uint rayCount; };
 
 // This invocation's pixel, or false when it lies outside the film / the pass's rows.
+// The dispatch's z interleaves tile rows (render/tile_rows.h): slice z of Z holds the rows
+// z, z + Z, z + 2Z, ..., so that each of a CPU device's threads, which take contiguous
+// ranges of workgroups, gets rows from all over the film.
 bool invocationPixel(out uvec2 pixel) {
-    pixel = uvec2(gl_GlobalInvocationID.x + pass.firstColumn, gl_GlobalInvocationID.y + pass.firstRow);
-    return pixel.x < params.width && gl_GlobalInvocationID.y < pass.rowCount && pixel.y < params.height;
+    uint tileRow = gl_WorkGroupID.y * gl_NumWorkGroups.z + gl_WorkGroupID.z;
+    uvec2 local = uvec2(gl_WorkGroupID.x, tileRow) * gl_WorkGroupSize.xy + gl_LocalInvocationID.xy;
+    pixel = uvec2(local.x + pass.firstColumn, local.y + pass.firstRow);
+    return pixel.x < params.width && local.y < pass.rowCount && pixel.y < params.height;
 }
 
 // The random stream of (pixel, sample): absolute index sampleOffset + sampleIndex, drawn
