@@ -6,8 +6,12 @@
 # inline (shaders/geometry/inline_geometry.glsl), once per capacity N in INLINE_CAPACITIES,
 # as "<name>_inline<N>": the module without the suffix carries none of the inline code,
 # whose front end llvmpipe runs again on every start (docs/PERFORMANCE.md, "Round 8").
+#
+# The shaders named in INT64_VARIANTS are also compiled as "<name>_int64", with
+# PENUMBRA_INT64_LOADS: they read BVH nodes 32 bytes at a time (shaders/geometry/bvh.glsl)
+# and so need the shaderInt64 feature, which not every device has.
 function(penumbra_embed_shaders target shader_dir)
-  cmake_parse_arguments(PARSE_ARGV 2 arg "" "" "INLINE_VARIANTS;INLINE_CAPACITIES")
+  cmake_parse_arguments(PARSE_ARGV 2 arg "" "" "INLINE_VARIANTS;INLINE_CAPACITIES;INT64_VARIANTS")
   file(GLOB_RECURSE comps CONFIGURE_DEPENDS ${shader_dir}/*.comp)
   set(out_dir ${CMAKE_CURRENT_BINARY_DIR}/spv)
   file(MAKE_DIRECTORY ${out_dir})
@@ -24,6 +28,9 @@ function(penumbra_embed_shaders target shader_dir)
       foreach(capacity ${arg_INLINE_CAPACITIES})
         list(APPEND variants "${base}_inline${capacity}|-DPENUMBRA_INLINE_GEOMETRY|-DPENUMBRA_INLINE_CAPACITY=${capacity}")
       endforeach()
+    endif()
+    if(base IN_LIST arg_INT64_VARIANTS)
+      list(APPEND variants "${base}_int64|-DPENUMBRA_INT64_LOADS")
     endif()
     foreach(variant ${variants})
       string(REPLACE "|" ";" parts "${variant}")

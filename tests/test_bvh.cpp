@@ -10,6 +10,8 @@
 #include <numeric>
 #include <random>
 #include <sstream>
+#include <string>
+#include <utility>
 
 #include <gtest/gtest.h>
 
@@ -19,6 +21,7 @@
 #include "gpu_fixture.h"
 #include "render/inline_geometry.h"
 #include "render/kernel_options.h"
+#include "render/node_reads.h"
 
 using namespace penumbra;
 using glm::vec3;
@@ -123,21 +126,33 @@ std::vector<Result> runSceneKernel(const char* name, const Bvh& bvh,
     return out;
 }
 
-// tests/bvh_trace, or its "_inline<N>" variant where `specialization` puts primitives inline.
+// tests/bvh_trace, or its "_inline<N>" variant where `specialization` puts primitives inline,
+// or its "_int64" one where it reads nodes 32 bytes at a time (render/node_reads.h).
 std::vector<TraceResult> traceOnGpu(const Bvh& bvh, const std::vector<TraceRay>& rays,
                                     const std::vector<uint32_t>& specialization = {}) {
     const uint32_t inlined = specialization.size() > SPEC_INLINE_COUNT ? specialization[SPEC_INLINE_COUNT] : 0;
+    const uint32_t nodeReads = specialization.size() > SPEC_NODE_READS ? specialization[SPEC_NODE_READS] : 0;
     const std::string name = inlined > 0 ? "tests/bvh_trace_inline" + std::to_string(inlineKernelCapacity(inlined))
-                                         : "tests/bvh_trace";
+                                         : nodeReadsKernel("tests/bvh_trace", nodeReads);
     return runSceneKernel<TraceResult>(name.c_str(), bvh, {}, rays, specialization);
 }
 
-// The traversal kernels' specialization with nodes read from the storage buffer; the
+// The traversal kernels' specialization with nodes read as `nodeReads` (NODE_READS_*); the
 // default ({}) reads them as texels (render/node_reads.h).
-std::vector<uint32_t> storageNodeReads() {
+std::vector<uint32_t> nodeReadsSpecialization(uint32_t nodeReads) {
     KernelOptions options;
-    options.nodeReads = NODE_READS_STORAGE;
+    options.nodeReads = nodeReads;
     return options.specialization();
+}
+
+// Every way a kernel reads nodes on the test device: texels, the storage buffer in loads of
+// 16 bytes, and of 32 where the device has shaderInt64 (lavapipe has).
+std::vector<std::pair<std::vector<uint32_t>, std::string>> everyNodeReads() {
+    std::vector<std::pair<std::vector<uint32_t>, std::string>> reads = {
+        {{}, "texels"}, {nodeReadsSpecialization(NODE_READS_STORAGE), "storage"}};
+    if (test::gpuContext().info().shaderInt64)
+        reads.push_back({nodeReadsSpecialization(NODE_READS_STORAGE_32), "storage32"});
+    return reads;
 }
 
 // Origins uniform in [-originExtent, originExtent]^3, directions uniform on the sphere; with
@@ -317,10 +332,10 @@ TEST(Bvh, GpuTraversalMatchesCpuBruteForce) {
     // Origins inside and outside the scene's [-10, 10]^3; half the rays aimed at primitives.
     auto rays = randomRays(rng, rayCount, 16.0f, &scene);
     mixRayLengths(rng, bvh, rays, 20.0f);
-    // Both ways the kernel may read nodes (render/node_reads.h): the texel buffer (the
-    // shader's default) and the storage buffer.
-    expectGpuMatchesCpuBruteForce(scene, bvh, rays, {}, "bvh_gpu");
-    expectGpuMatchesCpuBruteForce(scene, bvh, rays, storageNodeReads(), "bvh_gpu_storage");
+    // Every way the kernel may read nodes (render/node_reads.h): the texel buffer (the
+    // shader's default) and the storage buffer in loads of 16 and of 32 bytes.
+    for (const auto& [specialization, reads] : everyNodeReads())
+        expectGpuMatchesCpuBruteForce(scene, bvh, rays, specialization, "bvh_gpu_" + reads);
 }
 
 // (b') The same with every primitive inline (shaders/geometry/inline_geometry.glsl): the
@@ -559,8 +574,9 @@ TEST(Bvh, NonFiniteRaysMissAndTerminate) {
             EXPECT_FALSE(intersectClosest(bvh, vec3(ray.originTMax), vec3(ray.dir), kInf)) << describe(ray);
             EXPECT_FALSE(intersectAny(bvh, vec3(ray.originTMax), vec3(ray.dir), kInf)) << describe(ray);
         }
-        for (const std::vector<uint32_t>& specialization : {std::vector<uint32_t>{}, storageNodeReads()})
+        for (const auto& [specialization, reads] : everyNodeReads())
             for (const TraceResult& r : traceOnGpu(bvh, rays, specialization)) {
+                SCOPED_TRACE(reads);
                 EXPECT_EQ(r.primitive, gpu::NO_HIT);
                 EXPECT_EQ(r.anyHit, 0u);
             }

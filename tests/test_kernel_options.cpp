@@ -99,20 +99,32 @@ TEST(NodeReads, DriverPicksWhereNodesComeFrom) {
     EXPECT_EQ(mesaMajorVersion("Mesa devel"), 0);
     EXPECT_EQ(mesaMajorVersion("575.57.08"), 0);
     EXPECT_EQ(mesaMajorVersion(""), 0);
-    auto device = [](const std::string& driverName, const std::string& driverInfo) {
+    auto device = [](const std::string& driverName, const std::string& driverInfo, bool int64 = false) {
         gpu::DeviceInfo info;
         info.driverName = driverName;
         info.driverInfo = driverInfo;
+        info.shaderInt64 = int64;
         return info;
     };
     EXPECT_EQ(nodeReadsFor(device("llvmpipe", "Mesa 22.3.6 (LLVM 15.0.6)")), NODE_READS_TEXELS);
+    EXPECT_EQ(nodeReadsFor(device("llvmpipe", "Mesa 22.3.6 (LLVM 15.0.6)", true)), NODE_READS_TEXELS);
     EXPECT_EQ(nodeReadsFor(device("llvmpipe", "Mesa 24.2.8-1 (LLVM 19.1.4)")), NODE_READS_TEXELS);
     EXPECT_EQ(nodeReadsFor(device("llvmpipe", "Mesa 25.0.7-2~bpo12+1 (LLVM 15.0.6)")), NODE_READS_STORAGE);
+    EXPECT_EQ(nodeReadsFor(device("llvmpipe", "Mesa 25.0.7-2~bpo12+1 (LLVM 15.0.6)", true)), NODE_READS_STORAGE_32);
     EXPECT_EQ(nodeReadsFor(device("llvmpipe", "")), NODE_READS_STORAGE);
     EXPECT_EQ(nodeReadsFor(device("NVIDIA", "575.57.08")), NODE_READS_STORAGE);
-    EXPECT_EQ(nodeReadsValue(NodeReads::Texels, device("NVIDIA", "575.57.08")), NODE_READS_TEXELS);
+    EXPECT_EQ(nodeReadsFor(device("NVIDIA", "575.57.08", true)), NODE_READS_STORAGE_32);
+    EXPECT_EQ(nodeReadsValue(NodeReads::Texels, device("NVIDIA", "575.57.08", true)), NODE_READS_TEXELS);
     EXPECT_EQ(nodeReadsValue(NodeReads::Storage, device("llvmpipe", "Mesa 22.3.6")), NODE_READS_STORAGE);
+    EXPECT_EQ(nodeReadsValue(NodeReads::Storage, device("llvmpipe", "Mesa 25.0.7", true)), NODE_READS_STORAGE);
+    EXPECT_EQ(nodeReadsValue(NodeReads::Storage32, device("llvmpipe", "Mesa 22.3.6", true)), NODE_READS_STORAGE_32);
+    EXPECT_EQ(nodeReadsValue(NodeReads::Storage32, device("NVIDIA", "575.57.08")), NODE_READS_STORAGE)
+        << "no 32-byte loads without shaderInt64";
     EXPECT_EQ(nodeReadsValue(NodeReads::Device, device("llvmpipe", "Mesa 22.3.6")), NODE_READS_TEXELS);
+    // The kernels that read nodes 32 bytes at a time are the "_int64" variants.
+    EXPECT_EQ(nodeReadsKernel("integrators/direct", NODE_READS_STORAGE_32), "integrators/direct_int64");
+    EXPECT_EQ(nodeReadsKernel("integrators/direct", NODE_READS_STORAGE), "integrators/direct");
+    EXPECT_EQ(nodeReadsKernel("integrators/ao", NODE_READS_TEXELS), "integrators/ao");
 }
 
 // The two node reads are the same bytes through two views: the same samples give the same
@@ -131,13 +143,17 @@ TEST(NodeReads, TexelsAndStorageGiveTheSameImage) {
         renderer.renderAll();
         return renderer.readback(0.0);
     };
-    const Image texels = render(NodeReads::Texels), storage = render(NodeReads::Storage);
-    ASSERT_EQ(texels.rgb.size(), storage.rgb.size());
-    size_t differing = 0, occluded = 0;
-    for (size_t i = 0; i < texels.rgb.size(); ++i) {
-        differing += texels.rgb[i] != storage.rgb[i];
-        occluded += texels.rgb[i] < 0.99f;
-    }
+    const Image texels = render(NodeReads::Texels);
+    size_t occluded = 0;
+    for (float v : texels.rgb) occluded += v < 0.99f;
     EXPECT_GT(occluded, texels.rgb.size() / 20) << "the spheres should occlude part of the plane";
-    EXPECT_EQ(differing, 0u);
+    // Storage32 is the 32-byte loads on the test device (lavapipe has shaderInt64).
+    ASSERT_TRUE(test::gpuContext().info().shaderInt64) << "the test device should have shaderInt64";
+    for (NodeReads mode : {NodeReads::Storage, NodeReads::Storage32}) {
+        const Image storage = render(mode);
+        ASSERT_EQ(texels.rgb.size(), storage.rgb.size());
+        size_t differing = 0;
+        for (size_t i = 0; i < texels.rgb.size(); ++i) differing += texels.rgb[i] != storage.rgb[i];
+        EXPECT_EQ(differing, 0u) << (mode == NodeReads::Storage ? "16-byte" : "32-byte") << " storage loads";
+    }
 }

@@ -94,6 +94,9 @@ DeviceInfo describe(VkPhysicalDevice device, uint32_t index) {
     info.type = deviceTypeName(props.deviceType);
     info.apiVersion = props.apiVersion;
     info.hasCompute = computeQueueFamily(device, VK_NULL_HANDLE) >= 0;
+    VkPhysicalDeviceFeatures features;
+    vkGetPhysicalDeviceFeatures(device, &features);
+    info.shaderInt64 = features.shaderInt64 == VK_TRUE;
     if (hasDeviceExtension(device, VK_KHR_DRIVER_PROPERTIES_EXTENSION_NAME)) {
         VkPhysicalDeviceDriverPropertiesKHR driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES_KHR};
         VkPhysicalDeviceProperties2 props2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
@@ -218,6 +221,9 @@ Context::Context(const ContextOptions& options) {
     }
     VkDeviceCreateInfo deviceInfo{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
     if (m_bufferDeviceAddress) deviceInfo.pNext = &addressFeatures;
+    VkPhysicalDeviceFeatures enabledFeatures{};
+    enabledFeatures.shaderInt64 = m_info.shaderInt64 ? VK_TRUE : VK_FALSE;
+    deviceInfo.pEnabledFeatures = &enabledFeatures;
     deviceInfo.queueCreateInfoCount = 1;
     deviceInfo.pQueueCreateInfos = &queueInfo;
     deviceInfo.enabledExtensionCount = uint32_t(deviceExtensions.size());

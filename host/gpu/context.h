@@ -24,6 +24,9 @@ struct DeviceInfo {
     std::string driverName;
     std::string driverInfo;
     std::string conformanceVersion;  // "1.3.1.1", or empty
+    // The shaderInt64 feature: 64-bit integers in shaders, which the Context enables where
+    // the device has them (the kernels' "_int64" variants load BVH nodes 32 bytes at a time).
+    bool shaderInt64 = false;
 };
 
 struct ContextOptions {

@@ -28,13 +28,18 @@ uint32_t nodeReadsFor(const gpu::DeviceInfo& device) {
         const int major = mesaMajorVersion(device.driverInfo);
         if (major > 0 && major < kFirstStorageMesa) return NODE_READS_TEXELS;
     }
-    return NODE_READS_STORAGE;
+    return device.shaderInt64 ? NODE_READS_STORAGE_32 : NODE_READS_STORAGE;
+}
+
+std::string nodeReadsKernel(const std::string& base, uint32_t nodeReads) {
+    return nodeReads == NODE_READS_STORAGE_32 ? base + "_int64" : base;
 }
 
 uint32_t nodeReadsValue(NodeReads mode, const gpu::DeviceInfo& device) {
     switch (mode) {
         case NodeReads::Texels: return NODE_READS_TEXELS;
         case NodeReads::Storage: return NODE_READS_STORAGE;
+        case NodeReads::Storage32: return device.shaderInt64 ? NODE_READS_STORAGE_32 : NODE_READS_STORAGE;
         case NodeReads::Device: break;
     }
     return nodeReadsFor(device);

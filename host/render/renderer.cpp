@@ -24,10 +24,11 @@ namespace {
 constexpr uint32_t kTile = PassBands::kTile;  // local_size_x/y of the integrator kernels
 
 // The integrator's kernel: with `inlineCount` inline slots in use, its "_inline<N>" variant
-// (render/inline_geometry.h, cmake/EmbedShaders.cmake).
-std::string kernelName(IntegratorType type, uint32_t inlineCount) {
+// (render/inline_geometry.h, cmake/EmbedShaders.cmake), else the one for `nodeReads`
+// (render/node_reads.h). An inline kernel reads NODE_READS_STORAGE_32 as NODE_READS_STORAGE.
+std::string kernelName(IntegratorType type, uint32_t inlineCount, uint32_t nodeReads) {
     std::string name = type == IntegratorType::AmbientOcclusion ? "integrators/ao" : "integrators/direct";
-    if (inlineCount == 0) return name;
+    if (inlineCount == 0) return nodeReadsKernel(name, nodeReads);
     return name + "_inline" + std::to_string(inlineKernelCapacity(inlineCount));
 }
 
@@ -105,7 +106,7 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
 }
 
 std::unique_ptr<gpu::Kernel> Renderer::createKernel(const KernelOptions& options) const {
-    const std::string name = kernelName(m_scene.integrator.type, options.inlineGeometry.slotCount());
+    const std::string name = kernelName(m_scene.integrator.type, options.inlineGeometry.slotCount(), options.nodeReads);
     const uint32_t pushBytes = uint32_t(sizeof(gpu::PassConstants));
     auto spec = options.specialization();
     auto kernel = m_kernels ? m_kernels->kernel(name, renderBindings(), pushBytes, spec)

@@ -21,7 +21,15 @@
 // indirect call to a function of the descriptor's, and on the BVH's nodes the loop is the
 // faster of the two ("Round 10"). host/render/node_reads.h picks per driver.
 layout(binding = BINDING_NODES) uniform usamplerBuffer nodeTexels;
+// The "_int64" kernels view the storage buffer in 32-byte words: a node is two loads, and on
+// lavapipe 25.0 each load is a loop over the SIMD lanes, so halving the loads measured
+// 1.07-1.10x ("Round 11"); the module then needs 64-bit integers (shaderInt64).
+#ifdef PENUMBRA_INT64_LOADS
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+layout(std430, binding = BINDING_NODE_WORDS) readonly restrict buffer NodeQuads { u64vec4 nodeQuads[]; };
+#else
 layout(std430, binding = BINDING_NODE_WORDS) readonly restrict buffer NodeWords { uvec4 nodeWords[]; };
+#endif
 layout(binding = BINDING_PRIMITIVE_TEXELS) uniform usamplerBuffer primitiveTexels;
 // Primitives in leaf order: Hit.primitive indexes this array. The render kernels read them
 // through primitiveTexels only (loadPrimitive: traversal, shading, light sampling); the
@@ -73,11 +81,21 @@ vec4 minOfNumbers(vec4 a, vec4 b) { return mix(b, a, lessThan(a, b)); }
 uint intersectWideNode(uint node, vec3 origin, vec3 invDir, float tMax, out vec4 tEntry, out uvec4 ref) {
     uvec4 frame, planesA, planesB, refsB;  // origin, meta; loX, loY, loZ, hiX; hiY, hiZ, child 0, 1; child 2, 3
     uint word = WIDE_NODE_TEXELS * node;
-    if (kNodeReads == NODE_READS_STORAGE) {
+    if (kNodeReads != NODE_READS_TEXELS) {
+#ifdef PENUMBRA_INT64_LOADS
+        // Each 64-bit word holds two of the node's 32-bit words, the first in its low half
+        // (Vulkan devices store little endian; the traversal tests would see otherwise).
+        u64vec4 low = nodeQuads[2u * node], high = nodeQuads[2u * node + 1u];
+        frame = uvec4(unpackUint2x32(low.x), unpackUint2x32(low.y));
+        planesA = uvec4(unpackUint2x32(low.z), unpackUint2x32(low.w));
+        planesB = uvec4(unpackUint2x32(high.x), unpackUint2x32(high.y));
+        refsB = uvec4(unpackUint2x32(high.z), unpackUint2x32(high.w));
+#else
         frame = nodeWords[word];
         planesA = nodeWords[word + 1u];
         planesB = nodeWords[word + 2u];
         refsB = nodeWords[word + 3u];
+#endif
     } else {
         frame = texelFetch(nodeTexels, int(word));
         planesA = texelFetch(nodeTexels, int(word + 1u));

@@ -35,7 +35,7 @@ using uint = std::uint32_t;
 #define BINDING_UVS 13                // TriangleUvs[] per primitive in leaf order (textured scenes)
 #define BINDING_ENV_TEXELS 14         // texel buffer: environment map radiance, RGB32F + pad per texel
 #define BINDING_ENV_TABLE 15          // AliasEntry[] as a texel buffer: environment map texels (item = texel)
-#define BINDING_NODE_WORDS 16         // the same WideNode[] as a storage buffer of uvec4 words (kNodeReads)
+#define BINDING_NODE_WORDS 16  // the same WideNode[] as a storage buffer of uvec4 (or u64vec4) words (kNodeReads)
 #define BINDING_COUNT 17
 
 // ---- BVH ------------------------------------------------------------------------------
@@ -323,8 +323,13 @@ PENUMBRA_CONST uint SAMPLER_SOBOL = 1u;        // padded Owen-scrambled Sobol' (
 // Where the traversal reads a BVH node from (SPEC_NODE_READS): the texel buffer at
 // BINDING_NODES or the storage buffer at BINDING_NODE_WORDS, the same bytes. Which is faster
 // depends on the driver (host/render/node_reads.h says which each gets, and why).
+// NODE_READS_STORAGE_32 reads the storage buffer 32 bytes at a time (u64vec4, two loads per
+// node instead of four): only the kernels compiled with PENUMBRA_INT64_LOADS (the "_int64"
+// variants, cmake/EmbedShaders.cmake) do, for devices with shaderInt64; every other kernel
+// reads it as NODE_READS_STORAGE.
 #define NODE_READS_TEXELS 0u
 #define NODE_READS_STORAGE 1u
+#define NODE_READS_STORAGE_32 2u
 
 // Scene feature bits: bit FEATURE_PRIMITIVE + PRIM_*, FEATURE_LIGHT + LIGHT_*,
 // FEATURE_MATERIAL + MATERIAL_* is set when the scene has such a primitive, light or
