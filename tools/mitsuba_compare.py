@@ -16,8 +16,9 @@ Per scene:
     means, per-channel mean ratio, worst block), next to the noise floor: two independent
     Mitsuba renders of that spp compared with each other.
   * Time-to-error (Cornell box and MIS scene): renders at 1, 2, 4, ... spp until the relMSE
-    against the Penumbra reference drops below --target; the time at the target is
-    interpolated log-log between the two bracketing renders. Penumbra with its Sobol'
+    against the Penumbra reference drops below --target; each level's time is the median of
+    --tte-runs (3) renders of the same image, and the time at the target is interpolated
+    log-log between the two bracketing levels. Penumbra with its Sobol'
     default and with the independent sampler; Mitsuba llvm with independent and ldsampler.
 Writes a markdown report to stdout and into docs/PERFORMANCE.md (section "Results").
 The code is in tools/penumbra_tools/mitsuba_compare/, one module per concern.

@@ -43,6 +43,8 @@ def main(description):
     ap.add_argument("--ref-spp", type=int, default=512)
     ap.add_argument("--target", type=float, default=0.002, help="relMSE target of the time-to-error runs")
     ap.add_argument("--max-spp", type=int, default=256, help="time-to-error stops here")
+    ap.add_argument("--tte-runs", type=int, default=3,
+                    help="renders of the same image per time-to-error level (their median time counts)")
     ap.add_argument("--skip-scalar", action="store_true")
     ap.add_argument("--skip-quality", action="store_true", help="no agreement or time-to-error")
     ap.add_argument("--quick", action="store_true", help="smoke test: 1 run, 64 spp reference, 0.25 scale")
@@ -57,6 +59,7 @@ def main(description):
     need_imports()
     if args.quick:
         args.runs, args.scalar_runs, args.ref_spp, args.quality_scale, args.scalar_max_seconds = 1, 1, 64, 0.25, 10
+        args.tte_runs = 1
     if not os.path.exists(PENUMBRA):
         sys.exit(f"mitsuba_compare: {PENUMBRA} not found; build Penumbra first (tools/setup)")
     os.makedirs(WORK, exist_ok=True)
@@ -174,10 +177,11 @@ def quality(args, path, name, r):
     # against the target: at least 10 times smaller.
     target = max(args.target, 10 * 0.5 * r["agreement"]["noise_relmse"])
     log(f"[{name}] time-to-error, target relMSE {target:.4g}")
-    pp = penumbra_tte(path, name, ref, target, args.max_spp, qW, qH)
-    pi = penumbra_tte(path, name, ref, target, args.max_spp, qW, qH, sampler="independent")
+    pp = penumbra_tte(path, name, ref, target, args.max_spp, qW, qH, runs=args.tte_runs)
+    pi = penumbra_tte(path, name, ref, target, args.max_spp, qW, qH, sampler="independent", runs=args.tte_runs)
     mitsuba_job = {"op": "tte", "variant": "llvm_ad_rgb", "scene": path, "ref": ref_path, "target": target,
-                   "max_spp": args.max_spp, "width": qW, "height": qH, "pass_samples": 4_000_000}
+                   "max_spp": args.max_spp, "width": qW, "height": qH, "pass_samples": 4_000_000,
+                   "runs": args.tte_runs}
     mm = run_worker(mitsuba_job)["points"]
     ml = run_worker(dict(mitsuba_job, sampler="ldsampler"))["points"]
     r["tte"] = {"target": target, "penumbra_points": pp, "llvm_points": mm,

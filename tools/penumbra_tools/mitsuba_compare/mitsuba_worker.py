@@ -4,6 +4,7 @@ rising spp until an error target (time-to-error). The process prints one RESULT 
 import json
 import os
 import shutil
+import statistics
 import subprocess
 import sys
 import time
@@ -70,9 +71,13 @@ def worker(job):
         while spp <= job["max_spp"]:
             scene = make(spp)  # the sampler's sample_count matters to low-discrepancy samplers
             render(scene, spp, 999, job.get("pass_samples"))  # a new spp may compile a new kernel: untimed
-            img, t = render(scene, spp, 7 + spp, job.get("pass_samples"))
+            # The median of `runs` renders of the same image (same seed), as for Penumbra.
+            times = []
+            for _ in range(max(1, job.get("runs", 1))):
+                img, t = render(scene, spp, 7 + spp, job.get("pass_samples"))
+                times.append(t)
             e = relmse(img, ref)
-            points.append([spp, t, e])
+            points.append([spp, statistics.median(times), e])
             if e < job["target"]:
                 break
             spp *= 4 if ld else 2

@@ -2,6 +2,7 @@
 timed renders (render time from the EXR header), rays per sample, a cached high-spp
 reference, and renders at rising spp until an error target (time-to-error)."""
 import os
+import statistics
 import subprocess
 import time
 
@@ -47,16 +48,21 @@ def penumbra_reference(scene_path, name, spp, width, height, seed=4242):
     return img, out
 
 
-def penumbra_tte(scene_path, name, ref, target, max_spp, width, height, sampler=None):
-    """[spp, render seconds, relMSE] at 1, 2, 4, ... spp until relMSE < target or max_spp."""
+def penumbra_tte(scene_path, name, ref, target, max_spp, width, height, sampler=None, runs=1):
+    """[spp, render seconds, relMSE] at 1, 2, 4, ... spp until relMSE < target or max_spp; the
+    seconds are the median of `runs` renders of the same image (same seed, so the same relMSE):
+    one render of a few hundredths of a second can take half as long again on a shared machine."""
     points = []
     spp = 1
     while spp <= max_spp:
         out = os.path.join(WORK, f"{name}_tte_penumbra.exr")
-        img, t, _ = penumbra_render(scene_path, out, spp=spp, seed=17 + spp, width=width, height=height,
-                                    sampler=sampler)
+        times = []
+        for _ in range(max(1, runs)):
+            img, t, _ = penumbra_render(scene_path, out, spp=spp, seed=17 + spp, width=width, height=height,
+                                        sampler=sampler)
+            times.append(t)
         e = relmse(img, ref)
-        points.append([spp, t, e])
+        points.append([spp, statistics.median(times), e])
         if e < target:
             break
         spp *= 2

@@ -110,7 +110,8 @@ def report(info, results, args):
                  f"the target relMSE against the Penumbra reference ({args.target:g}, or 10x the reference's own "
                  "noise where that is larger), log-log interpolated between the renders at 1, 2, 4, ... spp "
                  "that bracket the first render below it (spp, seconds, relMSE of each render in brackets; "
-                 "single renders, so a firefly can make one level worse than the one before):")
+                 f"the seconds are the median of {args.tte_runs} renders of the same image; one image per level, "
+                 "so a firefly can make one level worse than the one before):")
         L.append("")
         L.append("Penumbra renders with its default sampler (Owen-scrambled Sobol') and with `sampler.type` "
                  "independent; Mitsuba llvm with its default `independent` sampler and with its low-discrepancy "
