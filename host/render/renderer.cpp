@@ -197,12 +197,13 @@ void Renderer::uploadParams() {
 }
 
 void Renderer::compileKernel() const {
-    gpu::PassConstants pass{0, 0, 0, 0};  // rowCount 0: every invocation returns at once
+    gpu::PassConstants pass{0, 0, 0, 0, 1};  // rowCount 0: every invocation returns at once
     m_kernel->run(1, 1, 1, &pass);
 }
 
 void Renderer::recordPasses(VkCommandBuffer cmd, uint32_t first, uint32_t count, uint32_t firstRow, uint32_t rowCount,
                             uint32_t firstColumn, uint32_t columnCount) const {
+    if (count == 0) return;
     rowCount = std::min(rowCount, m_params.height - std::min(firstRow, m_params.height));
     columnCount = std::min(columnCount, m_params.width - std::min(firstColumn, m_params.width));
     if (rowCount == 0 || columnCount == 0) return;
@@ -212,11 +213,10 @@ void Renderer::recordPasses(VkCommandBuffer cmd, uint32_t first, uint32_t count,
         throw std::logic_error("recordPasses: a run of columns must be whole tiles or end at the film's edge");
     const DispatchShape groups =
         interleavedDispatch((columnCount + kTile - 1) / kTile, (rowCount + kTile - 1) / kTile, m_tileRowSlices);
-    for (uint32_t i = 0; i < count; ++i) {
-        gpu::PassConstants pass{first + i, firstRow, rowCount, firstColumn};
-        m_kernel->record(cmd, groups.x, groups.y, groups.z, &pass);
-        gpu::computeToComputeBarrier(cmd);  // this pass's sums -> the next pass / readback
-    }
+    // One dispatch adds all `count` samples (integrators/kernel_common.glsl, main).
+    gpu::PassConstants pass{first, firstRow, rowCount, firstColumn, count};
+    m_kernel->record(cmd, groups.x, groups.y, groups.z, &pass);
+    gpu::computeToComputeBarrier(cmd);  // these sums -> the next band / readback
 }
 
 void Renderer::renderAll(const std::function<void(const RenderProgress&)>& progress, const std::atomic<bool>* cancel,
@@ -268,7 +268,7 @@ uint64_t Renderer::countRays(uint32_t passes) {
     uint64_t total = 0;
     for (uint32_t i = 0; i < passes; ++i) {
         m_rayCount.clear();
-        gpu::PassConstants pass{i, 0, m_params.height, 0};
+        gpu::PassConstants pass{i, 0, m_params.height, 0, 1};
         kernel->run(groups.x, groups.y, groups.z, &pass);
         total += m_rayCount.read<uint32_t>()[0];
     }

@@ -72,7 +72,7 @@ public:
     // (penumbra:render_seconds) count that compilation as start-up, not as rendering.
     void compileKernel() const;
     // Records `count` passes, sample indices [first, first + count), over rows
-    // [firstRow, firstRow + rowCount) into `cmd`, each followed by a barrier; with
+    // [firstRow, firstRow + rowCount) into `cmd`, as one dispatch followed by a barrier; with
     // `firstColumn`, only columns [firstColumn, firstColumn + columnCount), where
     // firstColumn and columnCount are multiples of 8 or the run ends at the film's edge.
     void recordPasses(VkCommandBuffer cmd, uint32_t first, uint32_t count, uint32_t firstRow, uint32_t rowCount,

@@ -16,18 +16,13 @@
 #include "bsdf/materials.glsl"
 #include "textures/textures.glsl"
 
-void main() {
-    uvec2 pixel;
-    if (!invocationPixel(pixel)) return;
-    Rng rng = pixelRng(pixel, pass.sampleIndex);
+vec3 pixelSample(uvec2 pixel, uint sampleIndex) {
+    Rng rng = pixelRng(pixel, sampleIndex);
 
     vec3 origin, dir;
     cameraRay(pixel, rand2(rng), origin, dir);
     Hit hit;
-    if (!traceClosest(origin, dir, FLOAT_MAX, hit)) {
-        accumulate(pixel, vec3(1.0));
-        return;
-    }
+    if (!traceClosest(origin, dir, FLOAT_MAX, hit)) return vec3(1.0);
     SurfacePoint sp = surfaceAt(hit, origin, dir);
     // Two-sided shading: use the side facing the viewer.
     vec3 ng = dot(sp.geometricNormal, dir) < 0.0 ? sp.geometricNormal : -sp.geometricNormal;
@@ -52,5 +47,5 @@ void main() {
         !traceAny(offsetRayOrigin(sp.position, ng), w, params.aoMaxDistance)) {
         L = albedo * INV_PI * cosTheta / pdf;
     }
-    accumulate(pixel, L);
+    return L;
 }

@@ -200,19 +200,14 @@ vec3 reflectedRadiance(Shading s, inout Rng rng) {
     return L;
 }
 
-void main() {
-    uvec2 pixel;
-    if (!invocationPixel(pixel)) return;
-    Rng rng = pixelRng(pixel, pass.sampleIndex);
+vec3 pixelSample(uvec2 pixel, uint sampleIndex) {
+    Rng rng = pixelRng(pixel, sampleIndex);
 
     vec3 origin, dir;
     cameraRay(pixel, rand2(rng), origin, dir);
     Hit hit;
-    if (!traceClosest(origin, dir, FLOAT_MAX, hit)) {
-        accumulate(pixel,
-                   params.environmentLight == NO_LIGHT ? vec3(0.0) : environmentRadiance(loadLight(params.environmentLight), dir));
-        return;
-    }
+    if (!traceClosest(origin, dir, FLOAT_MAX, hit))
+        return params.environmentLight == NO_LIGHT ? vec3(0.0) : environmentRadiance(loadLight(params.environmentLight), dir);
     SurfacePoint sp = surfaceAt(hit, origin, dir);
     vec3 L = sp.light == NO_LIGHT ? vec3(0.0) : emittedRadiance(loadLight(sp.light), sp.geometricNormal, dir);
 
@@ -226,5 +221,5 @@ void main() {
     s.origin = offsetRayOrigin(s.x, s.ng);
     s.m = applyTextures(loadMaterial(sp.material), sp.material, sp.uv);
     L += reflectedRadiance(s, rng);
-    accumulate(pixel, L);
+    return L;
 }

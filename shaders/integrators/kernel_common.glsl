@@ -43,15 +43,27 @@ void cameraRay(uvec2 pixel, vec2 jitter, out vec3 origin, out vec3 dir) {
     dir = normalize(params.forward + x * params.right + y * params.up);
 }
 
-// Adds one sample. A non-finite estimate (a pdf division gone wrong) counts as zero:
-// the sample is still counted, so the sum stays an average over all samples.
-// Every invocation with a pixel calls it exactly once, last, so it also hands this
-// invocation's ray tally to the ray-count buffer when counting.
-void accumulate(uvec2 pixel, vec3 radiance) {
-    if (kCountRays != 0u) atomicAdd(rayCount, raysTraced);
-    if (!isFiniteVec(radiance)) radiance = vec3(0.0);
+// One pixel sample's radiance estimate: each integrator kernel defines it.
+vec3 pixelSample(uvec2 pixel, uint sampleIndex);
+
+// Adds the pass's sampleCount samples of this invocation's pixel to its sums, in sample
+// order and in a register, so that the sums are the same, bit for bit, as with one
+// dispatch per sample, without a dispatch's fixed cost per sample (on lavapipe, waking
+// and waiting for its worker threads). A non-finite estimate (a pdf division gone wrong)
+// counts as zero: the sample is still counted, so the sum stays an average over all
+// samples. When counting, it also hands this invocation's ray tally to the ray-count buffer.
+void main() {
+    uvec2 pixel;
+    if (!invocationPixel(pixel)) return;
     uint index = pixel.y * params.width + pixel.x;
-    accum[index] += vec4(radiance, 1.0);
+    vec4 sum = accum[index];
+    for (uint k = 0u; k < pass.sampleCount; ++k) {
+        vec3 radiance = pixelSample(pixel, pass.sampleIndex + k);
+        if (!isFiniteVec(radiance)) radiance = vec3(0.0);
+        sum += vec4(radiance, 1.0);
+    }
+    accum[index] = sum;
+    if (kCountRays != 0u) atomicAdd(rayCount, raysTraced);
 }
 
 #endif

@@ -393,15 +393,16 @@ struct RenderParams {
     uint pad0, pad1, pad2, pad3, pad4;
 };
 
-// Per-dispatch constants: which sample index this pass adds, to which rows of pixels
-// (the preview renders a band of rows per frame to stay responsive), from which column
-// on (render/pass_bands.h: a heavy row is split into runs of tiles; the dispatch's width
-// ends the run).
+// Per-dispatch constants: which sample indices it adds (sampleCount of them, from
+// sampleIndex on, in order), to which rows of pixels (the preview renders a band of rows
+// per frame to stay responsive), from which column on (render/pass_bands.h: a heavy row is
+// split into runs of tiles; the dispatch's width ends the run).
 struct PassConstants {
     uint sampleIndex;  // relative to sampleOffset
     uint firstRow;
     uint rowCount;
     uint firstColumn;
+    uint sampleCount;
 };
 
 // ---- Preview tone map (shaders/preview/tonemap.comp) ------------------------------------
