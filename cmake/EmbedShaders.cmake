@@ -9,7 +9,9 @@
 #
 # The shaders named in INT64_VARIANTS are also compiled as "<name>_int64", with
 # PENUMBRA_INT64_LOADS: they read BVH nodes 32 bytes at a time (shaders/geometry/bvh.glsl)
-# and so need the shaderInt64 feature, which not every device has.
+# and so need the shaderInt64 feature, which not every device has. INT64_VARIANTS also get
+# "<name>_address", with PENUMBRA_NODE_ADDRESS as well: the 32-byte loads through the nodes'
+# buffer device address (bufferDeviceAddress feature) instead of a storage-buffer binding.
 function(penumbra_embed_shaders target shader_dir)
   cmake_parse_arguments(PARSE_ARGV 2 arg "" "" "INLINE_VARIANTS;INLINE_CAPACITIES;INT64_VARIANTS")
   file(GLOB_RECURSE comps CONFIGURE_DEPENDS ${shader_dir}/*.comp)
@@ -31,6 +33,7 @@ function(penumbra_embed_shaders target shader_dir)
     endif()
     if(base IN_LIST arg_INT64_VARIANTS)
       list(APPEND variants "${base}_int64|-DPENUMBRA_INT64_LOADS")
+      list(APPEND variants "${base}_address|-DPENUMBRA_INT64_LOADS|-DPENUMBRA_NODE_ADDRESS")
     endif()
     foreach(variant ${variants})
       string(REPLACE "|" ";" parts "${variant}")

@@ -91,8 +91,10 @@ std::vector<VkDescriptorType> sceneBindings() {
 struct SceneBuffers {
     gpu::Buffer nodes, primitives, normals;
     SceneBuffers(const gpu::Context& ctx, const Bvh& bvh, const std::vector<gpu::TriangleNormals>& shadingNormals)
-        : nodes(gpu::Buffer::fromVector(ctx, bvh.wideNodes,
-                                        VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT)),
+        : nodes(gpu::Buffer::fromVector(
+              ctx, bvh.wideNodes,
+              VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                  (ctx.info().bufferDeviceAddress ? VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT : 0))),
           primitives(gpu::Buffer::fromVector(
               ctx, bvh.primitives, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT)),
           normals(gpu::Buffer::fromVector(ctx, shadingNormals)) {}
@@ -106,7 +108,8 @@ struct SceneBuffers {
 };
 
 // Runs the test kernel `name` over the scene's buffers: one invocation per input (binding
-// 0, 64 per workgroup), each writing one Result (binding 1).
+// 0, 64 per workgroup), each writing one Result (binding 1). The push constants are the
+// input count and the node buffer's device address (bvh_trace.comp's "_address" variant).
 template <class Result, class Input>
 std::vector<Result> runSceneKernel(const char* name, const Bvh& bvh,
                                    const std::vector<gpu::TriangleNormals>& shadingNormals,
@@ -115,19 +118,21 @@ std::vector<Result> runSceneKernel(const char* name, const Bvh& bvh,
     auto inputBuffer = gpu::Buffer::fromVector(ctx, inputs);
     gpu::Buffer results(ctx, inputs.size() * sizeof(Result), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     SceneBuffers scene(ctx, bvh, shadingNormals);
-    gpu::Kernel kernel(ctx, name, sceneBindings(), sizeof(uint32_t), specialization);
+    const uint32_t push[3] = {uint32_t(inputs.size()), uint32_t(scene.nodes.address()),
+                              uint32_t(scene.nodes.address() >> 32)};
+    gpu::Kernel kernel(ctx, name, sceneBindings(), sizeof(push), specialization);
     kernel.bind(0, inputBuffer);
     kernel.bind(1, results);
     scene.bind(kernel);
-    uint32_t count = uint32_t(inputs.size());
-    kernel.run((count + 63) / 64, 1, 1, &count);
+    kernel.run((push[0] + 63) / 64, 1, 1, push);
     auto out = results.read<Result>();
     out.resize(inputs.size());
     return out;
 }
 
 // tests/bvh_trace, or its "_inline<N>" variant where `specialization` puts primitives inline,
-// or its "_int64" one where it reads nodes 32 bytes at a time (render/node_reads.h).
+// or its "_int64" one where it reads nodes 32 bytes at a time, "_address" through the node
+// buffer's device address (render/node_reads.h).
 std::vector<TraceResult> traceOnGpu(const Bvh& bvh, const std::vector<TraceRay>& rays,
                                     const std::vector<uint32_t>& specialization = {}) {
     const uint32_t inlined = specialization.size() > SPEC_INLINE_COUNT ? specialization[SPEC_INLINE_COUNT] : 0;
@@ -146,12 +151,15 @@ std::vector<uint32_t> nodeReadsSpecialization(uint32_t nodeReads) {
 }
 
 // Every way a kernel reads nodes on the test device: texels, the storage buffer in loads of
-// 16 bytes, and of 32 where the device has shaderInt64 (lavapipe has).
+// 16 bytes, and of 32 where the device has shaderInt64 (lavapipe has), and those through the
+// buffer's device address where it also has bufferDeviceAddress (lavapipe has).
 std::vector<std::pair<std::vector<uint32_t>, std::string>> everyNodeReads() {
     std::vector<std::pair<std::vector<uint32_t>, std::string>> reads = {
         {{}, "texels"}, {nodeReadsSpecialization(NODE_READS_STORAGE), "storage"}};
     if (test::gpuContext().info().shaderInt64)
         reads.push_back({nodeReadsSpecialization(NODE_READS_STORAGE_32), "storage32"});
+    if (test::gpuContext().info().shaderInt64 && test::gpuContext().info().bufferDeviceAddress)
+        reads.push_back({nodeReadsSpecialization(NODE_READS_ADDRESS), "address"});
     return reads;
 }
 

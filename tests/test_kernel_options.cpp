@@ -90,8 +90,9 @@ TEST(KernelOptions, RayCounterCountsCameraAndOcclusionRays) {
     EXPECT_EQ(plane.readback(0.0).rgb, fresh.readback(0.0).rgb);
 }
 
-// render/node_reads.h: lavapipe before Mesa 25 reads nodes from texels, everything else
-// from the storage buffer; a driverInfo without a Mesa version counts as a later one.
+// render/node_reads.h: lavapipe before Mesa 25 reads nodes from texels, later ones through
+// the buffer's device address where they can, everything else from the storage buffer; a
+// driverInfo without a Mesa version counts as a later one.
 TEST(NodeReads, DriverPicksWhereNodesComeFrom) {
     EXPECT_EQ(mesaMajorVersion("Mesa 22.3.6 (LLVM 15.0.6)"), 22);
     EXPECT_EQ(mesaMajorVersion("Mesa 25.0.7 (LLVM 15.0.6)"), 25);
@@ -99,11 +100,13 @@ TEST(NodeReads, DriverPicksWhereNodesComeFrom) {
     EXPECT_EQ(mesaMajorVersion("Mesa devel"), 0);
     EXPECT_EQ(mesaMajorVersion("575.57.08"), 0);
     EXPECT_EQ(mesaMajorVersion(""), 0);
-    auto device = [](const std::string& driverName, const std::string& driverInfo, bool int64 = false) {
+    auto device = [](const std::string& driverName, const std::string& driverInfo, bool int64 = false,
+                     bool address = false) {
         gpu::DeviceInfo info;
         info.driverName = driverName;
         info.driverInfo = driverInfo;
         info.shaderInt64 = int64;
+        info.bufferDeviceAddress = address;
         return info;
     };
     EXPECT_EQ(nodeReadsFor(device("llvmpipe", "Mesa 22.3.6 (LLVM 15.0.6)")), NODE_READS_TEXELS);
@@ -111,23 +114,36 @@ TEST(NodeReads, DriverPicksWhereNodesComeFrom) {
     EXPECT_EQ(nodeReadsFor(device("llvmpipe", "Mesa 24.2.8-1 (LLVM 19.1.4)")), NODE_READS_TEXELS);
     EXPECT_EQ(nodeReadsFor(device("llvmpipe", "Mesa 25.0.7-2~bpo12+1 (LLVM 15.0.6)")), NODE_READS_STORAGE);
     EXPECT_EQ(nodeReadsFor(device("llvmpipe", "Mesa 25.0.7-2~bpo12+1 (LLVM 15.0.6)", true)), NODE_READS_STORAGE_32);
+    EXPECT_EQ(nodeReadsFor(device("llvmpipe", "Mesa 25.0.7-2~bpo12+1 (LLVM 15.0.6)", true, true)), NODE_READS_ADDRESS);
+    EXPECT_EQ(nodeReadsFor(device("llvmpipe", "Mesa 25.0.7-2~bpo12+1 (LLVM 15.0.6)", false, true)), NODE_READS_STORAGE)
+        << "the address loads are 32 bytes wide: no shaderInt64, no address loads";
+    EXPECT_EQ(nodeReadsFor(device("llvmpipe", "Mesa 22.3.6 (LLVM 15.0.6)", true, true)), NODE_READS_TEXELS);
+    EXPECT_EQ(nodeReadsFor(device("llvmpipe", "", true, true)), NODE_READS_ADDRESS);
     EXPECT_EQ(nodeReadsFor(device("llvmpipe", "")), NODE_READS_STORAGE);
     EXPECT_EQ(nodeReadsFor(device("NVIDIA", "575.57.08")), NODE_READS_STORAGE);
     EXPECT_EQ(nodeReadsFor(device("NVIDIA", "575.57.08", true)), NODE_READS_STORAGE_32);
+    EXPECT_EQ(nodeReadsFor(device("NVIDIA", "575.57.08", true, true)), NODE_READS_STORAGE_32)
+        << "address loads are measured on lavapipe only";
     EXPECT_EQ(nodeReadsValue(NodeReads::Texels, device("NVIDIA", "575.57.08", true)), NODE_READS_TEXELS);
     EXPECT_EQ(nodeReadsValue(NodeReads::Storage, device("llvmpipe", "Mesa 22.3.6")), NODE_READS_STORAGE);
     EXPECT_EQ(nodeReadsValue(NodeReads::Storage, device("llvmpipe", "Mesa 25.0.7", true)), NODE_READS_STORAGE);
     EXPECT_EQ(nodeReadsValue(NodeReads::Storage32, device("llvmpipe", "Mesa 22.3.6", true)), NODE_READS_STORAGE_32);
     EXPECT_EQ(nodeReadsValue(NodeReads::Storage32, device("NVIDIA", "575.57.08")), NODE_READS_STORAGE)
         << "no 32-byte loads without shaderInt64";
+    EXPECT_EQ(nodeReadsValue(NodeReads::Address, device("NVIDIA", "575.57.08", true, true)), NODE_READS_ADDRESS);
+    EXPECT_EQ(nodeReadsValue(NodeReads::Address, device("NVIDIA", "575.57.08", true)), NODE_READS_STORAGE_32)
+        << "no address loads without bufferDeviceAddress";
+    EXPECT_EQ(nodeReadsValue(NodeReads::Address, device("NVIDIA", "575.57.08", false, true)), NODE_READS_STORAGE);
     EXPECT_EQ(nodeReadsValue(NodeReads::Device, device("llvmpipe", "Mesa 22.3.6")), NODE_READS_TEXELS);
-    // The kernels that read nodes 32 bytes at a time are the "_int64" variants.
+    // The kernels that read nodes 32 bytes at a time are the "_int64" variants, through the
+    // device address the "_address" ones.
     EXPECT_EQ(nodeReadsKernel("integrators/direct", NODE_READS_STORAGE_32), "integrators/direct_int64");
+    EXPECT_EQ(nodeReadsKernel("integrators/ao", NODE_READS_ADDRESS), "integrators/ao_address");
     EXPECT_EQ(nodeReadsKernel("integrators/direct", NODE_READS_STORAGE), "integrators/direct");
     EXPECT_EQ(nodeReadsKernel("integrators/ao", NODE_READS_TEXELS), "integrators/ao");
 }
 
-// The two node reads are the same bytes through two views: the same samples give the same
+// The node reads are the same bytes through different views: the same samples give the same
 // image, bit for bit, on a scene traced through the BVH (not inline).
 TEST(NodeReads, TexelsAndStorageGiveTheSameImage) {
     json doc = planeScene(false);
@@ -147,13 +163,18 @@ TEST(NodeReads, TexelsAndStorageGiveTheSameImage) {
     size_t occluded = 0;
     for (float v : texels.rgb) occluded += v < 0.99f;
     EXPECT_GT(occluded, texels.rgb.size() / 20) << "the spheres should occlude part of the plane";
-    // Storage32 is the 32-byte loads on the test device (lavapipe has shaderInt64).
+    // Storage32 is the 32-byte loads on the test device (lavapipe has shaderInt64), Address
+    // those loads through the device address (it has bufferDeviceAddress).
     ASSERT_TRUE(test::gpuContext().info().shaderInt64) << "the test device should have shaderInt64";
-    for (NodeReads mode : {NodeReads::Storage, NodeReads::Storage32}) {
+    ASSERT_TRUE(test::gpuContext().info().bufferDeviceAddress) << "the test device should have bufferDeviceAddress";
+    const std::pair<NodeReads, const char*> modes[] = {{NodeReads::Storage, "16-byte storage loads"},
+                                                       {NodeReads::Storage32, "32-byte storage loads"},
+                                                       {NodeReads::Address, "32-byte loads through the address"}};
+    for (const auto& [mode, name] : modes) {
         const Image storage = render(mode);
         ASSERT_EQ(texels.rgb.size(), storage.rgb.size());
         size_t differing = 0;
         for (size_t i = 0; i < texels.rgb.size(); ++i) differing += texels.rgb[i] != storage.rgb[i];
-        EXPECT_EQ(differing, 0u) << (mode == NodeReads::Storage ? "16-byte" : "32-byte") << " storage loads";
+        EXPECT_EQ(differing, 0u) << name;
     }
 }

@@ -17,7 +17,7 @@
 // --spp N renders every scene at N samples per pixel (throughput does not depend on spp).
 // --emitter-first rule|off|exact: how BRDF-sampled rays find emitters (render/emitter_first.h,
 // EmitterFirst; default rule), so that one build measures both paths on any scene.
-// --node-reads device|texels|storage|storage32: where the traversal reads BVH nodes from
+// --node-reads device|texels|storage|storage32|address: where the traversal reads BVH nodes from
 // (render/node_reads.h; default device, the driver's choice), likewise.
 // --brdf-ray-fates prints, per scene, what the emitter-first rule sees (the fractions of
 // probe rays that hit an emitter, something else, or nothing, and the mean work of their
@@ -266,7 +266,8 @@ int main(int argc, char** argv) {
                              {{"device", NodeReads::Device},
                               {"texels", NodeReads::Texels},
                               {"storage", NodeReads::Storage},
-                              {"storage32", NodeReads::Storage32}},
+                              {"storage32", NodeReads::Storage32},
+                              {"address", NodeReads::Address}},
                              nodeReads))
                 return 2;
         } else if (!std::strcmp(argv[i], "--write-mesh") && i + 2 < argc)
@@ -280,7 +281,7 @@ int main(int argc, char** argv) {
     if (scenes.empty()) {
         std::fprintf(stderr,
                      "usage: penumbra_bench [--runs N] [--spp N] [--emitter-first rule|off|exact] [--inline rule|off]\n"
-                     "                      [--node-reads device|texels|storage|storage32]\n"
+                     "                      [--node-reads device|texels|storage|storage32|address]\n"
                      "                      [--count-rays | --low-spp | --brdf-ray-fates | --instructions]\n"
                      "                      SCENE|procedural:N ...\n"
                      "       penumbra_bench --write-mesh N FILE\n");

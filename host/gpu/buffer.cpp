@@ -43,6 +43,15 @@ void checkBufferSize(std::string_view name, VkDeviceSize size, VkBufferUsageFlag
     if (maxAllocation > 0 && size > maxAllocation) refuse("maxMemoryAllocationSize", maxAllocation);
 }
 
+VkDeviceAddress deviceAddressOf(VkDevice device, VkBuffer buffer) {
+    auto getAddress =
+        reinterpret_cast<PFN_vkGetBufferDeviceAddressKHR>(vkGetDeviceProcAddr(device, "vkGetBufferDeviceAddressKHR"));
+    if (!getAddress) throw GpuError("this Vulkan device gives no buffer device addresses (bufferDeviceAddress)");
+    VkBufferDeviceAddressInfo info{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
+    info.buffer = buffer;
+    return getAddress(device, &info);
+}
+
 Buffer::Buffer(const Context& context, VkDeviceSize size, VkBufferUsageFlags usage, VkMemoryPropertyFlags required,
                VkMemoryPropertyFlags preferred, std::string_view name)
     : m_context(&context), m_size(std::max<VkDeviceSize>(size, 16)) {
@@ -60,6 +69,10 @@ Buffer::Buffer(const Context& context, VkDeviceSize size, VkBufferUsageFlags usa
     VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
     alloc.allocationSize = req.size;
     alloc.memoryTypeIndex = context.findMemoryType(req.memoryTypeBits, required, preferred);
+    // A buffer read through its device address needs memory allocated for that.
+    VkMemoryAllocateFlagsInfo allocFlags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
+    allocFlags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
+    if (usage & VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT) alloc.pNext = &allocFlags;
     VkResult result = vkAllocateMemory(device, &alloc, nullptr, &m_memory);
     if (result != VK_SUCCESS) {
         release();
@@ -69,6 +82,7 @@ Buffer::Buffer(const Context& context, VkDeviceSize size, VkBufferUsageFlags usa
     VkMemoryPropertyFlags flags = context.memoryTypeFlags(alloc.memoryTypeIndex);
     m_hostVisible = flags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT;
     m_hostCoherent = flags & VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+    if (usage & VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT) m_address = deviceAddressOf(device, m_buffer);
 }
 
 Buffer::~Buffer() { release(); }
@@ -92,6 +106,7 @@ Buffer& Buffer::operator=(Buffer&& other) noexcept {
         m_size = std::exchange(other.m_size, 0);
         m_hostVisible = other.m_hostVisible;
         m_hostCoherent = other.m_hostCoherent;
+        m_address = std::exchange(other.m_address, 0);
     }
     return *this;
 }

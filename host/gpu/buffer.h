@@ -24,6 +24,10 @@ namespace penumbra::gpu {
 void checkBufferSize(std::string_view name, VkDeviceSize size, VkBufferUsageFlags usage,
                      const VkPhysicalDeviceLimits& limits, VkDeviceSize maxAllocation);
 
+// The device address of `buffer` (vkGetBufferDeviceAddressKHR), which was created with
+// VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT on a device with bufferDeviceAddress enabled.
+VkDeviceAddress deviceAddressOf(VkDevice device, VkBuffer buffer);
+
 class Buffer {
 public:
     Buffer() = default;
@@ -81,6 +85,11 @@ public:
     VkBuffer handle() const { return m_buffer; }
     VkDeviceSize size() const { return m_size; }
 
+    // Where the shaders find the buffer through a buffer reference: 0 unless its usage had
+    // VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT (allowed where the Context's device has
+    // bufferDeviceAddress, which it then enables).
+    VkDeviceAddress address() const { return m_address; }
+
 private:
     void release();
 
@@ -90,6 +99,7 @@ private:
     VkDeviceSize m_size = 0;
     bool m_hostVisible = false;
     bool m_hostCoherent = false;
+    VkDeviceAddress m_address = 0;
 };
 
 }  // namespace penumbra::gpu

@@ -97,6 +97,14 @@ DeviceInfo describe(VkPhysicalDevice device, uint32_t index) {
     VkPhysicalDeviceFeatures features;
     vkGetPhysicalDeviceFeatures(device, &features);
     info.shaderInt64 = features.shaderInt64 == VK_TRUE;
+    if (hasDeviceExtension(device, VK_KHR_BUFFER_DEVICE_ADDRESS_EXTENSION_NAME)) {
+        VkPhysicalDeviceBufferDeviceAddressFeaturesKHR address{
+            VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_BUFFER_DEVICE_ADDRESS_FEATURES_KHR};
+        VkPhysicalDeviceFeatures2 features2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+        features2.pNext = &address;
+        vkGetPhysicalDeviceFeatures2(device, &features2);
+        info.bufferDeviceAddress = address.bufferDeviceAddress == VK_TRUE;
+    }
     if (hasDeviceExtension(device, VK_KHR_DRIVER_PROPERTIES_EXTENSION_NAME)) {
         VkPhysicalDeviceDriverPropertiesKHR driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES_KHR};
         VkPhysicalDeviceProperties2 props2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
@@ -209,18 +217,10 @@ Context::Context(const ContextOptions& options) {
     if (m_surface) deviceExtensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
     VkPhysicalDeviceBufferDeviceAddressFeaturesKHR addressFeatures{
         VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_BUFFER_DEVICE_ADDRESS_FEATURES_KHR};
-    if (options.bufferDeviceAddress &&
-        hasDeviceExtension(m_physicalDevice, VK_KHR_BUFFER_DEVICE_ADDRESS_EXTENSION_NAME)) {
-        VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
-        features.pNext = &addressFeatures;
-        vkGetPhysicalDeviceFeatures2(m_physicalDevice, &features);
-        m_bufferDeviceAddress = addressFeatures.bufferDeviceAddress;
-        addressFeatures.bufferDeviceAddressCaptureReplay = VK_FALSE;
-        addressFeatures.bufferDeviceAddressMultiDevice = VK_FALSE;
-        if (m_bufferDeviceAddress) deviceExtensions.push_back(VK_KHR_BUFFER_DEVICE_ADDRESS_EXTENSION_NAME);
-    }
+    addressFeatures.bufferDeviceAddress = VK_TRUE;  // capture-replay and multi-device stay off
+    if (m_info.bufferDeviceAddress) deviceExtensions.push_back(VK_KHR_BUFFER_DEVICE_ADDRESS_EXTENSION_NAME);
     VkDeviceCreateInfo deviceInfo{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
-    if (m_bufferDeviceAddress) deviceInfo.pNext = &addressFeatures;
+    if (m_info.bufferDeviceAddress) deviceInfo.pNext = &addressFeatures;
     VkPhysicalDeviceFeatures enabledFeatures{};
     enabledFeatures.shaderInt64 = m_info.shaderInt64 ? VK_TRUE : VK_FALSE;
     deviceInfo.pEnabledFeatures = &enabledFeatures;

@@ -27,6 +27,9 @@ struct DeviceInfo {
     // The shaderInt64 feature: 64-bit integers in shaders, which the Context enables where
     // the device has them (the kernels' "_int64" variants load BVH nodes 32 bytes at a time).
     bool shaderInt64 = false;
+    // The bufferDeviceAddress feature (VK_KHR_buffer_device_address), which the Context
+    // enables where the device has it (the "_address" kernels read nodes through it).
+    bool bufferDeviceAddress = false;
 };
 
 struct ContextOptions {
@@ -36,9 +39,6 @@ struct ContextOptions {
     // If set, called once the instance exists; the queue family must then also be able to
     // present to the returned surface, and VK_KHR_swapchain is enabled on the device.
     std::function<VkSurfaceKHR(VkInstance)> createSurface;
-    // Enables VK_KHR_buffer_device_address (bufferDeviceAddress feature) when the device
-    // has it; Context::hasBufferDeviceAddress() tells. Used by tools/microbenchmarks.
-    bool bufferDeviceAddress = false;
 };
 
 class Context {
@@ -61,7 +61,6 @@ public:
     VkSurfaceKHR surface() const { return m_surface; }
     const DeviceInfo& info() const { return m_info; }
     const VkPhysicalDeviceLimits& limits() const { return m_limits; }
-    bool hasBufferDeviceAddress() const { return m_bufferDeviceAddress; }
     // maxMemoryAllocationSize (Vulkan 1.1): the largest single allocation; 0 if not reported.
     VkDeviceSize maxAllocationSize() const { return m_maxAllocationSize; }
 
@@ -90,7 +89,6 @@ private:
     VkPhysicalDeviceLimits m_limits{};
     VkDeviceSize m_maxAllocationSize = 0;
     VkPhysicalDeviceMemoryProperties m_memory{};
-    bool m_bufferDeviceAddress = false;
 };
 
 }  // namespace penumbra::gpu

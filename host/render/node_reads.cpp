@@ -27,12 +27,15 @@ uint32_t nodeReadsFor(const gpu::DeviceInfo& device) {
     if (device.driverName == "llvmpipe") {
         const int major = mesaMajorVersion(device.driverInfo);
         if (major > 0 && major < kFirstStorageMesa) return NODE_READS_TEXELS;
+        if (device.shaderInt64 && device.bufferDeviceAddress) return NODE_READS_ADDRESS;
     }
     return device.shaderInt64 ? NODE_READS_STORAGE_32 : NODE_READS_STORAGE;
 }
 
 std::string nodeReadsKernel(const std::string& base, uint32_t nodeReads) {
-    return nodeReads == NODE_READS_STORAGE_32 ? base + "_int64" : base;
+    if (nodeReads == NODE_READS_STORAGE_32) return base + "_int64";
+    if (nodeReads == NODE_READS_ADDRESS) return base + "_address";
+    return base;
 }
 
 uint32_t nodeReadsValue(NodeReads mode, const gpu::DeviceInfo& device) {
@@ -40,6 +43,9 @@ uint32_t nodeReadsValue(NodeReads mode, const gpu::DeviceInfo& device) {
         case NodeReads::Texels: return NODE_READS_TEXELS;
         case NodeReads::Storage: return NODE_READS_STORAGE;
         case NodeReads::Storage32: return device.shaderInt64 ? NODE_READS_STORAGE_32 : NODE_READS_STORAGE;
+        case NodeReads::Address:
+            if (device.shaderInt64 && device.bufferDeviceAddress) return NODE_READS_ADDRESS;
+            return nodeReadsValue(NodeReads::Storage32, device);
         case NodeReads::Device: break;
     }
     return nodeReadsFor(device);

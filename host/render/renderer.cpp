@@ -66,12 +66,14 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
     m_accum = Buffer(context, VkDeviceSize(m_params.width) * m_params.height * sizeof(glm::vec4),
                      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, "accumulation");
     // Nodes, primitives, materials, lights and alias tables are read as texel buffers
-    // (bvh.glsl, materials.glsl, light_data.glsl); the nodes also as a storage buffer, where
-    // the device reads them so (render/node_reads.h), and the primitives by the traversal
-    // tests' kernels.
+    // (bvh.glsl, materials.glsl, light_data.glsl); the nodes also as a storage buffer or
+    // through their device address, where the device reads them so (render/node_reads.h),
+    // and the primitives by the traversal tests' kernels.
     const VkBufferUsageFlags texels = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
-    m_nodes =
-        Buffer::fromVector(context, m_arrays.bvh.wideNodes, "BVH nodes", texels | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    const VkBufferUsageFlags address = context.info().bufferDeviceAddress ? VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT
+                                                                          : 0;
+    m_nodes = Buffer::fromVector(context, m_arrays.bvh.wideNodes, "BVH nodes",
+                                 texels | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | address);
     m_primitives =
         Buffer::fromVector(context, m_arrays.bvh.primitives, "primitives", texels | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     m_normals = Buffer::fromVector(context, m_arrays.normals, "triangle normals");
@@ -196,8 +198,14 @@ void Renderer::uploadParams() {
     m_paramsBuffer.upload(&m_params, sizeof(m_params));
 }
 
+gpu::PassConstants Renderer::passConstants(uint32_t first, uint32_t firstRow, uint32_t rowCount, uint32_t firstColumn,
+                                           uint32_t count) const {
+    const VkDeviceAddress nodes = m_nodes.address();
+    return {first, firstRow, rowCount, firstColumn, count, uint32_t(nodes), uint32_t(nodes >> 32)};
+}
+
 void Renderer::compileKernel() const {
-    gpu::PassConstants pass{0, 0, 0, 0, 1};  // rowCount 0: every invocation returns at once
+    const gpu::PassConstants pass = passConstants(0, 0, 0, 0, 1);  // rowCount 0: every invocation returns at once
     m_kernel->run(1, 1, 1, &pass);
 }
 
@@ -214,7 +222,7 @@ void Renderer::recordPasses(VkCommandBuffer cmd, uint32_t first, uint32_t count,
     const DispatchShape groups =
         interleavedDispatch((columnCount + kTile - 1) / kTile, (rowCount + kTile - 1) / kTile, m_tileRowSlices);
     // One dispatch adds all `count` samples (integrators/kernel_common.glsl, main).
-    gpu::PassConstants pass{first, firstRow, rowCount, firstColumn, count};
+    const gpu::PassConstants pass = passConstants(first, firstRow, rowCount, firstColumn, count);
     m_kernel->record(cmd, groups.x, groups.y, groups.z, &pass);
     gpu::computeToComputeBarrier(cmd);  // these sums -> the next band / readback
 }
@@ -268,7 +276,7 @@ uint64_t Renderer::countRays(uint32_t passes) {
     uint64_t total = 0;
     for (uint32_t i = 0; i < passes; ++i) {
         m_rayCount.clear();
-        gpu::PassConstants pass{i, 0, m_params.height, 0, 1};
+        const gpu::PassConstants pass = passConstants(i, 0, m_params.height, 0, 1);
         kernel->run(groups.x, groups.y, groups.z, &pass);
         total += m_rayCount.read<uint32_t>()[0];
     }

@@ -104,6 +104,10 @@ private:
     // The kernel options of the scene, the integrator settings and the set modes
     // (emitter first, inline geometry, node reads on this device).
     KernelOptions kernelOptions() const;
+    // A dispatch's push constants: the samples and pixels it covers (as recordPasses says)
+    // and where the nodes are for the kernels that read them through their address.
+    gpu::PassConstants passConstants(uint32_t first, uint32_t firstRow, uint32_t rowCount, uint32_t firstColumn,
+                                     uint32_t count) const;
     void uploadParams();
 
     const gpu::Context& m_context;

@@ -13,8 +13,8 @@
 
 // The tree in four-wide nodes with quantized child boxes (shared/types.h, WideNode). The
 // traversal reads primitives through a texel buffer (texelFetch on a usamplerBuffer), and
-// nodes through a texel buffer or a storage buffer, as the specialization constant
-// kNodeReads says: llvmpipe 22.3 turns a storage-buffer load inside a loop into a loop over
+// nodes through a texel buffer, a storage buffer or that buffer's device address, as the
+// specialization constant kNodeReads says: llvmpipe 22.3 turns a storage-buffer load inside a loop into a loop over
 // the SIMD lanes with a bounds-check branch per component, a texel fetch into a branch-free
 // gather of four words (docs/PERFORMANCE.md, "Round 2: the data the kernels read"); 25.0
 // still loops over the lanes for the storage buffer, but a texel fetch has become an
@@ -27,6 +27,19 @@ layout(binding = BINDING_NODES) uniform usamplerBuffer nodeTexels;
 #ifdef PENUMBRA_INT64_LOADS
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 layout(std430, binding = BINDING_NODE_WORDS) readonly restrict buffer NodeQuads { u64vec4 nodeQuads[]; };
+#ifdef PENUMBRA_NODE_ADDRESS
+// The "_address" kernels make the same loads through the buffer's device address. On
+// lavapipe 25.0 a load from a device address is a hardware gather, without the storage
+// buffer's loop over the SIMD lanes and bounds check per component: the seven 64-bit words
+// a node step uses are 14 vpgatherqq of four lanes each. 1.06-1.17x ("Round 12"). Nothing
+// checks the index, which the tree's own child references give and the traversal tests
+// compare with the CPU's. The kernel defines bvhNodeAddress() (kernel_common.glsl: from
+// PassConstants).
+#extension GL_EXT_buffer_reference : require
+#extension GL_EXT_buffer_reference_uvec2 : require
+layout(buffer_reference, std430, buffer_reference_align = 32) readonly restrict buffer NodeQuadsAt { u64vec4 quads[]; };
+uvec2 bvhNodeAddress();
+#endif
 #else
 layout(std430, binding = BINDING_NODE_WORDS) readonly restrict buffer NodeWords { uvec4 nodeWords[]; };
 #endif
@@ -85,7 +98,12 @@ uint intersectWideNode(uint node, vec3 origin, vec3 invDir, float tMax, out vec4
 #ifdef PENUMBRA_INT64_LOADS
         // Each 64-bit word holds two of the node's 32-bit words, the first in its low half
         // (Vulkan devices store little endian; the traversal tests would see otherwise).
+#ifdef PENUMBRA_NODE_ADDRESS
+        NodeQuadsAt at = NodeQuadsAt(bvhNodeAddress());
+        u64vec4 low = at.quads[2u * node], high = at.quads[2u * node + 1u];
+#else
         u64vec4 low = nodeQuads[2u * node], high = nodeQuads[2u * node + 1u];
+#endif
         frame = uvec4(unpackUint2x32(low.x), unpackUint2x32(low.y));
         planesA = uvec4(unpackUint2x32(low.z), unpackUint2x32(low.w));
         planesB = uvec4(unpackUint2x32(high.x), unpackUint2x32(high.y));

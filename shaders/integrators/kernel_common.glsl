@@ -16,6 +16,11 @@ layout(std430, binding = BINDING_ACCUM) restrict buffer Accumulation { vec4 accu
 layout(push_constant) uniform Pass { PassConstants pass; };
 layout(std430, binding = BINDING_RAY_COUNT) restrict buffer RayCount { uint rayCount; };
 
+#ifdef PENUMBRA_NODE_ADDRESS
+// Where the "_address" kernels read the BVH's nodes from (geometry/bvh.glsl).
+uvec2 bvhNodeAddress() { return uvec2(pass.nodeAddressLow, pass.nodeAddressHigh); }
+#endif
+
 // This invocation's pixel, or false when it lies outside the film / the pass's rows.
 // The dispatch's z interleaves tile rows (render/tile_rows.h): slice z of Z holds the rows
 // z, z + Z, z + 2Z, ..., so that each of a CPU device's threads, which take contiguous

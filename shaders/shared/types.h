@@ -326,10 +326,14 @@ PENUMBRA_CONST uint SAMPLER_SOBOL = 1u;        // padded Owen-scrambled Sobol' (
 // NODE_READS_STORAGE_32 reads the storage buffer 32 bytes at a time (u64vec4, two loads per
 // node instead of four): only the kernels compiled with PENUMBRA_INT64_LOADS (the "_int64"
 // variants, cmake/EmbedShaders.cmake) do, for devices with shaderInt64; every other kernel
-// reads it as NODE_READS_STORAGE.
+// reads it as NODE_READS_STORAGE. NODE_READS_ADDRESS makes the same 32-byte loads through
+// the node buffer's device address (PassConstants.nodeAddress*) instead of the binding: only
+// the "_address" variants (PENUMBRA_NODE_ADDRESS) do, for devices with shaderInt64 and
+// bufferDeviceAddress.
 #define NODE_READS_TEXELS 0u
 #define NODE_READS_STORAGE 1u
 #define NODE_READS_STORAGE_32 2u
+#define NODE_READS_ADDRESS 3u
 
 // Scene feature bits: bit FEATURE_PRIMITIVE + PRIM_*, FEATURE_LIGHT + LIGHT_*,
 // FEATURE_MATERIAL + MATERIAL_* is set when the scene has such a primitive, light or
@@ -396,13 +400,19 @@ struct RenderParams {
 // Per-dispatch constants: which sample indices it adds (sampleCount of them, from
 // sampleIndex on, in order), to which rows of pixels (the preview renders a band of rows
 // per frame to stay responsive), from which column on (render/pass_bands.h: a heavy row is
-// split into runs of tiles; the dispatch's width ends the run).
+// split into runs of tiles; the dispatch's width ends the run), and where the BVH's nodes
+// are for the kernels that read them through their device address (NODE_READS_ADDRESS; 0
+// for the others). The address is the same for every dispatch of a scene; it is a push
+// constant and not a specialization constant because it changes from run to run, and a
+// kernel specialized on it would miss Mesa's shader cache on every start.
 struct PassConstants {
     uint sampleIndex;  // relative to sampleOffset
     uint firstRow;
     uint rowCount;
     uint firstColumn;
     uint sampleCount;
+    uint nodeAddressLow;   // VkDeviceAddress of the node buffer, low and high 32 bits (two
+    uint nodeAddressHigh;  // words: a 64-bit member would be aligned differently in C++)
 };
 
 // ---- Preview tone map (shaders/preview/tonemap.comp) ------------------------------------

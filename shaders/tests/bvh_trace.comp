@@ -22,7 +22,12 @@ struct TraceResult {
 
 layout(std430, binding = 0) readonly restrict buffer Rays { TraceRay rays[]; };
 layout(std430, binding = 1) writeonly restrict buffer Results { TraceResult results[]; };
-layout(push_constant) uniform Push { uint rayCount; };
+// The node buffer's device address is read by the "_address" variant only.
+layout(push_constant) uniform Push { uint rayCount, nodeAddressLow, nodeAddressHigh; };
+
+#ifdef PENUMBRA_NODE_ADDRESS
+uvec2 bvhNodeAddress() { return uvec2(nodeAddressLow, nodeAddressHigh); }
+#endif
 
 void main() {
     uint i = gl_GlobalInvocationID.x;

@@ -23,6 +23,7 @@
 #include <vulkan/vulkan.h>
 
 #include "bench_harness.h"
+#include "gpu/buffer.h"
 #include "gpu/context.h"
 #include "gpu/vk_check.h"
 
@@ -81,13 +82,8 @@ public:
             view.range = VK_WHOLE_SIZE;
             vkCheck(vkCreateBufferView(m_device, &view, nullptr, &m_view), "create buffer view");
         }
-        if (usage & VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT) {
-            auto getAddress = reinterpret_cast<PFN_vkGetBufferDeviceAddressKHR>(
-                vkGetDeviceProcAddr(m_device, "vkGetBufferDeviceAddressKHR"));
-            VkBufferDeviceAddressInfo addressInfo{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
-            addressInfo.buffer = m_buffer;
-            m_address = getAddress(m_device, &addressInfo);
-        }
+        if (usage & VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT)
+            m_address = penumbra::gpu::deviceAddressOf(m_device, m_buffer);
     }
     ~HostBuffer() {
         if (m_view) vkDestroyBufferView(m_device, m_view, nullptr);
@@ -227,9 +223,7 @@ int main(int argc, char** argv) {
         return usage();
 
     try {
-        penumbra::gpu::ContextOptions options;
-        options.bufferDeviceAddress = true;
-        Context context(options);
+        Context context;
         const auto& info = context.info();
         std::printf("Device: %s; driver: %s %s; load average at start: %s\n", info.name.c_str(),
                     info.driverName.c_str(), info.driverInfo.c_str(), loadAverage().c_str());
@@ -253,7 +247,7 @@ int main(int argc, char** argv) {
             if (type == VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER) usage = VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT;
             bool bda = label.find("device address") != std::string::npos;
             if (bda) {
-                if (!context.hasBufferDeviceAddress()) {
+                if (!context.info().bufferDeviceAddress) {
                     std::printf("(skipped %s, %s: no bufferDeviceAddress on this device)\n", table.c_str(),
                                 label.c_str());
                     return;
@@ -313,6 +307,14 @@ int main(int argc, char** argv) {
                             steps, SSBO, d32, b32, NONE, p, work, invocations);
                 addCase(table, "(e) buffer device address", "32", base, "fetch_bda", steps, SSBO, d32, b32, NONE, p,
                         work, invocations);
+                // The renderer's reads on Mesa 25 (render/node_reads.h): a 32-byte node in one
+                // u64vec4 load, from the binding or through the address.
+                if (context.info().shaderInt64) {
+                    addCase(table, "(a64) storage buffer, one u64vec4 load", "32", base, "fetch_ssbo64", steps, SSBO,
+                            d32, b32, NONE, p, work, invocations);
+                    addCase(table, "(e64) buffer device address, one u64vec4 load", "32", base, "fetch_bda64", steps,
+                            SSBO, d32, b32, NONE, p, work, invocations);
+                }
                 addCase(table, "(f) 16-byte node (8-bit planes), storage buffer", "16", base, "fetch_packed16_ssbo",
                         steps, SSBO, d16, b16, NONE, p, work, invocations);
                 if (small)

@@ -6,6 +6,9 @@
 #extension GL_EXT_buffer_reference : enable
 #extension GL_EXT_buffer_reference_uvec2 : enable
 #extension GL_GOOGLE_include_directive : require
+#if defined(SOURCE_SSBO64) || defined(SOURCE_BDA64)
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#endif
 #include "common.glsl"
 
 // Small tables (UBO, shared memory) hold SMALL_NODES nodes of 32 bytes: 32 KiB, the most
@@ -32,6 +35,13 @@ shared vec4 sharedNodes[2 * SMALL_NODES];
 #elif defined(SOURCE_BDA)
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly restrict buffer NodeRef { vec4 v[]; };
 #define LOAD(i) NodeRef(pc.address).v[i]
+// ---- The same 32-byte node in one 64-bit-word load (u64vec4), as the renderer reads -----
+#elif defined(SOURCE_SSBO64)
+layout(std430, binding = 1) readonly restrict buffer Nodes { u64vec4 nodes[]; };
+#define LOAD64(i) nodes[i]
+#elif defined(SOURCE_BDA64)
+layout(buffer_reference, std430, buffer_reference_align = 32) readonly restrict buffer NodeRef { u64vec4 v[]; };
+#define LOAD64(i) NodeRef(pc.address).v[i]
 // ---- 16-byte nodes (uvec4): x = next index, y = min.xyz, max.x as unorm8, z = max.yz ---
 #elif defined(SOURCE_PACKED16_SSBO)
 layout(std430, binding = 1) readonly restrict buffer Nodes { uvec4 nodes[]; };
@@ -66,7 +76,13 @@ void main() {
     vec3 invDir = 1.0 / (vec3(hash(salt) & 1023u, hash(salt + 1u) & 1023u, hash(salt + 2u) & 1023u) / 1023.0 - 0.5 + 1e-3);
     float acc = 0.0;
     for (uint step = 0u; step < STEPS; ++step) {
-#if defined(LOAD)
+#if defined(LOAD64)
+        u64vec4 w = LOAD64(index);
+        vec4 a = vec4(uintBitsToFloat(unpackUint2x32(w.x)), uintBitsToFloat(unpackUint2x32(w.y)));
+        vec4 b = vec4(uintBitsToFloat(unpackUint2x32(w.z)), uintBitsToFloat(unpackUint2x32(w.w)));
+        vec3 lo = a.xyz, hi = b.xyz;
+        uint next = uint(a.w);
+#elif defined(LOAD)
         vec4 a = LOAD(2u * index);
         vec4 b = LOAD(2u * index + 1u);
         vec3 lo = a.xyz, hi = b.xyz;
