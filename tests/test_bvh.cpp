@@ -91,10 +91,9 @@ std::vector<VkDescriptorType> sceneBindings() {
 struct SceneBuffers {
     gpu::Buffer nodes, primitives, normals;
     SceneBuffers(const gpu::Context& ctx, const Bvh& bvh, const std::vector<gpu::TriangleNormals>& shadingNormals)
-        : nodes(gpu::Buffer::fromVector(
-              ctx, bvh.wideNodes,
-              VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
-                  (ctx.info().bufferDeviceAddress ? VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT : 0))),
+        : nodes(gpu::Buffer::fromVector(ctx, bvh.wideNodes,
+                                        VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                                            gpu::deviceAddressUsage(ctx))),
           primitives(gpu::Buffer::fromVector(
               ctx, bvh.primitives, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT)),
           normals(gpu::Buffer::fromVector(ctx, shadingNormals)) {}

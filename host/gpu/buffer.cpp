@@ -52,6 +52,10 @@ VkDeviceAddress deviceAddressOf(VkDevice device, VkBuffer buffer) {
     return getAddress(device, &info);
 }
 
+VkBufferUsageFlags deviceAddressUsage(const Context& context) {
+    return context.info().bufferDeviceAddress ? VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT : 0;
+}
+
 Buffer::Buffer(const Context& context, VkDeviceSize size, VkBufferUsageFlags usage, VkMemoryPropertyFlags required,
                VkMemoryPropertyFlags preferred, std::string_view name)
     : m_context(&context), m_size(std::max<VkDeviceSize>(size, 16)) {

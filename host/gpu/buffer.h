@@ -28,6 +28,10 @@ void checkBufferSize(std::string_view name, VkDeviceSize size, VkBufferUsageFlag
 // VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT on a device with bufferDeviceAddress enabled.
 VkDeviceAddress deviceAddressOf(VkDevice device, VkBuffer buffer);
 
+// VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT where the Context's device has (and so has
+// enabled) bufferDeviceAddress, else 0: for buffers that kernels may read by address.
+VkBufferUsageFlags deviceAddressUsage(const Context& context);
+
 class Buffer {
 public:
     Buffer() = default;

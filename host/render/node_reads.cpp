@@ -20,6 +20,11 @@ int mesaMajorVersion(const std::string& driverInfo) {
     return digits > 0 ? major : 0;
 }
 
+namespace {
+// The address reads are the 32-byte loads through a buffer reference: both features.
+bool canReadByAddress(const gpu::DeviceInfo& device) { return device.shaderInt64 && device.bufferDeviceAddress; }
+}  // namespace
+
 uint32_t nodeReadsFor(const gpu::DeviceInfo& device) {
     // The version where the texel fetch became a call lies between the two measured
     // (22.3 and 25.0); the untested ones in between keep 22.3's choice.
@@ -27,7 +32,7 @@ uint32_t nodeReadsFor(const gpu::DeviceInfo& device) {
     if (device.driverName == "llvmpipe") {
         const int major = mesaMajorVersion(device.driverInfo);
         if (major > 0 && major < kFirstStorageMesa) return NODE_READS_TEXELS;
-        if (device.shaderInt64 && device.bufferDeviceAddress) return NODE_READS_ADDRESS;
+        if (canReadByAddress(device)) return NODE_READS_ADDRESS;
     }
     return device.shaderInt64 ? NODE_READS_STORAGE_32 : NODE_READS_STORAGE;
 }
@@ -44,7 +49,7 @@ uint32_t nodeReadsValue(NodeReads mode, const gpu::DeviceInfo& device) {
         case NodeReads::Storage: return NODE_READS_STORAGE;
         case NodeReads::Storage32: return device.shaderInt64 ? NODE_READS_STORAGE_32 : NODE_READS_STORAGE;
         case NodeReads::Address:
-            if (device.shaderInt64 && device.bufferDeviceAddress) return NODE_READS_ADDRESS;
+            if (canReadByAddress(device)) return NODE_READS_ADDRESS;
             return nodeReadsValue(NodeReads::Storage32, device);
         case NodeReads::Device: break;
     }

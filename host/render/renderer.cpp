@@ -70,8 +70,7 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
     // through their device address, where the device reads them so (render/node_reads.h),
     // and the primitives by the traversal tests' kernels.
     const VkBufferUsageFlags texels = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
-    const VkBufferUsageFlags address = context.info().bufferDeviceAddress ? VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT
-                                                                          : 0;
+    const VkBufferUsageFlags address = gpu::deviceAddressUsage(context);
     m_nodes = Buffer::fromVector(context, m_arrays.bvh.wideNodes, "BVH nodes",
                                  texels | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | address);
     m_primitives =
