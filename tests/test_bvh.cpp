@@ -108,7 +108,9 @@ struct SceneBuffers {
 
 // Runs the test kernel `name` over the scene's buffers: one invocation per input (binding
 // 0, 64 per workgroup), each writing one Result (binding 1). The push constants are the
-// input count and the node buffer's device address (bvh_trace.comp's "_address" variant).
+// input count, the node buffer's device address and the traversal stacks' address and
+// entries per invocation (bvh_trace.comp's "_address" variant: wideStackDepth entries, as
+// the renderer gives them, so that a depth counted short would show in the results).
 template <class Result, class Input>
 std::vector<Result> runSceneKernel(const char* name, const Bvh& bvh,
                                    const std::vector<gpu::TriangleNormals>& shadingNormals,
@@ -117,13 +119,17 @@ std::vector<Result> runSceneKernel(const char* name, const Bvh& bvh,
     auto inputBuffer = gpu::Buffer::fromVector(ctx, inputs);
     gpu::Buffer results(ctx, inputs.size() * sizeof(Result), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     SceneBuffers scene(ctx, bvh, shadingNormals);
-    const uint32_t push[3] = {uint32_t(inputs.size()), uint32_t(scene.nodes.address()),
-                              uint32_t(scene.nodes.address() >> 32)};
+    const uint32_t groups = uint32_t((inputs.size() + 63) / 64), depth = wideStackDepth(bvh.wideNodes);
+    gpu::Buffer stacks(ctx, VkDeviceSize(groups) * 64 * depth * sizeof(uint32_t),
+                       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | gpu::deviceAddressUsage(ctx));
+    const uint32_t push[6] = {
+        uint32_t(inputs.size()),    uint32_t(scene.nodes.address()),  uint32_t(scene.nodes.address() >> 32),
+        uint32_t(stacks.address()), uint32_t(stacks.address() >> 32), depth};
     gpu::Kernel kernel(ctx, name, sceneBindings(), sizeof(push), specialization);
     kernel.bind(0, inputBuffer);
     kernel.bind(1, results);
     scene.bind(kernel);
-    kernel.run((push[0] + 63) / 64, 1, 1, push);
+    kernel.run(groups, 1, 1, push);
     auto out = results.read<Result>();
     out.resize(inputs.size());
     return out;
@@ -564,6 +570,44 @@ TEST(Bvh, LargestLeavesSurviveTheStackPacking) {
     auto rays = randomRays(rng, 3000, 8.0f);
     for (auto& ray : rays) ray.originTMax += glm::vec4(c, 0);
     expectAllAgree(scene, bvh, rays);
+}
+
+TEST(Bvh, StackDepthIsTheLongestPathsInteriorNodes) {
+    // wideStackDepth sizes the "_address" kernels' stacks (render/traversal_stacks.h): no
+    // traversal may hold more entries, and it must not be larger than one can. Rays from the
+    // common centre of nested spheres start inside every box, so nothing is culled and every
+    // interior node on every path pushes the children it does not take first: some ray holds
+    // exactly that many.
+    EXPECT_EQ(wideStackDepth(buildBvh({}).wideNodes), 1u);
+    EXPECT_EQ(wideStackDepth(buildBvh({sphere(vec3(0), 1.0f)}).wideNodes), 1u);
+    std::vector<gpu::Primitive> nested;
+    const vec3 c(0.5f, -1, 2);
+    for (int i = 0; i < 300; ++i) nested.push_back(sphere(c, 0.0625f * float(i + 1)));
+    Random rng(12);
+    const Bvh nestedBvh = buildBvh(nested, {2, 16});
+    const uint32_t depth = wideStackDepth(nestedBvh.wideNodes);
+    EXPECT_GE(depth, 4u) << "300 primitives in leaves of at most 2 take several levels";
+    uint32_t deepest = 0;
+    std::vector<TraceRay> fromCentre;
+    for (int i = 0; i < 200; ++i) {
+        TraversalWork work;
+        vec3 dir = rng.unitVector();
+        intersectClosest(nestedBvh, c, dir, kInf, &work);
+        deepest = std::max(deepest, work.deepestStack);
+        fromCentre.push_back({glm::vec4(c, kInf), glm::vec4(dir, 0)});
+    }
+    EXPECT_EQ(deepest, depth);
+    expectAllAgree(nested, nestedBvh, fromCentre);
+    const auto scene = randomScene(rng, 400, 40, 40, 6.0f);
+    const Bvh bvh = buildBvh(scene);
+    deepest = 0;
+    for (const TraceRay& ray : randomRays(rng, 2000, 8.0f)) {
+        TraversalWork work;
+        intersectClosest(bvh, vec3(ray.originTMax), vec3(ray.dir), kInf, &work);
+        deepest = std::max(deepest, work.deepestStack);
+    }
+    EXPECT_GT(deepest, 1u);
+    EXPECT_LE(deepest, wideStackDepth(bvh.wideNodes));
 }
 
 TEST(Bvh, NonFiniteRaysMissAndTerminate) {

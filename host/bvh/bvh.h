@@ -63,6 +63,7 @@ struct CpuHit {
 struct TraversalWork {
     uint32_t nodes = 0;
     uint32_t primitives = 0;
+    uint32_t deepestStack = 0;  // the most entries the traversal stack held (at most wideStackDepth)
 };
 
 // Closest hit with t in (0, tMax), and whether any hit exists; the same formulas as the GLSL.
@@ -83,6 +84,13 @@ void primitiveBounds(const gpu::Primitive& primitive, glm::vec3& lo, glm::vec3& 
 // host/bvh/wide.cpp): wide node 0 is the root, each node's interior children follow in
 // depth-first order.
 std::vector<gpu::WideNode> makeWideNodes(const std::vector<gpu::BvhNode>& nodes);
+
+// The most entries a traversal of the wide tree `nodes` (makeWideNodes) holds on its stack:
+// one per interior node on its path from the root, so the interior nodes on the longest
+// such path; at least 1 (also for an empty tree). The "_address" kernels keep this many per
+// invocation (render/traversal_stacks.h). Throws std::logic_error if a child reference
+// does not point past its parent, as makeWideNodes lays them out.
+uint32_t wideStackDepth(const std::vector<gpu::WideNode>& nodes);
 
 // Child `child` (0 to 3) of a wide node, decoded as the shader decodes it.
 struct WideChildBox {

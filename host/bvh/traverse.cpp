@@ -2,6 +2,7 @@
 // brute-force reference. The loop mirrors `traverse` in shaders/geometry/bvh.glsl step by
 // step, with the intersection routines of bvh/intersect.h, so CPU and GPU results differ
 // only by rounding.
+#include <algorithm>
 #include <bit>
 
 #include "bvh/bvh.h"
@@ -65,7 +66,10 @@ bool traverse(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax, bool 
             if (hits == 0) break;
             uint32_t c = anyHit ? uint32_t(std::countr_zero(hits)) : nearestChild(hits, tEntry);
             uint32_t rest = hits & ~(1u << c);
-            if (rest != 0) stack[sp++] = node | (rest << gpu::WIDE_STACK_MASK_SHIFT);
+            if (rest != 0) {
+                stack[sp++] = node | (rest << gpu::WIDE_STACK_MASK_SHIFT);
+                work.deepestStack = std::max(work.deepestStack, uint32_t(sp));
+            }
             uint32_t next = refs[c];
             if ((next >> BVH_COUNT_SHIFT) != 0) {
                 atLeaf = true;
@@ -107,6 +111,7 @@ std::optional<CpuHit> intersectClosest(const Bvh& bvh, glm::vec3 origin, glm::ve
     if (work) {
         work->nodes += counted.nodes;
         work->primitives += counted.primitives;
+        work->deepestStack = std::max(work->deepestStack, counted.deepestStack);
     }
     if (!found) return std::nullopt;
     return hit;

@@ -12,6 +12,8 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include "bvh/bvh.h"
 
@@ -134,6 +136,27 @@ private:
 std::vector<gpu::WideNode> makeWideNodes(const std::vector<gpu::BvhNode>& nodes) {
     if (nodes.empty()) return {};
     return Collapser(nodes).run();
+}
+
+uint32_t wideStackDepth(const std::vector<gpu::WideNode>& nodes) {
+    // Interior children follow their parent (Collapser::fill), so one pass in order sees
+    // every node's depth before its children's.
+    std::vector<uint32_t> depth(nodes.size(), 0);
+    uint32_t deepest = 1;
+    if (!nodes.empty()) depth[0] = 1;
+    for (size_t i = 0; i < nodes.size(); ++i) {
+        if (depth[i] == 0) continue;  // not reached from the root
+        deepest = std::max(deepest, depth[i]);
+        for (uint32_t c = 0; c < WIDE_NODE_ARITY; ++c) {
+            const WideChildBox child = decodeWideChild(nodes[i], c);
+            if (!child.exists || (child.ref >> BVH_COUNT_SHIFT) != 0) continue;  // none, or a leaf
+            if (child.ref <= i || child.ref >= nodes.size())
+                throw std::logic_error("wideStackDepth: node " + std::to_string(i) + " refers to node " +
+                                       std::to_string(child.ref));
+            depth[child.ref] = depth[i] + 1;
+        }
+    }
+    return deepest;
 }
 
 WideChildBox decodeWideChild(const gpu::WideNode& node, uint32_t child) {

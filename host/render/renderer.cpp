@@ -15,6 +15,7 @@
 #include "render/environment_map.h"
 #include "render/pass_bands.h"
 #include "render/tile_rows.h"
+#include "render/traversal_stacks.h"
 #include "scene/enum_names.h"
 #include "scene/integrator_json.h"
 
@@ -58,7 +59,10 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
       m_params(makeRenderParams(scene, m_arrays)),
       m_options(kernelOptions()),
       m_tileRowSlices(
-          tileRowSlicesFor(context.info(), std::getenv("LP_NUM_THREADS"), std::thread::hardware_concurrency())) {
+          tileRowSlicesFor(context.info(), std::getenv("LP_NUM_THREADS"), std::thread::hardware_concurrency())),
+      m_stackDepth(wideStackDepth(m_arrays.bvh.wideNodes)),
+      m_stackInvocations(
+          stackInvocationsFor((m_params.width + kTile - 1) / kTile, (m_params.height + kTile - 1) / kTile)) {
     using gpu::Buffer;
     m_paramsBuffer = Buffer(context, sizeof(gpu::RenderParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, 0,
                             VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, "render parameters");
@@ -102,8 +106,22 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
         m_environmentTexels.write(mapTexels * sizeof(glm::vec4),
                                   [&](void* out) { writeEnvironmentTexels(*map, static_cast<glm::vec4*>(out)); });
 
+    allocateStacks();
     m_kernel = createKernel(m_options);
     reset();
+}
+
+void Renderer::allocateStacks() {
+    if (m_options.nodeReads != NODE_READS_ADDRESS || m_stacks.handle() != VK_NULL_HANDLE) return;
+    m_stacks = gpu::Buffer(m_context, VkDeviceSize(m_stackInvocations) * m_stackDepth * sizeof(uint32_t),
+                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | gpu::deviceAddressUsage(m_context), 0,
+                           VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, "traversal stacks");
+}
+
+void Renderer::setStackInvocations(uint32_t invocations) {
+    m_stackInvocations = stackInvocationsFor((m_params.width + kTile - 1) / kTile, 1, invocations);
+    m_stacks = gpu::Buffer();
+    allocateStacks();
 }
 
 std::unique_ptr<gpu::Kernel> Renderer::createKernel(const KernelOptions& options) const {
@@ -157,6 +175,7 @@ void Renderer::updateKernel() {
     const KernelOptions options = kernelOptions();
     if (m_kernel && options == m_options) return;
     m_options = options;
+    allocateStacks();
     m_kernel = createKernel(m_options);
 }
 
@@ -199,8 +218,17 @@ void Renderer::uploadParams() {
 
 gpu::PassConstants Renderer::passConstants(uint32_t first, uint32_t firstRow, uint32_t rowCount, uint32_t firstColumn,
                                            uint32_t count) const {
-    const VkDeviceAddress nodes = m_nodes.address();
-    return {first, firstRow, rowCount, firstColumn, count, uint32_t(nodes), uint32_t(nodes >> 32)};
+    const VkDeviceAddress nodes = m_nodes.address(), stacks = m_stacks.address();
+    return {first,
+            firstRow,
+            rowCount,
+            firstColumn,
+            count,
+            uint32_t(nodes),
+            uint32_t(nodes >> 32),
+            uint32_t(stacks),
+            uint32_t(stacks >> 32),
+            m_stackDepth};
 }
 
 void Renderer::compileKernel() const {
@@ -218,12 +246,27 @@ void Renderer::recordPasses(VkCommandBuffer cmd, uint32_t first, uint32_t count,
     // columns is whole tiles, or ends at the edge.
     if (firstColumn % kTile != 0 || (columnCount % kTile != 0 && firstColumn + columnCount != m_params.width))
         throw std::logic_error("recordPasses: a run of columns must be whole tiles or end at the film's edge");
-    const DispatchShape groups =
-        interleavedDispatch((columnCount + kTile - 1) / kTile, (rowCount + kTile - 1) / kTile, m_tileRowSlices);
-    // One dispatch adds all `count` samples (integrators/kernel_common.glsl, main).
-    const gpu::PassConstants pass = passConstants(first, firstRow, rowCount, firstColumn, count);
-    m_kernel->record(cmd, groups.x, groups.y, groups.z, &pass);
-    gpu::computeToComputeBarrier(cmd);  // these sums -> the next band / readback
+    recordDispatches(cmd, *m_kernel, first, count, firstRow, rowCount, firstColumn, columnCount);
+}
+
+void Renderer::recordDispatches(VkCommandBuffer cmd, const gpu::Kernel& kernel, uint32_t first, uint32_t count,
+                                uint32_t firstRow, uint32_t rowCount, uint32_t firstColumn,
+                                uint32_t columnCount) const {
+    const uint32_t tileColumns = (columnCount + kTile - 1) / kTile, tileRows = (rowCount + kTile - 1) / kTile;
+    const bool stacks = m_stacks.handle() != VK_NULL_HANDLE && m_options.nodeReads == NODE_READS_ADDRESS;
+    const uint32_t step = stacks ? tileRowsPerDispatch(tileColumns, m_tileRowSlices, m_stackInvocations) : tileRows;
+    for (uint32_t row = 0; row < tileRows; row += step) {
+        const uint32_t rows = std::min(step, tileRows - row);
+        const DispatchShape groups = interleavedDispatch(tileColumns, rows, m_tileRowSlices);
+        if (stacks && invocationsOf(groups) > m_stackInvocations)
+            throw std::logic_error("recordDispatches: a dispatch has more invocations than the traversal stacks");
+        // One dispatch adds all `count` samples (integrators/kernel_common.glsl, main).
+        const gpu::PassConstants pass = passConstants(
+            first, firstRow + row * kTile, std::min(rows * kTile, rowCount - row * kTile), firstColumn, count);
+        kernel.record(cmd, groups.x, groups.y, groups.z, &pass);
+        // These sums -> the next band / readback; these stacks -> the next dispatch's.
+        gpu::computeToComputeBarrier(cmd);
+    }
 }
 
 void Renderer::renderAll(const std::function<void(const RenderProgress&)>& progress, const std::atomic<bool>* cancel,
@@ -265,8 +308,6 @@ uint64_t Renderer::countRays(uint32_t passes) {
     KernelOptions counting = m_options;
     counting.countRays = 1;
     auto kernel = createKernel(counting);
-    const DispatchShape groups = interleavedDispatch((m_params.width + kTile - 1) / kTile,
-                                                     (m_params.height + kTile - 1) / kTile, m_tileRowSlices);
     // One pass per submission, counted in 32 bits: at most a camera ray plus, per light or
     // BRDF sample, a traced ray and a shadow ray for a delta light.
     const uint64_t raysPerPixel = 1 + 2 * uint64_t(m_options.lightAndBsdfSamples());
@@ -275,8 +316,8 @@ uint64_t Renderer::countRays(uint32_t passes) {
     uint64_t total = 0;
     for (uint32_t i = 0; i < passes; ++i) {
         m_rayCount.clear();
-        const gpu::PassConstants pass = passConstants(i, 0, m_params.height, 0, 1);
-        kernel->run(groups.x, groups.y, groups.z, &pass);
+        m_context.submitAndWait(
+            [&](VkCommandBuffer cmd) { recordDispatches(cmd, *kernel, i, 1, 0, m_params.height, 0, m_params.width); });
         total += m_rayCount.read<uint32_t>()[0];
     }
     return total;

@@ -67,6 +67,11 @@ public:
     // How many z-slices the dispatches interleave tile rows over (render/tile_rows.h); what
     // tileRowSlicesFor says for the device unless set (tests compare several, min 1).
     void setTileRowSlices(uint32_t slices) { m_tileRowSlices = std::max<uint32_t>(slices, 1); }
+    // How many invocations' traversal stacks the "_address" kernels' buffer holds, which
+    // bounds their dispatches (render/traversal_stacks.h); stackInvocationsFor the film
+    // unless set (tests set fewer, to split bands into several dispatches; never less than
+    // a row of tiles).
+    void setStackInvocations(uint32_t invocations);
     // Makes the driver compile the current kernel now, with a dispatch that covers no
     // pixels: llvmpipe compiles on the first dispatch, and callers that time the render
     // (penumbra:render_seconds) count that compilation as start-up, not as rendering.
@@ -105,9 +110,20 @@ private:
     // (emitter first, inline geometry, node reads on this device).
     KernelOptions kernelOptions() const;
     // A dispatch's push constants: the samples and pixels it covers (as recordPasses says)
-    // and where the nodes are for the kernels that read them through their address.
+    // and, for the kernels that read nodes through their address, where the nodes and the
+    // traversal stacks are.
     gpu::PassConstants passConstants(uint32_t first, uint32_t firstRow, uint32_t rowCount, uint32_t firstColumn,
                                      uint32_t count) const;
+    // Records `kernel` for samples [first, first + count) over the pixels of rows
+    // [firstRow, firstRow + rowCount) and columns [firstColumn, firstColumn + columnCount)
+    // (checked by recordPasses), each dispatch followed by a barrier: one dispatch, or, for
+    // an "_address" kernel whose rows need more invocations than m_stacks holds, one per
+    // run of tile rows that fits (render/traversal_stacks.h).
+    void recordDispatches(VkCommandBuffer cmd, const gpu::Kernel& kernel, uint32_t first, uint32_t count,
+                          uint32_t firstRow, uint32_t rowCount, uint32_t firstColumn, uint32_t columnCount) const;
+    // Allocates m_stacks for m_stackInvocations when the current kernel reads nodes through
+    // their address and it is not there yet.
+    void allocateStacks();
     void uploadParams();
 
     const gpu::Context& m_context;
@@ -120,9 +136,12 @@ private:
     NodeReads m_nodeReads = NodeReads::Device;
     KernelOptions m_options;
     uint32_t m_tileRowSlices = 1;  // the dispatches' tile-row interleave (render/tile_rows.h)
+    uint32_t m_stackDepth = 1;     // traversal stack entries per invocation (wideStackDepth)
+    uint32_t m_stackInvocations = 0;  // invocations whose stacks m_stacks holds
     // Declaration order is teardown order in reverse: the kernel goes before the buffers.
     gpu::Buffer m_paramsBuffer, m_accum, m_nodes, m_primitives, m_normals, m_materials, m_lights, m_lightTable,
         m_meshTable, m_rayCount;
+    gpu::Buffer m_stacks;  // the "_address" kernels' traversal stacks (render/traversal_stacks.h), else empty
     gpu::Buffer m_materialTextures, m_textureTexels, m_uvs;  // textured scenes (render/texture_arrays.h)
     gpu::Buffer m_environmentTexels, m_environmentTable;     // environment map (render/environment_map.h)
     std::unique_ptr<gpu::Kernel> m_kernel;

@@ -39,6 +39,18 @@ layout(std430, binding = BINDING_NODE_WORDS) readonly restrict buffer NodeQuads 
 #extension GL_EXT_buffer_reference_uvec2 : require
 layout(buffer_reference, std430, buffer_reference_align = 32) readonly restrict buffer NodeQuadsAt { u64vec4 quads[]; };
 uvec2 bvhNodeAddress();
+// They also keep the traversal stack in memory through a device address, not in a local
+// array: on lavapipe 25.0 a store to a local array at a per-lane index is a loop over the
+// SIMD lanes with a branch on each lane's mask bit, which mispredicts as the lanes push at
+// random; a store through an address is one masked scatter (vpscatterqd), a load one
+// gather. 1.12-1.17x on a million triangles ("Round 13"). The kernel defines where this
+// invocation's entries start and how many it has (kernel_common.glsl: from PassConstants;
+// render/traversal_stacks.h sizes the buffer). An index past the last entry is clamped to
+// it, so that a tree deeper than the host counted could only change the image, never write
+// outside the buffer (Bvh.StackDepthIsTheLongestPathsInteriorNodes checks the count).
+layout(buffer_reference, std430, buffer_reference_align = 4) restrict buffer TraversalStackAt { uint entries[]; };
+uvec2 bvhStackAddress();
+uint bvhStackDepth();
 #endif
 #else
 layout(std430, binding = BINDING_NODE_WORDS) readonly restrict buffer NodeWords { uvec4 nodeWords[]; };
@@ -186,7 +198,15 @@ bool traverse(vec3 origin, vec3 dir, float tMax, bool anyHit, uint ignore, out H
     }
 #endif
     vec3 invDir = rayInverseDirection(dir);
-    uint stack[BVH_MAX_DEPTH];  // node | children still to visit << WIDE_STACK_MASK_SHIFT
+    // Entries: node | children still to visit << WIDE_STACK_MASK_SHIFT.
+#ifdef PENUMBRA_NODE_ADDRESS
+    TraversalStackAt stack = TraversalStackAt(bvhStackAddress());
+    uint lastEntry = bvhStackDepth() - 1u;
+#define PENUMBRA_STACK_ENTRY(i) stack.entries[min(uint(i), lastEntry)]
+#else
+    uint stack[BVH_MAX_DEPTH];
+#define PENUMBRA_STACK_ENTRY(i) stack[i]
+#endif
     int sp = 0;
     uint node = 0u, allowed = WIDE_ALL_CHILDREN;  // the root, every child
     while (true) {
@@ -201,7 +221,7 @@ bool traverse(vec3 origin, vec3 dir, float tMax, bool anyHit, uint ignore, out H
             uint c = anyHit ? uint(findLSB(hits)) : nearestChild(hits, tEntry);
             uint rest = hits & ~(1u << c);
             if (rest != 0u) {
-                stack[sp] = node | (rest << WIDE_STACK_MASK_SHIFT);
+                PENUMBRA_STACK_ENTRY(sp) = node | (rest << WIDE_STACK_MASK_SHIFT);
                 ++sp;
             }
             uint next = c == 0u ? ref.x : (c == 1u ? ref.y : (c == 2u ? ref.z : ref.w));
@@ -228,10 +248,12 @@ bool traverse(vec3 origin, vec3 dir, float tMax, bool anyHit, uint ignore, out H
         }
         if (sp == 0) break;
         --sp;
-        node = stack[sp] & WIDE_STACK_NODE_MASK;
-        allowed = stack[sp] >> WIDE_STACK_MASK_SHIFT;
+        uint entry = PENUMBRA_STACK_ENTRY(sp);
+        node = entry & WIDE_STACK_NODE_MASK;
+        allowed = entry >> WIDE_STACK_MASK_SHIFT;
     }
     return hit.primitive != NO_HIT;
+#undef PENUMBRA_STACK_ENTRY
 }
 
 // Nearest hit with t in (0, tMax), for camera and bounce rays.

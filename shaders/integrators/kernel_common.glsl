@@ -17,8 +17,18 @@ layout(push_constant) uniform Pass { PassConstants pass; };
 layout(std430, binding = BINDING_RAY_COUNT) restrict buffer RayCount { uint rayCount; };
 
 #ifdef PENUMBRA_NODE_ADDRESS
-// Where the "_address" kernels read the BVH's nodes from (geometry/bvh.glsl).
+// Where the "_address" kernels read the BVH's nodes from, and where this invocation keeps
+// its traversal stack (geometry/bvh.glsl): entry i * stackDepth for invocation i of the
+// dispatch (render/traversal_stacks.h keeps the dispatches within the buffer).
 uvec2 bvhNodeAddress() { return uvec2(pass.nodeAddressLow, pass.nodeAddressHigh); }
+uint bvhStackDepth() { return pass.stackDepth; }
+uvec2 bvhStackAddress() {
+    uvec3 size = gl_NumWorkGroups * gl_WorkGroupSize;
+    uint invocation = gl_GlobalInvocationID.x + size.x * (gl_GlobalInvocationID.y + size.y * gl_GlobalInvocationID.z);
+    uint carry;
+    uint low = uaddCarry(pass.stackAddressLow, invocation * pass.stackDepth * 4u, carry);
+    return uvec2(low, pass.stackAddressHigh + carry);
+}
 #endif
 
 // This invocation's pixel, or false when it lies outside the film / the pass's rows.

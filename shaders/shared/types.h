@@ -402,9 +402,12 @@ struct RenderParams {
 // per frame to stay responsive), from which column on (render/pass_bands.h: a heavy row is
 // split into runs of tiles; the dispatch's width ends the run), and where the BVH's nodes
 // are for the kernels that read them through their device address (NODE_READS_ADDRESS; 0
-// for the others). The address is the same for every dispatch of a scene; it is a push
-// constant and not a specialization constant because it changes from run to run, and a
-// kernel specialized on it would miss Mesa's shader cache on every start.
+// for the others), and where those kernels keep their traversal stacks: stackDepth entries
+// per invocation, invocation i of the dispatch (x fastest, then y, then z) at entry
+// i * stackDepth (render/traversal_stacks.h). The addresses are the same for every dispatch
+// of a scene; they are push constants and not specialization constants because they change
+// from run to run, and a kernel specialized on them would miss Mesa's shader cache on every
+// start.
 struct PassConstants {
     uint sampleIndex;  // relative to sampleOffset
     uint firstRow;
@@ -413,6 +416,9 @@ struct PassConstants {
     uint sampleCount;
     uint nodeAddressLow;   // VkDeviceAddress of the node buffer, low and high 32 bits (two
     uint nodeAddressHigh;  // words: a 64-bit member would be aligned differently in C++)
+    uint stackAddressLow;  // VkDeviceAddress of the traversal stacks' buffer, likewise
+    uint stackAddressHigh;
+    uint stackDepth;  // entries per invocation (at least 1)
 };
 
 // ---- Preview tone map (shaders/preview/tonemap.comp) ------------------------------------

@@ -22,11 +22,20 @@ struct TraceResult {
 
 layout(std430, binding = 0) readonly restrict buffer Rays { TraceRay rays[]; };
 layout(std430, binding = 1) writeonly restrict buffer Results { TraceResult results[]; };
-// The node buffer's device address is read by the "_address" variant only.
-layout(push_constant) uniform Push { uint rayCount, nodeAddressLow, nodeAddressHigh; };
+// The node buffer's and the traversal stacks' device addresses are read by the "_address"
+// variant only: stackDepth entries per ray.
+layout(push_constant) uniform Push {
+    uint rayCount, nodeAddressLow, nodeAddressHigh, stackAddressLow, stackAddressHigh, stackDepth;
+};
 
 #ifdef PENUMBRA_NODE_ADDRESS
 uvec2 bvhNodeAddress() { return uvec2(nodeAddressLow, nodeAddressHigh); }
+uint bvhStackDepth() { return stackDepth; }
+uvec2 bvhStackAddress() {
+    uint carry;
+    uint low = uaddCarry(stackAddressLow, gl_GlobalInvocationID.x * stackDepth * 4u, carry);
+    return uvec2(low, stackAddressHigh + carry);
+}
 #endif
 
 void main() {

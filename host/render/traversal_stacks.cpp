@@ -1,0 +1,31 @@
+// Sizes for the traversal stacks' buffer and the dispatches it holds (see traversal_stacks.h).
+#include "render/traversal_stacks.h"
+
+#include <algorithm>
+
+#include "render/pass_bands.h"
+
+namespace penumbra {
+
+namespace {
+constexpr uint64_t kTileInvocations = uint64_t(PassBands::kTile) * PassBands::kTile;
+}
+
+uint64_t invocationsOf(const DispatchShape& shape) { return uint64_t(shape.x) * shape.y * shape.z * kTileInvocations; }
+
+uint32_t stackInvocationsFor(uint32_t tileColumns, uint32_t tileRows, uint32_t limit) {
+    const uint64_t row = std::max<uint64_t>(tileColumns, 1) * kTileInvocations;
+    const uint64_t film = row * std::max<uint32_t>(tileRows, 1);
+    return uint32_t(std::max(row, std::min<uint64_t>(film, limit)));
+}
+
+uint32_t tileRowsPerDispatch(uint32_t tileColumns, uint32_t slices, uint32_t invocations) {
+    const uint64_t row = std::max<uint64_t>(tileColumns, 1) * kTileInvocations;
+    uint32_t rows = uint32_t(std::max<uint64_t>(invocations / row, 1));
+    // The interleave pads the last slices' rows (interleavedDispatch): at most slices - 1
+    // rows more, so this gives back at most that many.
+    while (rows > 1 && invocationsOf(interleavedDispatch(tileColumns, rows, slices)) > invocations) --rows;
+    return rows;
+}
+
+}  // namespace penumbra

@@ -1,0 +1,34 @@
+// Where the "_address" kernels keep their BVH traversal stacks (shaders/geometry/bvh.glsl):
+// a buffer of stackDepth 32-bit entries per invocation of a dispatch, reached through its
+// device address instead of a local array. On lavapipe 25.0 a store to a local array at a
+// per-lane index is a loop over the SIMD lanes with a branch on each lane's mask bit, which
+// mispredicts as lanes push at random; a store through an address is one masked scatter
+// (docs/PERFORMANCE.md, "Round 13").
+// The buffer holds the stacks of one dispatch, so its size bounds a dispatch's invocations:
+// a pass band that needs more is recorded as several dispatches of fewer tile rows, each
+// followed by a barrier, since the next one reuses the same entries.
+#pragma once
+
+#include <cstdint>
+
+#include "render/tile_rows.h"
+
+namespace penumbra {
+
+// Invocations whose stacks the buffer holds where a film has more: 2^18 (a 512 x 512 film),
+// at most 64 MiB with the deepest tree the builder makes (BVH_MAX_DEPTH entries each).
+inline constexpr uint32_t kStackInvocations = 1u << 18;
+
+// Invocations of a dispatch of `shape` (workgroups of 8 x 8).
+uint64_t invocationsOf(const DispatchShape& shape);
+
+// The invocations the stacks' buffer holds for a film of `tileColumns` x `tileRows` tiles:
+// the whole film up to kStackInvocations (`limit`), and never less than one row of tiles.
+uint32_t stackInvocationsFor(uint32_t tileColumns, uint32_t tileRows, uint32_t limit = kStackInvocations);
+
+// The most tile rows that one dispatch of `tileColumns` columns, interleaved over `slices`
+// (interleavedDispatch), covers within `invocations`; at least 1 (stackInvocationsFor
+// holds one row).
+uint32_t tileRowsPerDispatch(uint32_t tileColumns, uint32_t slices, uint32_t invocations);
+
+}  // namespace penumbra

@@ -1,0 +1,86 @@
+// The "_address" kernels' traversal stacks (render/traversal_stacks.h): the buffer's size,
+// dispatches that stay within it, and that a band split into several dispatches renders
+// every pixel's samples once, the same image bit for bit as the kernels whose stack is a
+// local array.
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "gpu_fixture.h"
+#include "render/renderer.h"
+#include "render/traversal_stacks.h"
+#include "render_helpers.h"
+
+using namespace penumbra;
+using nlohmann::json;
+
+TEST(TraversalStacks, HoldTheFilmUpToTheLimitAndAlwaysOneRow) {
+    EXPECT_EQ(stackInvocationsFor(64, 48), 64u * 48u * 64u);      // a 512 x 384 film
+    EXPECT_EQ(stackInvocationsFor(480, 270), kStackInvocations);  // 3840 x 2160
+    EXPECT_EQ(stackInvocationsFor(5, 5, 1), 5u * 64u);
+    EXPECT_EQ(stackInvocationsFor(10000, 4), 10000u * 64u);  // one row of a very wide film
+    EXPECT_EQ(stackInvocationsFor(0, 0), 64u);
+}
+
+TEST(TraversalStacks, DispatchesFitAndAreAsLargeAsFits) {
+    for (uint32_t columns : {1u, 5u, 64u})
+        for (uint32_t slices : {1u, 2u, 3u, 7u})
+            for (uint32_t invocations : {64u * columns, 64u * columns * 3u + 17u, 64u * columns * 40u}) {
+                SCOPED_TRACE(testing::Message() << columns << " columns, " << slices << " slices, " << invocations);
+                const uint32_t rows = tileRowsPerDispatch(columns, slices, invocations);
+                ASSERT_GE(rows, 1u);
+                EXPECT_LE(invocationsOf(interleavedDispatch(columns, rows, slices)), invocations);
+                EXPECT_GT(invocationsOf(interleavedDispatch(columns, rows + 1, slices)), invocations);
+            }
+}
+
+TEST(TraversalStacks, SplitBandsGiveTheSameImage) {
+    // Five tile rows; spheres so that rays push nodes, direct lighting so that every sample
+    // traces shadow rays.
+    json doc = {
+        {"camera", {{"eye", {0, 2, 3}}, {"target", {0, 0, 0}}, {"up", {0, 1, 0}}, {"fov_y", 50}}},
+        {"film", {{"width", 37}, {"height", 35}}},
+        {"sampler", {{"spp", 3}, {"seed", 5}}},
+        {"integrator", {{"type", "direct"}, {"strategy", "mis"}}},
+        {"shapes",
+         {{{"type", "quad"}, {"origin", {-3, 0, -3}}, {"edge_u", {0, 0, 6}}, {"edge_v", {6, 0, 0}}},
+          {{"type", "quad"},
+           {"origin", {-0.5, 2, -0.5}},
+           {"edge_u", {1, 0, 0}},
+           {"edge_v", {0, 0, 1}},
+           {"emission", 5}}}},
+    };
+    for (int i = 0; i < 40; ++i)
+        doc["shapes"].push_back({{"type", "sphere"},
+                                 {"center", {-0.9 + 0.045 * i, 0.1 + 0.05 * (i % 4), 0.03 * i - 0.6}},
+                                 {"radius", 0.05 + 0.02 * (i % 5)}});
+    const Scene scene = test::sceneFromJson(doc, "traversal-stacks");
+    auto render = [&](NodeReads reads, uint32_t slices, uint32_t stackInvocations) {
+        Renderer renderer(test::gpuContext(), scene);
+        renderer.setInlineGeometry(InlineGeometry::Off);
+        renderer.setNodeReads(reads);
+        renderer.setTileRowSlices(slices);
+        if (stackInvocations) renderer.setStackInvocations(stackInvocations);
+        renderer.renderAll();
+        return std::make_pair(renderer.accumulation().read<glm::vec4>(), renderer.readback(0.0));
+    };
+    const auto [referenceSums, reference] = render(NodeReads::Texels, 1, 0);
+    size_t shadowed = 0;
+    for (const glm::vec4& s : referenceSums) shadowed += s.x == 0.0f;
+    EXPECT_GT(shadowed, 0u) << "the spheres should shadow part of the floor";
+    ASSERT_TRUE(test::gpuContext().info().shaderInt64 && test::gpuContext().info().bufferDeviceAddress)
+        << "the test device should read nodes through their address";
+    // 0: the film's stacks, one dispatch per band; 1: one row of tiles (5 x 64 invocations),
+    // five dispatches; 700: two rows, three.
+    for (uint32_t slices : {1u, 3u})
+        for (uint32_t stackInvocations : {0u, 1u, 700u}) {
+            SCOPED_TRACE(testing::Message() << slices << " slices, stacks for " << stackInvocations);
+            const auto [sums, image] = render(NodeReads::Address, slices, stackInvocations);
+            ASSERT_EQ(sums.size(), referenceSums.size());
+            size_t wrongCount = 0, differing = 0;
+            for (size_t i = 0; i < sums.size(); ++i) wrongCount += sums[i].w != 3.0f;  // twice, or never
+            for (size_t i = 0; i < image.rgb.size(); ++i) differing += image.rgb[i] != reference.rgb[i];
+            EXPECT_EQ(wrongCount, 0u);
+            EXPECT_EQ(differing, 0u);
+        }
+}
