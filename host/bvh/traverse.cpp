@@ -3,7 +3,6 @@
 // step, with the intersection routines of bvh/intersect.h, so CPU and GPU results differ
 // only by rounding.
 #include <algorithm>
-#include <bit>
 
 #include "bvh/bvh.h"
 #include "bvh/intersect.h"
@@ -31,8 +30,7 @@ uint32_t nearestChild(uint32_t hits, const float tEntry[WIDE_NODE_ARITY]) {
 // The loop behind both queries, step for step the `traverse` of shaders/geometry/bvh.glsl,
 // over the wide nodes (shared/types.h): while-while (descend to a leaf, then test its
 // primitives), nearest child first, a node with other children hit back on the stack with
-// their bits, tested again when popped; lowest child first and a return at the first hit for
-// `anyHit`. Returns whether anything was hit; `hit` holds the closest hit found (for
+// their bits, tested again when popped; a return at the first hit for `anyHit`. Returns whether anything was hit; `hit` holds the closest hit found (for
 // `anyHit`, the first). `work` counts the nodes and primitives tested.
 bool traverse(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax, bool anyHit, CpuHit& hit,
               TraversalWork& work) {
@@ -64,7 +62,7 @@ bool traverse(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax, bool 
             }
             hits &= allowed;
             if (hits == 0) break;
-            uint32_t c = anyHit ? uint32_t(std::countr_zero(hits)) : nearestChild(hits, tEntry);
+            uint32_t c = nearestChild(hits, tEntry);
             uint32_t rest = hits & ~(1u << c);
             if (rest != 0) {
                 stack[sp++] = node | (rest << gpu::WIDE_STACK_MASK_SHIFT);

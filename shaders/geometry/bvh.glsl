@@ -174,15 +174,17 @@ uint nearestChild(uint hits, vec4 tEntry) {
 }
 
 // The loop behind both queries. From a node, the ray goes on to the nearest child it hits
-// (for `anyHit`, the first in index order); if it hits others, the node goes on the stack
-// with those children's bits, and when the stack gives it back it is tested again with
-// only those bits allowed: a child that now lies behind the closest hit found meanwhile
-// fails its box test there and is skipped. One stack entry per node on the path from the
-// root, so BVH_MAX_DEPTH entries suffice (host/bvh/wide.cpp: the wide tree is no deeper
-// than the binary one). With `anyHit` it returns at the first hit found. `anyHit` is a
-// constant at both call sites below, so after inlining the compiler keeps a copy of the
-// loop specialised for each query. Primitive `ignore` (NO_HIT: none) does not count in the
-// inline tests; the tree's own tests need no such rule (traceAnyIgnoring says why).
+// (for `anyHit` too: a blocked shadow ray meets its blocker sooner, 1.03-1.09x on a million
+// triangles, "Round 13"); if it hits others, the node goes on the stack with those
+// children's bits, and when the stack gives it back it is tested again with only those
+// bits allowed: a child that now lies behind the closest hit found meanwhile fails its box
+// test there and is skipped. One stack entry per node on the path from the root, so
+// BVH_MAX_DEPTH entries suffice (host/bvh/wide.cpp: the wide tree is no deeper than the
+// binary one; wideStackDepth counts them for the tree at hand). With `anyHit` it returns
+// at the first hit found. `anyHit` is a constant at both call sites below, so after
+// inlining the compiler keeps a copy of the loop specialised for each query. Primitive
+// `ignore` (NO_HIT: none) does not count in the inline tests; the tree's own tests need no
+// such rule (traceAnyIgnoring says why).
 bool traverse(vec3 origin, vec3 dir, float tMax, bool anyHit, uint ignore, out Hit hit) {
     countRay();
     hit.t = tMax;
@@ -218,7 +220,7 @@ bool traverse(vec3 origin, vec3 dir, float tMax, bool anyHit, uint ignore, out H
             uvec4 ref;
             uint hits = intersectWideNode(node, origin, invDir, hit.t, tEntry, ref) & allowed;
             if (hits == 0u) break;
-            uint c = anyHit ? uint(findLSB(hits)) : nearestChild(hits, tEntry);
+            uint c = nearestChild(hits, tEntry);
             uint rest = hits & ~(1u << c);
             if (rest != 0u) {
                 PENUMBRA_STACK_ENTRY(sp) = node | (rest << WIDE_STACK_MASK_SHIFT);
