@@ -43,11 +43,12 @@ uvec2 bvhNodeAddress();
 // array: on lavapipe 25.0 a store to a local array at a per-lane index is a loop over the
 // SIMD lanes with a branch on each lane's mask bit, which mispredicts as the lanes push at
 // random; a store through an address is one masked scatter (vpscatterqd), a load one
-// gather. 1.12-1.17x on a million triangles ("Round 13"). The kernel defines where this
-// invocation's entries start and how many it has (kernel_common.glsl: from PassConstants;
-// render/traversal_stacks.h sizes the buffer). An index past the last entry is clamped to
-// it, so that a tree deeper than the host counted could only change the image, never write
-// outside the buffer (Bvh.StackDepthIsTheLongestPathsInteriorNodes checks the count).
+// gather. 1.12-1.17x on scenes of 30k-1M primitives ("Round 13"). The kernel defines where
+// this invocation's entries start and how many it has (kernel_common.glsl: from
+// PassConstants; render/traversal_stacks.h sizes the buffer). An index past the last entry
+// is clamped to it, so that a tree deeper than the host counted could only change the
+// image, never write outside the buffer (Bvh.StackDepthIsTheLongestPathsInteriorNodes
+// checks the count).
 layout(buffer_reference, std430, buffer_reference_align = 4) restrict buffer TraversalStackAt { uint entries[]; };
 uvec2 bvhStackAddress();
 uint bvhStackDepth();
