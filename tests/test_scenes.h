@@ -19,6 +19,28 @@ struct FloorAndSphere {
     bool pointLight = false;     // a 20 W point light at (-1, 2, 1)
 };
 
+// A film of 37 x 35 pixels (five rows of 8 x 8 tiles, which most slice counts do not
+// divide) over a 6 x 6 floor lit by a 1 x 1 quad light 2 above it, direct lighting with
+// MIS, so that every pixel sample draws random numbers: for tests that render the same
+// samples in differently shaped dispatches and compare the images bit for bit. They add
+// shapes that vary the pixels.
+inline nlohmann::json litFloorOnOddFilmScene(uint32_t spp, uint32_t seed) {
+    using nlohmann::json;
+    return {
+        {"camera", {{"eye", {0, 2, 3}}, {"target", {0, 0, 0}}, {"up", {0, 1, 0}}, {"fov_y", 50}}},
+        {"film", {{"width", 37}, {"height", 35}}},
+        {"sampler", {{"spp", spp}, {"seed", seed}}},
+        {"integrator", {{"type", "direct"}, {"strategy", "mis"}}},
+        {"shapes",
+         {{{"type", "quad"}, {"origin", {-3, 0, -3}}, {"edge_u", {0, 0, 6}}, {"edge_v", {6, 0, 0}}},
+          {{"type", "quad"},
+           {"origin", {-0.5, 2, -0.5}},
+           {"edge_u", {1, 0, 0}},
+           {"edge_v", {0, 0, 1}},
+           {"emission", 5}}}},
+    };
+}
+
 inline nlohmann::json floorAndSphereScene(const FloorAndSphere& o) {
     using nlohmann::json;
     json floor = {{"type", "quad"}, {"origin", {-2, 0, -2}}, {"edge_u", {0, 0, 4}}, {"edge_v", {4, 0, 0}}};

@@ -9,6 +9,7 @@
 #include "render/renderer.h"
 #include "render/tile_rows.h"
 #include "render_helpers.h"
+#include "test_scenes.h"
 
 using namespace penumbra;
 using nlohmann::json;
@@ -65,23 +66,11 @@ TEST(TileRows, DispatchCoversEveryTileRowOnce) {
 }
 
 TEST(TileRows, EveryInterleaveGivesTheSameImage) {
-    // A film whose tile rows (5) no slice count here divides but one, spheres so that the
-    // pixels differ, and direct lighting so that every pixel sample draws random numbers.
-    json doc = {
-        {"camera", {{"eye", {0, 2, 3}}, {"target", {0, 0, 0}}, {"up", {0, 1, 0}}, {"fov_y", 50}}},
-        {"film", {{"width", 37}, {"height", 35}}},
-        {"sampler", {{"spp", 3}, {"seed", 11}}},
-        {"integrator", {{"type", "direct"}, {"strategy", "mis"}}},
-        {"shapes",
-         {{{"type", "quad"}, {"origin", {-3, 0, -3}}, {"edge_u", {0, 0, 6}}, {"edge_v", {6, 0, 0}}},
-          {{"type", "sphere"}, {"center", {-0.4, 0.3, 0}}, {"radius", 0.3}},
-          {{"type", "sphere"}, {"center", {0.5, 0.2, 0.3}}, {"radius", 0.2}},
-          {{"type", "quad"},
-           {"origin", {-0.5, 2, -0.5}},
-           {"edge_u", {1, 0, 0}},
-           {"edge_v", {0, 0, 1}},
-           {"emission", 5}}}},
-    };
+    // A film whose tile rows (5) no slice count here divides but one, and spheres so that
+    // the pixels differ.
+    json doc = test::litFloorOnOddFilmScene(3, 11);
+    doc["shapes"].push_back({{"type", "sphere"}, {"center", {-0.4, 0.3, 0}}, {"radius", 0.3}});
+    doc["shapes"].push_back({{"type", "sphere"}, {"center", {0.5, 0.2, 0.3}}, {"radius", 0.2}});
     const Scene scene = test::sceneFromJson(doc, "tile-rows");
     struct Render {
         std::vector<glm::vec4> sums;

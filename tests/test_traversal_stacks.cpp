@@ -10,6 +10,7 @@
 #include "render/renderer.h"
 #include "render/traversal_stacks.h"
 #include "render_helpers.h"
+#include "test_scenes.h"
 
 using namespace penumbra;
 using nlohmann::json;
@@ -35,21 +36,8 @@ TEST(TraversalStacks, DispatchesFitAndAreAsLargeAsFits) {
 }
 
 TEST(TraversalStacks, SplitBandsGiveTheSameImage) {
-    // Five tile rows; spheres so that rays push nodes, direct lighting so that every sample
-    // traces shadow rays.
-    json doc = {
-        {"camera", {{"eye", {0, 2, 3}}, {"target", {0, 0, 0}}, {"up", {0, 1, 0}}, {"fov_y", 50}}},
-        {"film", {{"width", 37}, {"height", 35}}},
-        {"sampler", {{"spp", 3}, {"seed", 5}}},
-        {"integrator", {{"type", "direct"}, {"strategy", "mis"}}},
-        {"shapes",
-         {{{"type", "quad"}, {"origin", {-3, 0, -3}}, {"edge_u", {0, 0, 6}}, {"edge_v", {6, 0, 0}}},
-          {{"type", "quad"},
-           {"origin", {-0.5, 2, -0.5}},
-           {"edge_u", {1, 0, 0}},
-           {"edge_v", {0, 0, 1}},
-           {"emission", 5}}}},
-    };
+    // Five tile rows, and spheres enough for a tree whose traversals push nodes.
+    json doc = test::litFloorOnOddFilmScene(3, 5);
     for (int i = 0; i < 40; ++i)
         doc["shapes"].push_back({{"type", "sphere"},
                                  {"center", {-0.9 + 0.045 * i, 0.1 + 0.05 * (i % 4), 0.03 * i - 0.6}},
