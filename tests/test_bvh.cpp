@@ -110,7 +110,8 @@ struct SceneBuffers {
 // 0, 64 per workgroup), each writing one Result (binding 1). The push constants are the
 // input count, the node buffer's device address and the traversal stacks' address and
 // entries per invocation (bvh_trace.comp's "_address" variant: wideStackDepth entries, as
-// the renderer gives them, so that a depth counted short would show in the results).
+// the renderer gives them; these scenes' rays seldom fill the stack, so a count one short
+// passes here, and Bvh.StackDepthIsTheLongestPathsInteriorNodes checks the count itself).
 template <class Result, class Input>
 std::vector<Result> runSceneKernel(const char* name, const Bvh& bvh,
                                    const std::vector<gpu::TriangleNormals>& shadingNormals,

@@ -30,8 +30,9 @@ uint32_t nearestChild(uint32_t hits, const float tEntry[WIDE_NODE_ARITY]) {
 // The loop behind both queries, step for step the `traverse` of shaders/geometry/bvh.glsl,
 // over the wide nodes (shared/types.h): while-while (descend to a leaf, then test its
 // primitives), nearest child first, a node with other children hit back on the stack with
-// their bits, tested again when popped; a return at the first hit for `anyHit`. Returns whether anything was hit; `hit` holds the closest hit found (for
-// `anyHit`, the first). `work` counts the nodes and primitives tested.
+// their bits, tested again when popped; a return at the first hit for `anyHit`. Returns
+// whether anything was hit; `hit` holds the closest hit found (for `anyHit`, the first).
+// `work` counts the nodes and primitives tested and the deepest the stack went.
 bool traverse(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax, bool anyHit, CpuHit& hit,
               TraversalWork& work) {
     hit.t = tMax;

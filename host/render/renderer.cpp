@@ -24,6 +24,9 @@ namespace {
 
 constexpr uint32_t kTile = PassBands::kTile;  // local_size_x/y of the integrator kernels
 
+// Tiles across `pixels` (the last one partly outside).
+uint32_t tilesFor(uint32_t pixels) { return (pixels + kTile - 1) / kTile; }
+
 // The integrator's kernel: with `inlineCount` inline slots in use, its "_inline<N>" variant
 // (render/inline_geometry.h, cmake/EmbedShaders.cmake), else the one for `nodeReads`
 // (render/node_reads.h). An inline kernel reads NODE_READS_STORAGE_32 as NODE_READS_STORAGE.
@@ -61,8 +64,7 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
       m_tileRowSlices(
           tileRowSlicesFor(context.info(), std::getenv("LP_NUM_THREADS"), std::thread::hardware_concurrency())),
       m_stackDepth(wideStackDepth(m_arrays.bvh.wideNodes)),
-      m_stackInvocations(
-          stackInvocationsFor((m_params.width + kTile - 1) / kTile, (m_params.height + kTile - 1) / kTile)) {
+      m_stackInvocations(stackInvocationsFor(tilesFor(m_params.width), tilesFor(m_params.height))) {
     using gpu::Buffer;
     m_paramsBuffer = Buffer(context, sizeof(gpu::RenderParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, 0,
                             VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, "render parameters");
@@ -119,7 +121,7 @@ void Renderer::allocateStacks() {
 }
 
 void Renderer::setStackInvocations(uint32_t invocations) {
-    m_stackInvocations = stackInvocationsFor((m_params.width + kTile - 1) / kTile, 1, invocations);
+    m_stackInvocations = stackInvocationsFor(tilesFor(m_params.width), 1, invocations);
     m_stacks = gpu::Buffer();
     allocateStacks();
 }
@@ -252,8 +254,9 @@ void Renderer::recordPasses(VkCommandBuffer cmd, uint32_t first, uint32_t count,
 void Renderer::recordDispatches(VkCommandBuffer cmd, const gpu::Kernel& kernel, uint32_t first, uint32_t count,
                                 uint32_t firstRow, uint32_t rowCount, uint32_t firstColumn,
                                 uint32_t columnCount) const {
-    const uint32_t tileColumns = (columnCount + kTile - 1) / kTile, tileRows = (rowCount + kTile - 1) / kTile;
-    const bool stacks = m_stacks.handle() != VK_NULL_HANDLE && m_options.nodeReads == NODE_READS_ADDRESS;
+    const uint32_t tileColumns = tilesFor(columnCount), tileRows = tilesFor(rowCount);
+    // allocateStacks made them for every kernel that reads nodes by address.
+    const bool stacks = m_options.nodeReads == NODE_READS_ADDRESS;
     const uint32_t step = stacks ? tileRowsPerDispatch(tileColumns, m_tileRowSlices, m_stackInvocations) : tileRows;
     for (uint32_t row = 0; row < tileRows; row += step) {
         const uint32_t rows = std::min(step, tileRows - row);

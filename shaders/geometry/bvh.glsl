@@ -43,15 +43,24 @@ uvec2 bvhNodeAddress();
 // array: on lavapipe 25.0 a store to a local array at a per-lane index is a loop over the
 // SIMD lanes with a branch on each lane's mask bit, which mispredicts as the lanes push at
 // random; a store through an address is one masked scatter (vpscatterqd), a load one
-// gather. 1.12-1.17x on scenes of 30k-1M primitives ("Round 13"). The kernel defines where
-// this invocation's entries start and how many it has (kernel_common.glsl: from
-// PassConstants; render/traversal_stacks.h sizes the buffer). An index past the last entry
-// is clamped to it, so that a tree deeper than the host counted could only change the
-// image, never write outside the buffer (Bvh.StackDepthIsTheLongestPathsInteriorNodes
-// checks the count).
+// gather. 1.12-1.17x on scenes of 30k-1M primitives ("Round 13"). The kernel defines the
+// buffer's address, the entries per invocation and which invocation this is
+// (kernel_common.glsl: from PassConstants and the dispatch; render/traversal_stacks.h sizes
+// the buffer). An index past the last entry is clamped to it, so that a tree deeper than
+// the host counted could only change the image, never write outside the buffer
+// (Bvh.StackDepthIsTheLongestPathsInteriorNodes checks the count).
 layout(buffer_reference, std430, buffer_reference_align = 4) restrict buffer TraversalStackAt { uint entries[]; };
 uvec2 bvhStackAddress();
 uint bvhStackDepth();
+uint bvhStackInvocation();
+
+// This invocation's bvhStackDepth() entries, from entry bvhStackInvocation() * bvhStackDepth().
+TraversalStackAt invocationStack() {
+    uvec2 base = bvhStackAddress();
+    uint carry;
+    uint low = uaddCarry(base.x, bvhStackInvocation() * bvhStackDepth() * 4u, carry);
+    return TraversalStackAt(uvec2(low, base.y + carry));
+}
 #endif
 #else
 layout(std430, binding = BINDING_NODE_WORDS) readonly restrict buffer NodeWords { uvec4 nodeWords[]; };
@@ -203,7 +212,7 @@ bool traverse(vec3 origin, vec3 dir, float tMax, bool anyHit, uint ignore, out H
     vec3 invDir = rayInverseDirection(dir);
     // Entries: node | children still to visit << WIDE_STACK_MASK_SHIFT.
 #ifdef PENUMBRA_NODE_ADDRESS
-    TraversalStackAt stack = TraversalStackAt(bvhStackAddress());
+    TraversalStackAt stack = invocationStack();
     uint lastEntry = bvhStackDepth() - 1u;
 #define PENUMBRA_STACK_ENTRY(i) stack.entries[min(uint(i), lastEntry)]
 #else

@@ -21,13 +21,11 @@ layout(std430, binding = BINDING_RAY_COUNT) restrict buffer RayCount { uint rayC
 // its traversal stack (geometry/bvh.glsl): entry i * stackDepth for invocation i of the
 // dispatch (render/traversal_stacks.h keeps the dispatches within the buffer).
 uvec2 bvhNodeAddress() { return uvec2(pass.nodeAddressLow, pass.nodeAddressHigh); }
+uvec2 bvhStackAddress() { return uvec2(pass.stackAddressLow, pass.stackAddressHigh); }
 uint bvhStackDepth() { return pass.stackDepth; }
-uvec2 bvhStackAddress() {
+uint bvhStackInvocation() {
     uvec3 size = gl_NumWorkGroups * gl_WorkGroupSize;
-    uint invocation = gl_GlobalInvocationID.x + size.x * (gl_GlobalInvocationID.y + size.y * gl_GlobalInvocationID.z);
-    uint carry;
-    uint low = uaddCarry(pass.stackAddressLow, invocation * pass.stackDepth * 4u, carry);
-    return uvec2(low, pass.stackAddressHigh + carry);
+    return gl_GlobalInvocationID.x + size.x * (gl_GlobalInvocationID.y + size.y * gl_GlobalInvocationID.z);
 }
 #endif
 

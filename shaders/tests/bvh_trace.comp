@@ -30,12 +30,9 @@ layout(push_constant) uniform Push {
 
 #ifdef PENUMBRA_NODE_ADDRESS
 uvec2 bvhNodeAddress() { return uvec2(nodeAddressLow, nodeAddressHigh); }
+uvec2 bvhStackAddress() { return uvec2(stackAddressLow, stackAddressHigh); }
 uint bvhStackDepth() { return stackDepth; }
-uvec2 bvhStackAddress() {
-    uint carry;
-    uint low = uaddCarry(stackAddressLow, gl_GlobalInvocationID.x * stackDepth * 4u, carry);
-    return uvec2(low, stackAddressHigh + carry);
-}
+uint bvhStackInvocation() { return gl_GlobalInvocationID.x; }
 #endif
 
 void main() {
