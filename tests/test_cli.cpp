@@ -243,8 +243,9 @@ TEST(Cli, DevicesPrintsTheDriverAndItsMesaVersion) {
     std::string next = out.substr(lineEnd + 1, out.find('\n', lineEnd + 1) - lineEnd - 1);
     EXPECT_EQ(next.rfind("    driver: " + first.driver, 0), 0u) << out;
     // On lavapipe that is the Mesa release, e.g. "llvmpipe, Mesa 22.3.6 (LLVM 15.0.6)".
-    if (first.driverName == "llvmpipe")
+    if (first.driverName == "llvmpipe") {
         EXPECT_TRUE(std::regex_search(next, std::regex(R"(driver: llvmpipe, Mesa \d+\.\d+\.\d+)"))) << next;
+    }
 }
 
 TEST(Cli, GltfModelRendersDirectlyWithTheEnvironmentNote) {
