@@ -225,8 +225,9 @@ TEST_P(PbrSampling, ChiSquarePdfFormulaReciprocityAndFurnace) {
 
         // f at the sampled pairs and swapped: reciprocal, non-negative, finite, equal to the
         // contract's formula. Reciprocity: both evaluations form the same half vector and
-        // |wo + wi| (commutative float sums); V's two products may be contracted into an
-        // fma differently: a few roundings of 2^-24, relative.
+        // |wo + wi| (commutative float sums), and `precise` (shaders/bsdf/pbr.glsl) keeps a
+        // driver from fusing the two evaluations' products differently (an NVIDIA H200
+        // did, before); the bound allows a few roundings of 2^-24, relative.
         std::vector<BsdfTestRecord> pairs(samples.size());
         for (size_t i = 0; i < samples.size(); ++i)
             pairs[i] = {glm::vec4(wo, 0.0f), glm::vec4(vec3(samples[i].a), 0.0f)};

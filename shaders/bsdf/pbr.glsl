@@ -25,22 +25,32 @@ float schlickWeight(float c) {
 // GGX / Trowbridge-Reitz D(h) = a^2 / (pi ((n.h)^2 (a^2 - 1) + 1)^2) (glTF Appendix B;
 // Walter et al. 2007, eq. 33), with the bracket written a^2 cos^2 + sin^2 and sin^2 taken
 // from |n x h|^2: 1 - cos^2 cancels catastrophically where D peaks (h within ~alpha of n).
+// `precise` here, in smithRoot, smithV and pbrEvalPdf's f: evaluated as f(wo, wi) and
+// f(wi, wo), the same operations on the same values must give the same result. A driver
+// free to fuse products into fmas can fuse differently at the two call sites. Near D's
+// peak |n x h| is about alpha, so one product fused in the cross product moves D by about
+// 2^-24 / alpha, relatively. That broke reciprocity on an NVIDIA H200 (docs/PERFORMANCE.md,
+// "On a GPU: NVIDIA H200").
 float ggxD(float alpha, vec3 n, vec3 h) {
-    float cosH = dot(n, h);
-    vec3 t = cross(n, h);
-    float a2 = alpha * alpha;
-    float d = a2 * cosH * cosH + dot(t, t);
-    return a2 / (PI * d * d);
+    precise float cosH = dot(n, h);
+    precise vec3 t = cross(n, h);
+    precise float a2 = alpha * alpha;
+    precise float d = a2 * cosH * cosH + dot(t, t);
+    precise float D = a2 / (PI * d * d);
+    return D;
 }
 
 // sqrt((n.v)^2 (1 - a^2) + a^2), written so that nothing cancels: the term of V and G1.
-float smithRoot(float cosTheta, float a2) { return sqrt(cosTheta * cosTheta + a2 * (1.0 - cosTheta * cosTheta)); }
+float smithRoot(float cosTheta, float a2) {
+    precise float root = sqrt(cosTheta * cosTheta + a2 * (1.0 - cosTheta * cosTheta));
+    return root;
+}
 
 // Height-correlated Smith visibility V = G2 / (4 n.l n.v) (glTF Appendix B; Heitz 2014,
 // "Understanding the Masking-Shadowing Function", eq. 99), cosines > 0.
 float smithV(float cosO, float cosI, float alpha) {
-    float a2 = alpha * alpha;
-    float denom = cosI * smithRoot(cosO, a2) + cosO * smithRoot(cosI, a2);
+    precise float a2 = alpha * alpha;
+    precise float denom = cosI * smithRoot(cosO, a2) + cosO * smithRoot(cosI, a2);
     // Only when both cosines are denormal: a measure-zero set, kept finite.
     return denom > 1e-30 ? 0.5 / denom : 0.0;
 }
@@ -79,13 +89,13 @@ BsdfValue pbrEvalPdf(Material m, vec3 n, vec3 wo, vec3 wi, float cosO, float cos
     vec3 h = sum / len;
     float alpha = pbrAlpha(m);
     float d = ggxD(alpha, n, h);
-    float specular = d * smithV(cosO, cosI, alpha);
+    precise float specular = d * smithV(cosO, cosI, alpha);
     // v.h = l.h = |wo + wi| / 2 for the half vector: symmetric in wo and wi (reciprocity).
     float w = schlickWeight(0.5 * len);
     float dielectricF = 0.04 + 0.96 * w;
     vec3 metalF = m.kd + (vec3(1.0) - m.kd) * w;
     float metallic = m.ks.x;
-    vec3 f = (1.0 - metallic) * ((1.0 - dielectricF) * m.kd * INV_PI + vec3(dielectricF * specular)) +
+    precise vec3 f = (1.0 - metallic) * ((1.0 - dielectricF) * m.kd * INV_PI + vec3(dielectricF * specular)) +
              metallic * metalF * specular;
     return BsdfValue(f, diffuseDensity + pSpecular * pbrSpecularPdf(d, alpha, cosO));
 }

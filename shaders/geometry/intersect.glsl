@@ -2,6 +2,15 @@
 // BVH that calls these is bvh.glsl). host/bvh/intersect.h holds the same code for the CPU,
 // operation for operation, and must change with this file.
 //
+// "Operation for operation" holds on every driver only because the tests' quantities are
+// `precise` (SPIR-V NoContraction). Otherwise a driver may fuse a product and a sum into
+// one fma, and NVIDIA's does. On an H200, rays starting just outside a sphere made the
+// sphere test's c = |f|^2 - r^2 cancel, so the fused rounding moved t by over 1e-4 from the
+// CPU's: the GPU was no less accurate, it just rounded differently (docs/PERFORMANCE.md,
+// "On a GPU: NVIDIA H200"). The CPU side compiles with -ffp-contract=off for the same
+// reason. lavapipe fuses nothing, and its kernels run the same instructions either way
+// (tools/bench-instructions).
+//
 // Contract: the ray is origin + t * dir (dir need not be unit length, but is in practice);
 // a hit counts only for t strictly inside (0, tMax). Both faces of triangles and quads hit.
 #ifndef PENUMBRA_INTERSECT_GLSL
@@ -26,14 +35,14 @@
 // every comparison below fails. uv = (u, v).
 bool intersectFlat(vec3 p0, vec3 e1, vec3 e2, bool parallelogram, vec3 origin, vec3 dir, float tMax, out float t,
                    out vec2 uv) {
-    vec3 pvec = cross(dir, e2);
-    float invDet = 1.0 / dot(e1, pvec);
-    vec3 tvec = origin - p0;
-    float u = dot(tvec, pvec) * invDet;
-    vec3 qvec = cross(tvec, e1);
-    float v = dot(dir, qvec) * invDet;
-    float tHit = dot(e2, qvec) * invDet;
-    float extent = parallelogram ? max(u, v) : u + v;
+    precise vec3 pvec = cross(dir, e2);
+    precise float invDet = 1.0 / dot(e1, pvec);
+    precise vec3 tvec = origin - p0;
+    precise float u = dot(tvec, pvec) * invDet;
+    precise vec3 qvec = cross(tvec, e1);
+    precise float v = dot(dir, qvec) * invDet;
+    precise float tHit = dot(e2, qvec) * invDet;
+    precise float extent = parallelogram ? max(u, v) : u + v;
     bool hit = u >= 0.0 && v >= 0.0 && extent <= 1.0 && tHit > 0.0 && tHit < tMax;
     t = hit ? tHit : 0.0;
     uv = hit ? vec2(u, v) : vec2(0.0);
@@ -54,15 +63,15 @@ bool intersectTriangle(vec3 p0, vec3 p1, vec3 p2, vec3 origin, vec3 dir, float t
 // tangent at the origin itself) fail the final test; host/bvh/intersect.h returns early
 // with the same values.
 bool intersectSphere(vec3 centre, float radius, vec3 origin, vec3 dir, float tMax, out float t) {
-    vec3 f = origin - centre;
-    float a = dot(dir, dir);
-    float b = -dot(f, dir);                                   // half the usual b, sign flipped
-    vec3 l = f + (b / a) * dir;                               // centre -> closest point on the line
-    float discriminant = a * (radius * radius - dot(l, l));   // = b^2 - a c, robustly
-    float c = dot(f, f) - radius * radius;
-    float q = b + (b >= 0.0 ? 1.0 : -1.0) * sqrt(max(discriminant, 0.0));
-    float t0 = c / q;
-    float t1 = q / a;
+    precise vec3 f = origin - centre;
+    precise float a = dot(dir, dir);
+    precise float b = -dot(f, dir);                           // half the usual b, sign flipped
+    precise vec3 l = f + (b / a) * dir;                       // centre -> closest point on the line
+    precise float discriminant = a * (radius * radius - dot(l, l));  // = b^2 - a c, robustly
+    precise float c = dot(f, f) - radius * radius;
+    precise float q = b + (b >= 0.0 ? 1.0 : -1.0) * sqrt(max(discriminant, 0.0));
+    precise float t0 = c / q;
+    precise float t1 = q / a;
     float tNear = min(t0, t1);
     float tFar = max(t0, t1);
     bool nearHit = tNear > 0.0 && tNear < tMax;
