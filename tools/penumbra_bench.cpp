@@ -19,6 +19,8 @@
 // EmitterFirst; default rule), so that one build measures both paths on any scene.
 // --node-reads device|texels|storage|storage32|address: where the traversal reads BVH nodes from
 // (render/node_reads.h; default device, the driver's choice), likewise.
+// --lanes prints, per scene, the node steps of camera and AO rays per ray and per SIMD group
+// of eight lanes, and the share of lane iterations that do work (laneUse below).
 // --brdf-ray-fates prints, per scene, what the emitter-first rule sees (the fractions of
 // probe rays that hit an emitter, something else, or nothing, and the mean work of their
 // closest-hit traversal) and what it chooses.
@@ -32,6 +34,7 @@
 #include <cstdio>
 #include <cstring>
 #include <initializer_list>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -45,6 +48,7 @@
 #endif
 
 #include "bvh/bvh.h"
+#include "bvh/intersect.h"
 #include "gpu/context.h"
 #include "gpu/gpu_timer.h"
 #include "render/pass_bands.h"
@@ -235,11 +239,74 @@ void lowSppBreakdown(const gpu::Context& context, Scene scene, int runs) {
                 median(perSubmission), median(perDispatch));
 }
 
+// --lanes: how much of llvmpipe's SIMD width the traversal loops use. llvmpipe runs a row
+// of eight invocations of the 8x8 workgroup (eight adjacent pixels of a tile,
+// integrators/kernel_common.glsl) in one SIMD group, and a traversal loop runs until its
+// last lane is done. The CPU mirror (bvh/traverse.cpp) counts each ray's node steps, step
+// for step as the kernel takes them. A group runs at least as many iterations as its
+// costliest lane, so steps / (8 x the sum of the groups' maxima) bounds from above the share
+// of lane iterations that do work. The bound is loose: the while-while loop's descent and
+// leaf loops each wait for their own slowest lane, so the real share is lower. Rays: one
+// per pixel centre, and from each hit one unbounded any-hit ray in a cosine-distributed
+// direction (the normal plus a uniform point on the sphere), an AO ray.
+void laneUse(const std::string& name) {
+    Scene scene = benchScene(name);
+    SceneArrays arrays = buildSceneArrays(scene);
+    const gpu::RenderParams p = makeRenderParams(scene, arrays);
+    const Bvh& bvh = arrays.bvh;
+    std::mt19937 rng(1);
+    std::uniform_real_distribution<float> uniform(-1.0f, 1.0f);
+    struct Use {
+        double steps = 0, rays = 0, groupMaxima = 0, groups = 0;
+    } camera, ao;
+    for (uint32_t y = 0; y < p.height; ++y)
+        for (uint32_t x0 = 0; x0 < p.width; x0 += 8) {
+            uint32_t cameraMax = 0, aoMax = 0, aoLanes = 0;
+            for (uint32_t x = x0; x < std::min(x0 + 8, p.width); ++x) {
+                // A pixel-centre ray, as cameraRay in integrators/kernel_common.glsl.
+                const float sx = (2.0f * (x + 0.5f) / p.width - 1.0f) * p.aspect * p.tanHalfFovY;
+                const float sy = (1.0f - 2.0f * (y + 0.5f) / p.height) * p.tanHalfFovY;
+                const glm::vec3 dir = glm::normalize(p.forward + sx * p.right + sy * p.up);
+                TraversalWork work;
+                const auto hit = intersectClosest(bvh, p.eye, dir, 3.4e38f, &work);
+                camera.steps += work.nodes;
+                camera.rays += 1;
+                cameraMax = std::max(cameraMax, work.nodes);
+                if (!hit) continue;
+                const glm::vec3 at = p.eye + hit->t * dir;
+                glm::vec3 n = glm::normalize(primitiveNormal(bvh.primitives[hit->primitive], at));
+                if (glm::dot(n, dir) > 0.0f) n = -n;
+                glm::vec3 r;
+                do r = glm::vec3(uniform(rng), uniform(rng), uniform(rng));
+                while (glm::dot(r, r) > 1.0f || glm::dot(r, r) < 1e-6f);
+                const glm::vec3 aoDir = glm::normalize(n + glm::normalize(r));
+                TraversalWork aoWork;
+                intersectAny(bvh, at + n * (1e-4f * (1.0f + glm::length(at))), aoDir, 3.4e38f, &aoWork);
+                ao.steps += aoWork.nodes;
+                ao.rays += 1;
+                aoMax = std::max(aoMax, aoWork.nodes);
+                ++aoLanes;
+            }
+            camera.groupMaxima += cameraMax;
+            camera.groups += 1;
+            if (aoLanes > 0) {
+                ao.groupMaxima += aoMax;
+                ao.groups += 1;
+            }
+        }
+    const auto line = [&](const char* kind, const Use& u) {
+        std::printf("%-28s %-7s %9.0f %11.2f %13.2f %8.3f\n", name.c_str(), kind, u.rays, u.steps / std::max(u.rays, 1.0),
+                    u.groupMaxima / std::max(u.groups, 1.0), u.steps / std::max(8.0 * u.groupMaxima, 1.0));
+    };
+    line("camera", camera);
+    line("ao", ao);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     int runs = 5;
-    bool countOnly = false, lowSpp = false, fatesOnly = false, instructions = false;
+    bool countOnly = false, lowSpp = false, fatesOnly = false, lanesOnly = false, instructions = false;
     uint32_t spp = 0;
     EmitterFirst emitterFirst = EmitterFirst::Rule;
     InlineGeometry inlineGeometry = InlineGeometry::Rule;
@@ -250,6 +317,7 @@ int main(int argc, char** argv) {
         else if (!std::strcmp(argv[i], "--count-rays")) countOnly = true;
         else if (!std::strcmp(argv[i], "--low-spp")) lowSpp = true;
         else if (!std::strcmp(argv[i], "--brdf-ray-fates")) fatesOnly = true;
+        else if (!std::strcmp(argv[i], "--lanes")) lanesOnly = true;
         else if (!std::strcmp(argv[i], "--instructions")) instructions = true;
         else if (!std::strcmp(argv[i], "--spp") && i + 1 < argc) spp = uint32_t(std::max(1, std::atoi(argv[++i])));
         else if (!std::strcmp(argv[i], "--emitter-first") && i + 1 < argc) {
@@ -282,12 +350,17 @@ int main(int argc, char** argv) {
         std::fprintf(stderr,
                      "usage: penumbra_bench [--runs N] [--spp N] [--emitter-first rule|off|exact] [--inline rule|off]\n"
                      "                      [--node-reads device|texels|storage|storage32|address]\n"
-                     "                      [--count-rays | --low-spp | --brdf-ray-fates | --instructions]\n"
+                     "                      [--count-rays | --low-spp | --brdf-ray-fates | --lanes | --instructions]\n"
                      "                      SCENE|procedural:N ...\n"
                      "       penumbra_bench --write-mesh N FILE\n");
         return 2;
     }
     try {
+        if (lanesOnly) {
+            std::printf("%-28s %-7s %9s %11s %13s %8s\n", "scene", "rays", "count", "steps/ray", "group max", "share");
+            for (const std::string& name : scenes) laneUse(name);
+            return 0;
+        }
         gpu::Context context;
         if (lowSpp) {
             for (const std::string& name : scenes) lowSppBreakdown(context, benchScene(name), runs);

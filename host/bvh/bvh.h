@@ -70,7 +70,7 @@ struct TraversalWork {
 // `work`, when given, gets the traversal's steps added to it.
 std::optional<CpuHit> intersectClosest(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax,
                                        TraversalWork* work = nullptr);
-bool intersectAny(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax);
+bool intersectAny(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax, TraversalWork* work = nullptr);
 // Every primitive tested in turn: the reference the BVH must agree with.
 std::optional<CpuHit> intersectBruteForce(const std::vector<gpu::Primitive>& primitives, glm::vec3 origin,
                                           glm::vec3 dir, float tMax);

@@ -97,6 +97,15 @@ inline bool intersectPrimitive(const gpu::Primitive& primitive, glm::vec3 origin
     return false;
 }
 
+// The geometric front normal of `p` at x, a point on it (unnormalized for flat shapes).
+inline glm::vec3 primitiveNormal(const gpu::Primitive& p, glm::vec3 x) {
+    switch (p.typeAndNormals & gpu::PRIM_TYPE_MASK) {
+        case gpu::PRIM_SPHERE: return x - p.p0;
+        case gpu::PRIM_QUAD: return glm::cross(p.p1, p.p2);
+        default: return glm::cross(p.p1 - p.p0, p.p2 - p.p0);
+    }
+}
+
 // 1 / dir with zero components replaced by 1 / 1e-20 (sign kept for -0.0 as +), so the slab
 // test below never forms 0 * inf = NaN and every inverse is finite.
 inline glm::vec3 rayInverseDirection(glm::vec3 dir) {

@@ -102,24 +102,30 @@ bool traverse(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax, bool 
 
 }  // namespace
 
+namespace {
+void addWork(TraversalWork& total, const TraversalWork& one) {
+    total.nodes += one.nodes;
+    total.primitives += one.primitives;
+    total.deepestStack = std::max(total.deepestStack, one.deepestStack);
+}
+}  // namespace
+
 std::optional<CpuHit> intersectClosest(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax,
                                        TraversalWork* work) {
     CpuHit hit;
     TraversalWork counted;
     bool found = traverse(bvh, origin, dir, tMax, false, hit, counted);
-    if (work) {
-        work->nodes += counted.nodes;
-        work->primitives += counted.primitives;
-        work->deepestStack = std::max(work->deepestStack, counted.deepestStack);
-    }
+    if (work) addWork(*work, counted);
     if (!found) return std::nullopt;
     return hit;
 }
 
-bool intersectAny(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax) {
+bool intersectAny(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax, TraversalWork* work) {
     CpuHit hit;
-    TraversalWork work;
-    return traverse(bvh, origin, dir, tMax, true, hit, work);
+    TraversalWork counted;
+    bool found = traverse(bvh, origin, dir, tMax, true, hit, counted);
+    if (work) addWork(*work, counted);
+    return found;
 }
 
 std::optional<CpuHit> intersectBruteForce(const std::vector<gpu::Primitive>& primitives, glm::vec3 origin,

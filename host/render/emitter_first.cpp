@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "bvh/bvh.h"
+#include "bvh/intersect.h"
 
 namespace penumbra {
 
@@ -27,15 +28,6 @@ namespace {
 
 constexpr int kCameraGrid = 16;  // camera rays per film axis
 constexpr int kBrdfGrid = 4;     // cosine directions per axis at each camera hit
-
-// The front normal of `p` at x (unnormalized for flat shapes).
-glm::vec3 primitiveNormal(const gpu::Primitive& p, glm::vec3 x) {
-    switch (p.typeAndNormals & gpu::PRIM_TYPE_MASK) {
-        case gpu::PRIM_SPHERE: return x - p.p0;
-        case gpu::PRIM_QUAD: return glm::cross(p.p1, p.p2);
-        default: return glm::cross(p.p1 - p.p0, p.p2 - p.p0);
-    }
-}
 
 // A fixed, well-spread number in [0, 1) per (i, j): the fractional part of a 2D
 // Kronecker sequence (Roberts' R2 constants), so each camera hit gets a shifted grid.
