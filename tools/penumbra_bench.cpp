@@ -248,7 +248,19 @@ void lowSppBreakdown(const gpu::Context& context, Scene scene, int runs) {
 // of lane iterations that do work. The bound is loose: the while-while loop's descent and
 // leaf loops each wait for their own slowest lane, so the real share is lower. Rays: one
 // per pixel centre, and from each hit one unbounded any-hit ray in a cosine-distributed
-// direction (the normal plus a uniform point on the sphere), an AO ray.
+// direction (the normal plus a uniform point on the sphere), an AO ray. A third line puts
+// the AO rays in groups of eight by their direction's octant and their origin's Morton
+// code (10 bits an axis, over the origins' bounds), as a wavefront renderer could regroup
+// them before tracing: the share that regrouping would reach.
+uint32_t spreadBits10(uint32_t v) {  // bits 0-9 of v to bits 0, 3, 6, ... 27
+    v &= 0x3ffu;
+    v = (v | v << 16) & 0x030000ffu;
+    v = (v | v << 8) & 0x0300f00fu;
+    v = (v | v << 4) & 0x030c30c3u;
+    v = (v | v << 2) & 0x09249249u;
+    return v;
+}
+
 void laneUse(const std::string& name) {
     Scene scene = benchScene(name);
     SceneArrays arrays = buildSceneArrays(scene);
@@ -258,7 +270,12 @@ void laneUse(const std::string& name) {
     std::uniform_real_distribution<float> uniform(-1.0f, 1.0f);
     struct Use {
         double steps = 0, rays = 0, groupMaxima = 0, groups = 0;
-    } camera, ao;
+    } camera, ao, regrouped;
+    struct AoRay {
+        glm::vec3 origin;
+        uint32_t octant, steps;
+    };
+    std::vector<AoRay> aoRays;
     for (uint32_t y = 0; y < p.height; ++y)
         for (uint32_t x0 = 0; x0 < p.width; x0 += 8) {
             uint32_t cameraMax = 0, aoMax = 0, aoLanes = 0;
@@ -281,7 +298,10 @@ void laneUse(const std::string& name) {
                 while (glm::dot(r, r) > 1.0f || glm::dot(r, r) < 1e-6f);
                 const glm::vec3 aoDir = glm::normalize(n + glm::normalize(r));
                 TraversalWork aoWork;
-                intersectAny(bvh, at + n * (1e-4f * (1.0f + glm::length(at))), aoDir, 3.4e38f, &aoWork);
+                const glm::vec3 aoOrigin = at + n * (1e-4f * (1.0f + glm::length(at)));
+                intersectAny(bvh, aoOrigin, aoDir, 3.4e38f, &aoWork);
+                aoRays.push_back({aoOrigin, uint32_t(aoDir.x < 0) | uint32_t(aoDir.y < 0) << 1 | uint32_t(aoDir.z < 0) << 2,
+                                  aoWork.nodes});
                 ao.steps += aoWork.nodes;
                 ao.rays += 1;
                 aoMax = std::max(aoMax, aoWork.nodes);
@@ -294,12 +314,38 @@ void laneUse(const std::string& name) {
                 ao.groups += 1;
             }
         }
+    if (!aoRays.empty()) {
+        glm::vec3 lo(3.4e38f), hi(-3.4e38f);
+        for (const AoRay& r : aoRays) {
+            lo = glm::min(lo, r.origin);
+            hi = glm::max(hi, r.origin);
+        }
+        const glm::vec3 scale = 1023.0f / glm::max(hi - lo, glm::vec3(1e-30f));
+        std::vector<std::pair<uint64_t, uint32_t>> keyed;  // (octant, Morton code), steps
+        for (const AoRay& r : aoRays) {
+            const glm::uvec3 q = glm::uvec3(glm::clamp((r.origin - lo) * scale, glm::vec3(0.0f), glm::vec3(1023.0f)));
+            const uint64_t morton = spreadBits10(q.x) | spreadBits10(q.y) << 1 | spreadBits10(q.z) << 2;
+            keyed.push_back({uint64_t(r.octant) << 32 | morton, r.steps});
+        }
+        std::sort(keyed.begin(), keyed.end());
+        for (size_t i = 0; i < keyed.size(); i += 8) {
+            uint32_t most = 0;
+            for (size_t j = i; j < std::min(i + 8, keyed.size()); ++j) {
+                regrouped.steps += keyed[j].second;
+                regrouped.rays += 1;
+                most = std::max(most, keyed[j].second);
+            }
+            regrouped.groupMaxima += most;
+            regrouped.groups += 1;
+        }
+    }
     const auto line = [&](const char* kind, const Use& u) {
-        std::printf("%-28s %-7s %9.0f %11.2f %13.2f %8.3f\n", name.c_str(), kind, u.rays, u.steps / std::max(u.rays, 1.0),
+        std::printf("%-28s %-14s %9.0f %11.2f %13.2f %8.3f\n", name.c_str(), kind, u.rays, u.steps / std::max(u.rays, 1.0),
                     u.groupMaxima / std::max(u.groups, 1.0), u.steps / std::max(8.0 * u.groupMaxima, 1.0));
     };
     line("camera", camera);
     line("ao", ao);
+    line("ao, regrouped", regrouped);
 }
 
 }  // namespace
@@ -357,7 +403,7 @@ int main(int argc, char** argv) {
     }
     try {
         if (lanesOnly) {
-            std::printf("%-28s %-7s %9s %11s %13s %8s\n", "scene", "rays", "count", "steps/ray", "group max", "share");
+            std::printf("%-28s %-14s %9s %11s %13s %8s\n", "scene", "rays", "count", "steps/ray", "group max", "share");
             for (const std::string& name : scenes) laneUse(name);
             return 0;
         }
