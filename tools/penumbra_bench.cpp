@@ -300,7 +300,8 @@ void laneUse(const std::string& name) {
                 TraversalWork aoWork;
                 const glm::vec3 aoOrigin = at + n * (1e-4f * (1.0f + glm::length(at)));
                 intersectAny(bvh, aoOrigin, aoDir, 3.4e38f, &aoWork);
-                aoRays.push_back({aoOrigin, uint32_t(aoDir.x < 0) | uint32_t(aoDir.y < 0) << 1 | uint32_t(aoDir.z < 0) << 2,
+                aoRays.push_back({aoOrigin,
+                                  uint32_t(aoDir.x < 0) | uint32_t(aoDir.y < 0) << 1 | uint32_t(aoDir.z < 0) << 2,
                                   aoWork.nodes});
                 ao.steps += aoWork.nodes;
                 ao.rays += 1;
@@ -340,8 +341,9 @@ void laneUse(const std::string& name) {
         }
     }
     const auto line = [&](const char* kind, const Use& u) {
-        std::printf("%-28s %-14s %9.0f %11.2f %13.2f %8.3f\n", name.c_str(), kind, u.rays, u.steps / std::max(u.rays, 1.0),
-                    u.groupMaxima / std::max(u.groups, 1.0), u.steps / std::max(8.0 * u.groupMaxima, 1.0));
+        std::printf("%-28s %-14s %9.0f %11.2f %13.2f %8.3f\n", name.c_str(), kind, u.rays,
+                    u.steps / std::max(u.rays, 1.0), u.groupMaxima / std::max(u.groups, 1.0),
+                    u.steps / std::max(8.0 * u.groupMaxima, 1.0));
     };
     line("camera", camera);
     line("ao", ao);
