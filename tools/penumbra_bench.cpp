@@ -19,8 +19,8 @@
 // EmitterFirst; default rule), so that one build measures both paths on any scene.
 // --node-reads device|texels|storage|storage32|address: where the traversal reads BVH nodes from
 // (render/node_reads.h; default device, the driver's choice), likewise.
-// --lanes prints, per scene, the node steps of camera and AO rays per ray and per SIMD group
-// of eight lanes, and the share of lane iterations that do work (laneUse below).
+// --lanes prints, per scene, the node steps and primitive tests of camera and AO rays, and
+// the share of a SIMD group's lane iterations that do work for them (laneUse below).
 // --brdf-ray-fates prints, per scene, what the emitter-first rule sees (the fractions of
 // probe rays that hit an emitter, something else, or nothing, and the mean work of their
 // closest-hit traversal) and what it chooses.
@@ -239,19 +239,19 @@ void lowSppBreakdown(const gpu::Context& context, Scene scene, int runs) {
                 median(perSubmission), median(perDispatch));
 }
 
-// --lanes: how much of llvmpipe's SIMD width the traversal loops use. llvmpipe runs a row
-// of eight invocations of the 8x8 workgroup (eight adjacent pixels of a tile,
-// integrators/kernel_common.glsl) in one SIMD group, and a traversal loop runs until its
-// last lane is done. The CPU mirror (bvh/traverse.cpp) counts each ray's node steps, step
-// for step as the kernel takes them. A group runs at least as many iterations as its
-// costliest lane, so steps / (8 x the sum of the groups' maxima) bounds from above the share
-// of lane iterations that do work. The bound is loose: the while-while loop's descent and
-// leaf loops each wait for their own slowest lane, so the real share is lower. Rays: one
-// per pixel centre, and from each hit one unbounded any-hit ray in a cosine-distributed
-// direction (the normal plus a uniform point on the sphere), an AO ray. A third line puts
-// the AO rays in groups of eight by their direction's octant and their origin's Morton
-// code (10 bits an axis, over the origins' bounds), as a wavefront renderer could regroup
-// them before tracing: the share that regrouping would reach.
+// --lanes: how much of llvmpipe's SIMD width the traversals use. llvmpipe runs a row of
+// eight invocations of the 8x8 workgroup (eight adjacent pixels of a tile,
+// integrators/kernel_common.glsl) in one SIMD group, and a loop runs until its last lane is
+// done. The CPU mirror (bvh/traverse.cpp) takes the kernel's steps and records each ray's
+// rounds of the outer loop (nodes its descent tested, primitives its leaf tested). Replayed
+// in lockstep, as the group runs them, round k of a group costs its lanes' largest descent
+// plus their largest leaf. The share of lane iterations that do work is what the lanes
+// tested over eight times what the group ran, for node steps and for primitive tests apart.
+// Rays: one per pixel centre, and from each hit one unbounded any-hit ray in a
+// cosine-distributed direction (the normal plus a uniform point on the sphere), an AO ray.
+// A third line groups the AO rays in eights by their direction's octant and their origin's
+// Morton code (10 bits an axis, over the origins' bounds), as a wavefront renderer could
+// regroup them before tracing; that also fills the lanes a missed camera ray leaves idle.
 uint32_t spreadBits10(uint32_t v) {  // bits 0-9 of v to bits 0, 3, 6, ... 27
     v &= 0x3ffu;
     v = (v | v << 16) & 0x030000ffu;
@@ -261,6 +261,44 @@ uint32_t spreadBits10(uint32_t v) {  // bits 0-9 of v to bits 0, 3, 6, ... 27
     return v;
 }
 
+struct LaneRay {
+    std::vector<uint32_t> rounds;  // TraversalWork::rounds
+    glm::vec3 origin{0.0f};
+    uint32_t octant = 0;
+};
+
+// Node steps and primitive tests of rays, and what their SIMD groups ran for them.
+struct LaneUse {
+    double rays = 0, nodes = 0, primitives = 0, groupNodes = 0, groupPrimitives = 0;
+
+    void addGroup(const std::vector<const LaneRay*>& lanes) {
+        size_t roundCount = 0;
+        for (const LaneRay* lane : lanes) {
+            rays += 1;
+            for (uint32_t r : lane->rounds) {
+                nodes += r >> 16;
+                primitives += r & 0xffffu;
+            }
+            roundCount = std::max(roundCount, lane->rounds.size());
+        }
+        for (size_t k = 0; k < roundCount; ++k) {
+            uint32_t descent = 0, leaf = 0;
+            for (const LaneRay* lane : lanes)
+                if (k < lane->rounds.size()) {
+                    descent = std::max(descent, lane->rounds[k] >> 16);
+                    leaf = std::max(leaf, lane->rounds[k] & 0xffffu);
+                }
+            groupNodes += descent;
+            groupPrimitives += leaf;
+        }
+    }
+    void print(const std::string& scene, const char* kind) const {
+        std::printf("%-28s %-14s %9.0f %10.2f %10.3f %10.2f %10.3f\n", scene.c_str(), kind, rays,
+                    nodes / std::max(rays, 1.0), nodes / std::max(8.0 * groupNodes, 1.0),
+                    primitives / std::max(rays, 1.0), primitives / std::max(8.0 * groupPrimitives, 1.0));
+    }
+};
+
 void laneUse(const std::string& name) {
     Scene scene = benchScene(name);
     SceneArrays arrays = buildSceneArrays(scene);
@@ -268,27 +306,22 @@ void laneUse(const std::string& name) {
     const Bvh& bvh = arrays.bvh;
     std::mt19937 rng(1);
     std::uniform_real_distribution<float> uniform(-1.0f, 1.0f);
-    struct Use {
-        double steps = 0, rays = 0, groupMaxima = 0, groups = 0;
-    } camera, ao, regrouped;
-    struct AoRay {
-        glm::vec3 origin;
-        uint32_t octant, steps;
-    };
-    std::vector<AoRay> aoRays;
+    LaneUse camera, ao, regrouped;
+    std::vector<LaneRay> aoRays;
+    aoRays.reserve(size_t(p.width) * p.height);
     for (uint32_t y = 0; y < p.height; ++y)
         for (uint32_t x0 = 0; x0 < p.width; x0 += 8) {
-            uint32_t cameraMax = 0, aoMax = 0, aoLanes = 0;
+            std::vector<LaneRay> cameraLanes;
+            const size_t firstAo = aoRays.size();
             for (uint32_t x = x0; x < std::min(x0 + 8, p.width); ++x) {
                 // A pixel-centre ray, as cameraRay in integrators/kernel_common.glsl.
                 const float sx = (2.0f * (x + 0.5f) / p.width - 1.0f) * p.aspect * p.tanHalfFovY;
                 const float sy = (1.0f - 2.0f * (y + 0.5f) / p.height) * p.tanHalfFovY;
                 const glm::vec3 dir = glm::normalize(p.forward + sx * p.right + sy * p.up);
+                cameraLanes.emplace_back();
                 TraversalWork work;
+                work.rounds = &cameraLanes.back().rounds;
                 const auto hit = intersectClosest(bvh, p.eye, dir, 3.4e38f, &work);
-                camera.steps += work.nodes;
-                camera.rays += 1;
-                cameraMax = std::max(cameraMax, work.nodes);
                 if (!hit) continue;
                 const glm::vec3 at = p.eye + hit->t * dir;
                 glm::vec3 n = glm::normalize(primitiveNormal(bvh.primitives[hit->primitive], at));
@@ -297,57 +330,44 @@ void laneUse(const std::string& name) {
                 do r = glm::vec3(uniform(rng), uniform(rng), uniform(rng));
                 while (glm::dot(r, r) > 1.0f || glm::dot(r, r) < 1e-6f);
                 const glm::vec3 aoDir = glm::normalize(n + glm::normalize(r));
+                LaneRay& aoRay = aoRays.emplace_back();
+                aoRay.origin = at + n * (1e-4f * (1.0f + glm::length(at)));
+                aoRay.octant = uint32_t(aoDir.x < 0) | uint32_t(aoDir.y < 0) << 1 | uint32_t(aoDir.z < 0) << 2;
                 TraversalWork aoWork;
-                const glm::vec3 aoOrigin = at + n * (1e-4f * (1.0f + glm::length(at)));
-                intersectAny(bvh, aoOrigin, aoDir, 3.4e38f, &aoWork);
-                aoRays.push_back({aoOrigin,
-                                  uint32_t(aoDir.x < 0) | uint32_t(aoDir.y < 0) << 1 | uint32_t(aoDir.z < 0) << 2,
-                                  aoWork.nodes});
-                ao.steps += aoWork.nodes;
-                ao.rays += 1;
-                aoMax = std::max(aoMax, aoWork.nodes);
-                ++aoLanes;
+                aoWork.rounds = &aoRay.rounds;
+                intersectAny(bvh, aoRay.origin, aoDir, 3.4e38f, &aoWork);
             }
-            camera.groupMaxima += cameraMax;
-            camera.groups += 1;
-            if (aoLanes > 0) {
-                ao.groupMaxima += aoMax;
-                ao.groups += 1;
-            }
+            std::vector<const LaneRay*> lanes;
+            for (const LaneRay& lane : cameraLanes) lanes.push_back(&lane);
+            camera.addGroup(lanes);
+            lanes.clear();
+            for (size_t i = firstAo; i < aoRays.size(); ++i) lanes.push_back(&aoRays[i]);
+            // Lanes whose camera ray missed idle in the AO group: it is still eight wide.
+            if (!lanes.empty()) ao.addGroup(lanes);
         }
     if (!aoRays.empty()) {
         glm::vec3 lo(3.4e38f), hi(-3.4e38f);
-        for (const AoRay& r : aoRays) {
+        for (const LaneRay& r : aoRays) {
             lo = glm::min(lo, r.origin);
             hi = glm::max(hi, r.origin);
         }
         const glm::vec3 scale = 1023.0f / glm::max(hi - lo, glm::vec3(1e-30f));
-        std::vector<std::pair<uint64_t, uint32_t>> keyed;  // (octant, Morton code), steps
-        for (const AoRay& r : aoRays) {
+        std::vector<std::pair<uint64_t, const LaneRay*>> keyed;  // (octant, Morton code), ray
+        for (const LaneRay& r : aoRays) {
             const glm::uvec3 q = glm::uvec3(glm::clamp((r.origin - lo) * scale, glm::vec3(0.0f), glm::vec3(1023.0f)));
             const uint64_t morton = spreadBits10(q.x) | spreadBits10(q.y) << 1 | spreadBits10(q.z) << 2;
-            keyed.push_back({uint64_t(r.octant) << 32 | morton, r.steps});
+            keyed.push_back({uint64_t(r.octant) << 32 | morton, &r});
         }
-        std::sort(keyed.begin(), keyed.end());
+        std::sort(keyed.begin(), keyed.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
         for (size_t i = 0; i < keyed.size(); i += 8) {
-            uint32_t most = 0;
-            for (size_t j = i; j < std::min(i + 8, keyed.size()); ++j) {
-                regrouped.steps += keyed[j].second;
-                regrouped.rays += 1;
-                most = std::max(most, keyed[j].second);
-            }
-            regrouped.groupMaxima += most;
-            regrouped.groups += 1;
+            std::vector<const LaneRay*> lanes;
+            for (size_t j = i; j < std::min(i + 8, keyed.size()); ++j) lanes.push_back(keyed[j].second);
+            regrouped.addGroup(lanes);
         }
     }
-    const auto line = [&](const char* kind, const Use& u) {
-        std::printf("%-28s %-14s %9.0f %11.2f %13.2f %8.3f\n", name.c_str(), kind, u.rays,
-                    u.steps / std::max(u.rays, 1.0), u.groupMaxima / std::max(u.groups, 1.0),
-                    u.steps / std::max(8.0 * u.groupMaxima, 1.0));
-    };
-    line("camera", camera);
-    line("ao", ao);
-    line("ao, regrouped", regrouped);
+    camera.print(name, "camera");
+    ao.print(name, "ao");
+    regrouped.print(name, "ao, regrouped");
 }
 
 }  // namespace
@@ -405,7 +425,8 @@ int main(int argc, char** argv) {
     }
     try {
         if (lanesOnly) {
-            std::printf("%-28s %-14s %9s %11s %13s %8s\n", "scene", "rays", "count", "steps/ray", "group max", "share");
+            std::printf("%-28s %-14s %9s %10s %10s %10s %10s\n", "scene", "rays", "count", "nodes/ray", "share",
+                        "prims/ray", "share");
             for (const std::string& name : scenes) laneUse(name);
             return 0;
         }

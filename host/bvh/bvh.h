@@ -64,6 +64,10 @@ struct TraversalWork {
     uint32_t nodes = 0;
     uint32_t primitives = 0;
     uint32_t deepestStack = 0;  // the most entries the traversal stack held (at most wideStackDepth)
+    // When set, one entry per round of the traversal's outer loop: the nodes its descent
+    // tested, << 16, | the primitives its leaf tested (penumbra_bench --lanes replays the
+    // rounds of eight rays in lockstep, as a SIMD group runs them).
+    std::vector<uint32_t>* rounds = nullptr;
 };
 
 // Closest hit with t in (0, tMax), and whether any hit exists; the same formulas as the GLSL.

@@ -51,6 +51,11 @@ bool traverse(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax, bool 
         // Descend to a leaf, or until no allowed child is hit.
         bool atLeaf = false;
         uint32_t leaf = 0;
+        const uint32_t nodesBefore = work.nodes, primitivesBefore = work.primitives;
+        const auto endRound = [&] {
+            if (work.rounds)
+                work.rounds->push_back((work.nodes - nodesBefore) << 16 | (work.primitives - primitivesBefore));
+        };
         while (true) {
             ++work.nodes;
             const gpu::WideNode& wide = bvh.wideNodes[node];
@@ -88,10 +93,14 @@ bool traverse(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax, bool 
                     hit.t = t;
                     hit.primitive = i;
                     hit.uv = uv;
-                    if (anyHit) return true;
+                    if (anyHit) {
+                        endRound();
+                        return true;
+                    }
                 }
             }
         }
+        endRound();
         if (sp == 0) break;
         --sp;
         node = stack[sp] & gpu::WIDE_STACK_NODE_MASK;
@@ -114,6 +123,7 @@ std::optional<CpuHit> intersectClosest(const Bvh& bvh, glm::vec3 origin, glm::ve
                                        TraversalWork* work) {
     CpuHit hit;
     TraversalWork counted;
+    counted.rounds = work ? work->rounds : nullptr;
     bool found = traverse(bvh, origin, dir, tMax, false, hit, counted);
     if (work) addWork(*work, counted);
     if (!found) return std::nullopt;
@@ -123,6 +133,7 @@ std::optional<CpuHit> intersectClosest(const Bvh& bvh, glm::vec3 origin, glm::ve
 bool intersectAny(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax, TraversalWork* work) {
     CpuHit hit;
     TraversalWork counted;
+    counted.rounds = work ? work->rounds : nullptr;
     bool found = traverse(bvh, origin, dir, tMax, true, hit, counted);
     if (work) addWork(*work, counted);
     return found;
