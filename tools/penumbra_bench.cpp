@@ -48,10 +48,10 @@
 #endif
 
 #include "bvh/bvh.h"
-#include "bvh/intersect.h"
 #include "gpu/context.h"
 #include "gpu/gpu_timer.h"
 #include "render/pass_bands.h"
+#include "render/probe_rays.h"
 #include "render/renderer.h"
 #include "scene/load.h"
 
@@ -314,24 +314,18 @@ void laneUse(const std::string& name) {
             std::vector<LaneRay> cameraLanes;
             const size_t firstAo = aoRays.size();
             for (uint32_t x = x0; x < std::min(x0 + 8, p.width); ++x) {
-                // A pixel-centre ray, as cameraRay in integrators/kernel_common.glsl.
-                const float sx = (2.0f * (x + 0.5f) / p.width - 1.0f) * p.aspect * p.tanHalfFovY;
-                const float sy = (1.0f - 2.0f * (y + 0.5f) / p.height) * p.tanHalfFovY;
-                const glm::vec3 dir = glm::normalize(p.forward + sx * p.right + sy * p.up);
                 cameraLanes.emplace_back();
                 TraversalWork work;
                 work.rounds = &cameraLanes.back().rounds;
-                const auto hit = intersectClosest(bvh, p.eye, dir, 3.4e38f, &work);
+                const auto hit = probeCameraRay(bvh, p, glm::vec2((x + 0.5f) / p.width, (y + 0.5f) / p.height), &work);
                 if (!hit) continue;
-                const glm::vec3 at = p.eye + hit->t * dir;
-                glm::vec3 n = glm::normalize(primitiveNormal(bvh.primitives[hit->primitive], at));
-                if (glm::dot(n, dir) > 0.0f) n = -n;
+                const glm::vec3 n = hit->normal;
                 glm::vec3 r;
                 do r = glm::vec3(uniform(rng), uniform(rng), uniform(rng));
                 while (glm::dot(r, r) > 1.0f || glm::dot(r, r) < 1e-6f);
                 const glm::vec3 aoDir = glm::normalize(n + glm::normalize(r));
                 LaneRay& aoRay = aoRays.emplace_back();
-                aoRay.origin = at + n * (1e-4f * (1.0f + glm::length(at)));
+                aoRay.origin = hit->rayOrigin;
                 aoRay.octant = uint32_t(aoDir.x < 0) | uint32_t(aoDir.y < 0) << 1 | uint32_t(aoDir.z < 0) << 2;
                 TraversalWork aoWork;
                 aoWork.rounds = &aoRay.rounds;

@@ -109,34 +109,33 @@ bool traverse(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax, bool 
     return hit.primitive != gpu::NO_HIT;
 }
 
-}  // namespace
-
-namespace {
-void addWork(TraversalWork& total, const TraversalWork& one) {
-    total.nodes += one.nodes;
-    total.primitives += one.primitives;
-    total.deepestStack = std::max(total.deepestStack, one.deepestStack);
+// traverse, its work added to `work` when that is given (and its rounds recorded where
+// `work` asks for them).
+bool traverseCounting(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax, bool anyHit, CpuHit& hit,
+                      TraversalWork* work) {
+    TraversalWork counted;
+    counted.rounds = work ? work->rounds : nullptr;
+    const bool found = traverse(bvh, origin, dir, tMax, anyHit, hit, counted);
+    if (work) {
+        work->nodes += counted.nodes;
+        work->primitives += counted.primitives;
+        work->deepestStack = std::max(work->deepestStack, counted.deepestStack);
+    }
+    return found;
 }
+
 }  // namespace
 
 std::optional<CpuHit> intersectClosest(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax,
                                        TraversalWork* work) {
     CpuHit hit;
-    TraversalWork counted;
-    counted.rounds = work ? work->rounds : nullptr;
-    bool found = traverse(bvh, origin, dir, tMax, false, hit, counted);
-    if (work) addWork(*work, counted);
-    if (!found) return std::nullopt;
+    if (!traverseCounting(bvh, origin, dir, tMax, false, hit, work)) return std::nullopt;
     return hit;
 }
 
 bool intersectAny(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax, TraversalWork* work) {
     CpuHit hit;
-    TraversalWork counted;
-    counted.rounds = work ? work->rounds : nullptr;
-    bool found = traverse(bvh, origin, dir, tMax, true, hit, counted);
-    if (work) addWork(*work, counted);
-    return found;
+    return traverseCounting(bvh, origin, dir, tMax, true, hit, work);
 }
 
 std::optional<CpuHit> intersectBruteForce(const std::vector<gpu::Primitive>& primitives, glm::vec3 origin,

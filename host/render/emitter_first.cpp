@@ -7,7 +7,7 @@
 #include <cmath>
 
 #include "bvh/bvh.h"
-#include "bvh/intersect.h"
+#include "render/probe_rays.h"
 
 namespace penumbra {
 
@@ -45,21 +45,15 @@ BrdfRayFates brdfRayFates(const Scene& scene, const SceneArrays& arrays) {
     int rays = 0;
     for (int py = 0; py < kCameraGrid; ++py)
         for (int px = 0; px < kCameraGrid; ++px) {
-            // A pixel-centre camera ray, as cameraRay in integrators/kernel_common.glsl.
-            const float sx = (2.0f * (px + 0.5f) / kCameraGrid - 1.0f) * p.tanHalfFovY * p.aspect;
-            const float sy = (1.0f - 2.0f * (py + 0.5f) / kCameraGrid) * p.tanHalfFovY;
-            const glm::vec3 dir = glm::normalize(p.forward + sx * p.right + sy * p.up);
-            const auto hit = intersectClosest(bvh, p.eye, dir, 3.4e38f);
+            const auto hit = probeCameraRay(bvh, p, glm::vec2((px + 0.5f) / kCameraGrid, (py + 0.5f) / kCameraGrid));
             if (!hit) continue;
-            const glm::vec3 x = p.eye + hit->t * dir;
-            glm::vec3 n = glm::normalize(primitiveNormal(bvh.primitives[hit->primitive], x));
-            if (glm::dot(n, dir) > 0.0f) n = -n;
+            const glm::vec3 n = hit->normal;
             // Orthonormal basis around n (Duff et al. 2017, "Building an Orthonormal Basis,
             // Revisited", JCGT 6(1)).
             const float sign = std::copysign(1.0f, n.z), a = -1.0f / (sign + n.z), b = n.x * n.y * a;
             const glm::vec3 t1(1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x);
             const glm::vec3 t2(b, sign + n.y * n.y * a, -n.y);
-            const glm::vec3 origin = x + n * (1e-4f * (1.0f + glm::length(x)));
+            const glm::vec3 origin = hit->rayOrigin;
             const glm::vec2 s = shift(py * kCameraGrid + px);
             for (int j = 0; j < kBrdfGrid; ++j)
                 for (int i = 0; i < kBrdfGrid; ++i) {
