@@ -573,6 +573,41 @@ TEST(Bvh, LargestLeavesSurviveTheStackPacking) {
     expectAllAgree(scene, bvh, rays);
 }
 
+TEST(Bvh, TraversalRoundsAddUpToItsWork) {
+    // penumbra_bench --lanes replays TraversalWork::rounds: one entry per round of the outer
+    // loop (nodes << 16 | primitives), for both queries, the any-hit's cut-short last round
+    // too, and nothing recorded where no rounds are asked for.
+    Random rng(41);
+    auto scene = randomScene(rng, 600, 60, 60);
+    Bvh bvh = buildBvh(scene);
+    auto rays = randomRays(rng, 400, 16.0f, &scene);
+    size_t anyHits = 0;
+    for (const auto& ray : rays)
+        for (bool any : {false, true}) {
+            std::vector<uint32_t> rounds;
+            TraversalWork work;
+            work.rounds = &rounds;
+            const vec3 o(ray.originTMax), d(ray.dir);
+            const bool hit = any ? intersectAny(bvh, o, d, kInf, &work)
+                                 : bool(intersectClosest(bvh, o, d, kInf, &work));
+            anyHits += any && hit;
+            uint32_t nodes = 0, primitives = 0;
+            for (uint32_t r : rounds) {
+                EXPECT_GE(r >> 16, 1u) << "every round tests a node";
+                nodes += r >> 16;
+                primitives += r & 0xffffu;
+            }
+            EXPECT_EQ(nodes, work.nodes);
+            EXPECT_EQ(primitives, work.primitives);
+            TraversalWork unrecorded;
+            if (any) intersectAny(bvh, o, d, kInf, &unrecorded);
+            else intersectClosest(bvh, o, d, kInf, &unrecorded);
+            EXPECT_EQ(unrecorded.nodes, work.nodes);
+            EXPECT_EQ(unrecorded.rounds, nullptr);
+        }
+    EXPECT_GT(anyHits, 100u) << "rays that stop at their first hit are the case to cover";
+}
+
 TEST(Bvh, StackDepthIsTheLongestPathsInteriorNodes) {
     // wideStackDepth sizes the "_address" kernels' stacks (render/traversal_stacks.h): no
     // traversal may hold more entries, and it must not be larger than one can. Rays from the
