@@ -20,7 +20,8 @@
 // --node-reads device|texels|storage|storage32|address: where the traversal reads BVH nodes from
 // (render/node_reads.h; default device, the driver's choice), likewise.
 // --lanes prints, per scene, the node steps and primitive tests of camera and AO rays, and
-// the share of a SIMD group's lane iterations that do work for them (laneUse below).
+// the share of a SIMD group's lane iterations that do work for them, for the kernel's loop
+// and another, and for other groupings of the rays (laneUse below).
 // --brdf-ray-fates prints, per scene, what the emitter-first rule sees (the fractions of
 // probe rays that hit an emitter, something else, or nothing, and the mean work of their
 // closest-hit traversal) and what it chooses.
@@ -34,6 +35,7 @@
 #include <cstdio>
 #include <cstring>
 #include <initializer_list>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -50,6 +52,7 @@
 #include "bvh/bvh.h"
 #include "gpu/context.h"
 #include "gpu/gpu_timer.h"
+#include "lane_replay.h"
 #include "render/pass_bands.h"
 #include "render/probe_rays.h"
 #include "render/renderer.h"
@@ -243,15 +246,18 @@ void lowSppBreakdown(const gpu::Context& context, Scene scene, int runs) {
 // eight invocations of the 8x8 workgroup (eight adjacent pixels of a tile,
 // integrators/kernel_common.glsl) in one SIMD group, and a loop runs until its last lane is
 // done. The CPU mirror (bvh/traverse.cpp) takes the kernel's steps and records each ray's
-// rounds of the outer loop (nodes its descent tested, primitives its leaf tested). Replayed
-// in lockstep, as the group runs them, round k of a group costs its lanes' largest descent
-// plus their largest leaf. The share of lane iterations that do work is what the lanes
-// tested over eight times what the group ran, for node steps and for primitive tests apart.
-// Rays: one per pixel centre, and from each hit one unbounded any-hit ray in a
+// rounds of the outer loop (nodes its descent tested, primitives its leaf tested);
+// lane_replay.h replays them in lockstep, in the kernel's while-while form and in the
+// if-if form. Rays: one per pixel centre, and from each hit one unbounded any-hit ray in a
 // cosine-distributed direction (the normal plus a uniform point on the sphere), an AO ray.
-// A third line groups the AO rays in eights by their direction's octant and their origin's
-// Morton code (10 bits an axis, over the origins' bounds), as a wavefront renderer could
-// regroup them before tracing; that also fills the lanes a missed camera ray leaves idle.
+// The rows after the first two group the same kinds of rays otherwise:
+// - "regrouped": the AO rays in eights by their direction's octant and their origin's Morton
+//   code (10 bits an axis, over the origins' bounds), as a wavefront renderer could regroup
+//   them before tracing; that also fills the lanes a missed camera ray leaves idle.
+// - "4x2": a SIMD group on a block of 4 x 2 pixels instead of a row of 8.
+// - "K queued": each lane traces K samples of its pixel (jittered camera rays and their AO
+//   rays), one after another, taking its next ray as soon as its last one is done: what
+//   refilling finished lanes would use of the width at best.
 uint32_t spreadBits10(uint32_t v) {  // bits 0-9 of v to bits 0, 3, 6, ... 27
     v &= 0x3ffu;
     v = (v | v << 16) & 0x030000ffu;
@@ -261,43 +267,44 @@ uint32_t spreadBits10(uint32_t v) {  // bits 0-9 of v to bits 0, 3, 6, ... 27
     return v;
 }
 
-struct LaneRay {
-    std::vector<uint32_t> rounds;  // TraversalWork::rounds
-    glm::vec3 origin{0.0f};
-    uint32_t octant = 0;
+// A camera ray through `film` and, where it hits, an AO ray from the hit, their rounds
+// appended to `camera` and `ao`. Returns the AO ray's origin and direction octant.
+struct AoRayStart {
+    glm::vec3 origin;
+    uint32_t octant;
 };
+std::optional<AoRayStart> traceProbeSample(const Bvh& bvh, const gpu::RenderParams& p, glm::vec2 film,
+                                           std::mt19937& rng, LaneRays& camera, LaneRays& ao) {
+    std::uniform_real_distribution<float> uniform(-1.0f, 1.0f);
+    TraversalWork work;
+    work.rounds = &camera.rounds;
+    ++camera.rays;
+    const auto hit = probeCameraRay(bvh, p, film, &work);
+    if (!hit) return std::nullopt;
+    glm::vec3 r;
+    do r = glm::vec3(uniform(rng), uniform(rng), uniform(rng));
+    while (glm::dot(r, r) > 1.0f || glm::dot(r, r) < 1e-6f);
+    const glm::vec3 aoDir = glm::normalize(hit->normal + glm::normalize(r));
+    TraversalWork aoWork;
+    aoWork.rounds = &ao.rounds;
+    ++ao.rays;
+    intersectAny(bvh, hit->rayOrigin, aoDir, 3.4e38f, &aoWork);
+    return AoRayStart{hit->rayOrigin, uint32_t(aoDir.x < 0) | uint32_t(aoDir.y < 0) << 1 | uint32_t(aoDir.z < 0) << 2};
+}
 
-// Node steps and primitive tests of rays, and what their SIMD groups ran for them.
-struct LaneUse {
-    double rays = 0, nodes = 0, primitives = 0, groupNodes = 0, groupPrimitives = 0;
+void printLaneUse(const std::string& scene, const std::string& kind, const LaneUse& use) {
+    const double rays = std::max(use.rays, 1.0);
+    std::printf("%-28s %-16s %9.0f %9.2f %9.2f %8.3f %8.3f %8.3f %8.3f\n", scene.c_str(), kind.c_str(), use.rays,
+                use.nodes / rays, use.primitives / rays, use.whileNodeShare(), use.whilePrimitiveShare(),
+                use.ifNodeShare(), use.ifPrimitiveShare());
+}
 
-    void addGroup(const std::vector<const LaneRay*>& lanes) {
-        size_t roundCount = 0;
-        for (const LaneRay* lane : lanes) {
-            rays += 1;
-            for (uint32_t r : lane->rounds) {
-                nodes += r >> 16;
-                primitives += r & 0xffffu;
-            }
-            roundCount = std::max(roundCount, lane->rounds.size());
-        }
-        for (size_t k = 0; k < roundCount; ++k) {
-            uint32_t descent = 0, leaf = 0;
-            for (const LaneRay* lane : lanes)
-                if (k < lane->rounds.size()) {
-                    descent = std::max(descent, lane->rounds[k] >> 16);
-                    leaf = std::max(leaf, lane->rounds[k] & 0xffffu);
-                }
-            groupNodes += descent;
-            groupPrimitives += leaf;
-        }
-    }
-    void print(const std::string& scene, const char* kind) const {
-        std::printf("%-28s %-14s %9.0f %10.2f %10.3f %10.2f %10.3f\n", scene.c_str(), kind, rays,
-                    nodes / std::max(rays, 1.0), nodes / std::max(8.0 * groupNodes, 1.0),
-                    primitives / std::max(rays, 1.0), primitives / std::max(8.0 * groupPrimitives, 1.0));
-    }
-};
+std::vector<const LaneRays*> groupOf(const std::vector<LaneRays>& lanes) {
+    std::vector<const LaneRays*> group;
+    for (const LaneRays& lane : lanes)
+        if (!lane.rounds.empty() || lane.rays > 0) group.push_back(&lane);
+    return group;
+}
 
 void laneUse(const std::string& name) {
     Scene scene = benchScene(name);
@@ -305,63 +312,87 @@ void laneUse(const std::string& name) {
     const gpu::RenderParams p = makeRenderParams(scene, arrays);
     const Bvh& bvh = arrays.bvh;
     std::mt19937 rng(1);
-    std::uniform_real_distribution<float> uniform(-1.0f, 1.0f);
+    auto centre = [&](uint32_t x, uint32_t y) { return glm::vec2((x + 0.5f) / p.width, (y + 0.5f) / p.height); };
+
+    // Rows of eight pixels, one ray of each kind per lane; the AO rays kept for regrouping.
     LaneUse camera, ao, regrouped;
-    std::vector<LaneRay> aoRays;
-    aoRays.reserve(size_t(p.width) * p.height);
+    std::vector<std::pair<AoRayStart, LaneRays>> aoRays;
     for (uint32_t y = 0; y < p.height; ++y)
         for (uint32_t x0 = 0; x0 < p.width; x0 += 8) {
-            std::vector<LaneRay> cameraLanes;
-            const size_t firstAo = aoRays.size();
-            for (uint32_t x = x0; x < std::min(x0 + 8, p.width); ++x) {
-                cameraLanes.emplace_back();
-                TraversalWork work;
-                work.rounds = &cameraLanes.back().rounds;
-                const auto hit = probeCameraRay(bvh, p, glm::vec2((x + 0.5f) / p.width, (y + 0.5f) / p.height), &work);
-                if (!hit) continue;
-                const glm::vec3 n = hit->normal;
-                glm::vec3 r;
-                do r = glm::vec3(uniform(rng), uniform(rng), uniform(rng));
-                while (glm::dot(r, r) > 1.0f || glm::dot(r, r) < 1e-6f);
-                const glm::vec3 aoDir = glm::normalize(n + glm::normalize(r));
-                LaneRay& aoRay = aoRays.emplace_back();
-                aoRay.origin = hit->rayOrigin;
-                aoRay.octant = uint32_t(aoDir.x < 0) | uint32_t(aoDir.y < 0) << 1 | uint32_t(aoDir.z < 0) << 2;
-                TraversalWork aoWork;
-                aoWork.rounds = &aoRay.rounds;
-                intersectAny(bvh, aoRay.origin, aoDir, 3.4e38f, &aoWork);
+            std::vector<LaneRays> cameraLanes(std::min(8u, p.width - x0)), aoLanes(cameraLanes.size());
+            for (uint32_t i = 0; i < cameraLanes.size(); ++i) {
+                const auto start = traceProbeSample(bvh, p, centre(x0 + i, y), rng, cameraLanes[i], aoLanes[i]);
+                if (start) aoRays.push_back({*start, aoLanes[i]});
             }
-            std::vector<const LaneRay*> lanes;
-            for (const LaneRay& lane : cameraLanes) lanes.push_back(&lane);
-            camera.addGroup(lanes);
-            lanes.clear();
-            for (size_t i = firstAo; i < aoRays.size(); ++i) lanes.push_back(&aoRays[i]);
+            camera.addGroup(groupOf(cameraLanes));
             // Lanes whose camera ray missed idle in the AO group: it is still eight wide.
-            if (!lanes.empty()) ao.addGroup(lanes);
+            const std::vector<const LaneRays*> aoGroup = groupOf(aoLanes);
+            if (!aoGroup.empty()) ao.addGroup(aoGroup);
         }
     if (!aoRays.empty()) {
         glm::vec3 lo(3.4e38f), hi(-3.4e38f);
-        for (const LaneRay& r : aoRays) {
-            lo = glm::min(lo, r.origin);
-            hi = glm::max(hi, r.origin);
+        for (const auto& [start, lane] : aoRays) {
+            lo = glm::min(lo, start.origin);
+            hi = glm::max(hi, start.origin);
         }
         const glm::vec3 scale = 1023.0f / glm::max(hi - lo, glm::vec3(1e-30f));
-        std::vector<std::pair<uint64_t, const LaneRay*>> keyed;  // (octant, Morton code), ray
-        for (const LaneRay& r : aoRays) {
-            const glm::uvec3 q = glm::uvec3(glm::clamp((r.origin - lo) * scale, glm::vec3(0.0f), glm::vec3(1023.0f)));
+        std::vector<std::pair<uint64_t, const LaneRays*>> keyed;  // (octant, Morton code), ray
+        for (const auto& [start, lane] : aoRays) {
+            const glm::uvec3 q =
+                glm::uvec3(glm::clamp((start.origin - lo) * scale, glm::vec3(0.0f), glm::vec3(1023.0f)));
             const uint64_t morton = spreadBits10(q.x) | spreadBits10(q.y) << 1 | spreadBits10(q.z) << 2;
-            keyed.push_back({uint64_t(r.octant) << 32 | morton, &r});
+            keyed.push_back({uint64_t(start.octant) << 32 | morton, &lane});
         }
         std::sort(keyed.begin(), keyed.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
         for (size_t i = 0; i < keyed.size(); i += 8) {
-            std::vector<const LaneRay*> lanes;
-            for (size_t j = i; j < std::min(i + 8, keyed.size()); ++j) lanes.push_back(keyed[j].second);
-            regrouped.addGroup(lanes);
+            std::vector<const LaneRays*> group;
+            for (size_t j = i; j < std::min(i + 8, keyed.size()); ++j) group.push_back(keyed[j].second);
+            regrouped.addGroup(group);
         }
     }
-    camera.print(name, "camera");
-    ao.print(name, "ao");
-    regrouped.print(name, "ao, regrouped");
+    printLaneUse(name, "camera", camera);
+    printLaneUse(name, "ao", ao);
+    printLaneUse(name, "ao, regrouped", regrouped);
+
+    // Blocks of 4 x 2 pixels.
+    LaneUse blockCamera, blockAo;
+    for (uint32_t y0 = 0; y0 < p.height; y0 += 2)
+        for (uint32_t x0 = 0; x0 < p.width; x0 += 4) {
+            std::vector<LaneRays> cameraLanes, aoLanes;
+            for (uint32_t i = 0; i < 8; ++i) {
+                const uint32_t x = x0 + i % 4, y = y0 + i / 4;
+                if (x >= p.width || y >= p.height) continue;
+                cameraLanes.emplace_back();
+                aoLanes.emplace_back();
+                traceProbeSample(bvh, p, centre(x, y), rng, cameraLanes.back(), aoLanes.back());
+            }
+            blockCamera.addGroup(groupOf(cameraLanes));
+            const std::vector<const LaneRays*> aoGroup = groupOf(aoLanes);
+            if (!aoGroup.empty()) blockAo.addGroup(aoGroup);
+        }
+    printLaneUse(name, "camera, 4x2", blockCamera);
+    printLaneUse(name, "ao, 4x2", blockAo);
+
+    // Rows of eight pixels, K jittered samples per lane, traced one after another.
+    std::uniform_real_distribution<float> jitter(0.0f, 1.0f);
+    for (uint32_t K : {4u, 16u}) {
+        LaneUse queuedCamera, queuedAo;
+        for (uint32_t y = 0; y < p.height; ++y)
+            for (uint32_t x0 = 0; x0 < p.width; x0 += 8) {
+                std::vector<LaneRays> cameraLanes(std::min(8u, p.width - x0)), aoLanes(cameraLanes.size());
+                for (uint32_t i = 0; i < cameraLanes.size(); ++i)
+                    for (uint32_t k = 0; k < K; ++k) {
+                        const float jx = jitter(rng), jy = jitter(rng);
+                        const glm::vec2 film((x0 + i + jx) / p.width, (y + jy) / p.height);
+                        traceProbeSample(bvh, p, film, rng, cameraLanes[i], aoLanes[i]);
+                    }
+                queuedCamera.addGroup(groupOf(cameraLanes));
+                const std::vector<const LaneRays*> aoGroup = groupOf(aoLanes);
+                if (!aoGroup.empty()) queuedAo.addGroup(aoGroup);
+            }
+        printLaneUse(name, "camera, " + std::to_string(K) + " queued", queuedCamera);
+        printLaneUse(name, "ao, " + std::to_string(K) + " queued", queuedAo);
+    }
 }
 
 }  // namespace
@@ -419,8 +450,10 @@ int main(int argc, char** argv) {
     }
     try {
         if (lanesOnly) {
-            std::printf("%-28s %-14s %9s %10s %10s %10s %10s\n", "scene", "rays", "count", "nodes/ray", "share",
-                        "prims/ray", "share");
+            // Shares of the SIMD width: node steps and primitive tests, in the while-while
+            // loop (the kernel's) and in an if-if loop (lane_replay.h).
+            std::printf("%-28s %-16s %9s %9s %9s %8s %8s %8s %8s\n", "scene", "rays", "count", "nodes/ray", "prims/ray",
+                        "ww node", "ww prim", "ii node", "ii prim");
             for (const std::string& name : scenes) laneUse(name);
             return 0;
         }
