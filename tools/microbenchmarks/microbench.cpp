@@ -2,7 +2,8 @@
 // nodes inside a divergent loop, from each kind of memory a kernel can read (storage,
 // uniform and texel buffers, workgroup memory, buffer device addresses, packed nodes), and
 // what the traversal stack costs (local array, workgroup memory, short stack, restart
-// trail). Kernels: tools/microbenchmarks/shaders; run everything with tools/microbench.
+// trail), and what a traversal step costs with rays or a node's children across the SIMD
+// lanes. Kernels: tools/microbenchmarks/shaders; run everything with tools/microbench.
 #include <algorithm>
 #include <bit>
 #include <chrono>
@@ -167,6 +168,120 @@ Tables makeTables(uint32_t count, uint32_t seed) {
     return t;
 }
 
+// Node tables of step.comp: four-wide nodes as shared/types.h's WideNode (16 words) and
+// eight-wide nodes of 24 words (step.comp says how they are laid out). Every child exists
+// and its box, origin 0 and step 2^-8 on each axis, lies in [0, 1)^3.
+struct StepTables {
+    uint32_t count4 = 0, count8 = 0;
+    std::vector<uint32_t> wide4, wide8;
+};
+
+constexpr uint32_t kStepExponents = 119u | 119u << 8 | 119u << 16;  // 2^(119 - 127) = 2^-8
+
+StepTables makeStepTables(uint32_t count4, uint32_t count8, uint32_t seed) {
+    std::mt19937 rng(seed);
+    StepTables t;
+    t.count4 = count4;
+    t.count8 = count8;
+    auto planes = [&](uint32_t lo[3], uint32_t hi[3]) {
+        for (int k = 0; k < 3; ++k) {
+            lo[k] = rng() % 200;
+            hi[k] = lo[k] + 1 + rng() % 55;
+        }
+    };
+    t.wide4.assign(size_t(count4) * 16, 0);
+    for (uint32_t i = 0; i < count4; ++i) {
+        uint32_t* n = &t.wide4[size_t(i) * 16];
+        n[3] = kStepExponents | 0xfu << 24;
+        for (uint32_t c = 0; c < 4; ++c) {
+            uint32_t lo[3], hi[3];
+            planes(lo, hi);
+            for (int k = 0; k < 3; ++k) {
+                n[4 + k] |= lo[k] << (8 * c);
+                n[7 + k] |= hi[k] << (8 * c);
+            }
+            n[10 + c] = uint32_t(rng()) % count4;
+        }
+    }
+    t.wide8.assign(size_t(count8) * 24, 0);
+    for (uint32_t i = 0; i < count8; ++i) {
+        uint32_t* n = &t.wide8[size_t(i) * 24];
+        n[3] = kStepExponents | 0xffu << 24;
+        n[4] = uint32_t(rng()) % count8;
+        for (uint32_t c = 0; c < 8; ++c) {
+            uint32_t lo[3], hi[3];
+            planes(lo, hi);
+            n[8 + 2 * c] = lo[0] | lo[1] << 8 | lo[2] << 16 | hi[0] << 24;
+            n[9 + 2 * c] = hi[1] | hi[2] << 8 | (uint32_t(rng()) & 0xffffu) << 16;
+        }
+    }
+    return t;
+}
+
+uint32_t lowbias32(uint32_t x) {  // common.glsl's hash
+    x ^= x >> 16;
+    x *= 0x7feb352du;
+    x ^= x >> 15;
+    x *= 0x846ca68bu;
+    x ^= x >> 16;
+    return x;
+}
+
+// step.comp's walk of ray `ray` replayed on the CPU with the same operations in the same
+// order (the build does not contract them, and lavapipe does not fuse): its (acc, node).
+std::pair<float, float> replayStep(const StepTables& t, bool children8, uint32_t ray, uint32_t steps) {
+    const uint32_t salt = lowbias32(ray);
+    float origin[3], invDir[3];
+    for (uint32_t k = 0; k < 3; ++k) {
+        origin[k] = float((salt >> (8 * k)) & 255u) * (1.0f / 256.0f);
+        invDir[k] = (float(lowbias32(salt + k) & 1023u) - 511.5f) * (1.0f / 64.0f);
+    }
+    const uint32_t mask = (children8 ? t.count8 : t.count4) - 1;
+    const float step = std::ldexp(1.0f, -8), kMax = 3.402823466e38f, kExitScale = 1.0000004f;
+    uint32_t node = salt & mask;
+    float acc = 0.0f;
+    for (uint32_t s = 0; s < steps; ++s) {
+        const uint32_t arity = children8 ? 8 : 4;
+        const uint32_t* n = children8 ? &t.wide8[size_t(node) * 24] : &t.wide4[size_t(node) * 16];
+        uint32_t hits = 0, chosen = s & (arity - 1);
+        float best = 0.0f;
+        for (uint32_t c = 0; c < arity; ++c) {
+            uint32_t lo[3], hi[3];
+            for (int k = 0; k < 3; ++k) {
+                if (children8) {
+                    const uint32_t a = n[8 + 2 * c], b = n[9 + 2 * c];
+                    const uint32_t bytes[6] = {a & 255u, (a >> 8) & 255u, (a >> 16) & 255u,
+                                               a >> 24,  b & 255u,        (b >> 8) & 255u};
+                    lo[k] = bytes[k];
+                    hi[k] = bytes[3 + k];
+                } else {
+                    lo[k] = (n[4 + k] >> (8 * c)) & 255u;
+                    hi[k] = (n[7 + k] >> (8 * c)) & 255u;
+                }
+            }
+            float tn[3], tf[3];
+            for (int k = 0; k < 3; ++k) {
+                const float l = 0.0f + float(lo[k]) * step, h = 0.0f + float(hi[k]) * step;
+                const bool negative = invDir[k] < 0.0f;
+                tn[k] = ((negative ? h : l) - origin[k]) * invDir[k];
+                tf[k] = ((negative ? l : h) - origin[k]) * invDir[k];
+            }
+            const float tNear = std::max(std::max(tn[0], tn[1]), std::max(tn[2], 0.0f));
+            const float tFar = std::min(std::min(tf[0], tf[1]), std::min(tf[2], kMax)) * kExitScale;
+            if (!(tNear <= tFar)) continue;
+            if (hits == 0 || tNear < best) {
+                chosen = c;
+                best = tNear;
+            }
+            hits |= 1u << c;
+        }
+        const uint32_t next = children8 ? n[4] + (n[9 + 2 * chosen] >> 16) : n[10 + chosen];
+        acc += best + float(std::popcount(hits));
+        node = (next ^ salt) & mask;
+    }
+    return {acc, float(node)};
+}
+
 // One row of a table: a kernel variant with its data, timed in alternation with the others.
 struct Case {
     std::string table;     // "small" / "large"
@@ -175,7 +290,7 @@ struct Case {
     std::string baseline;  // label of the row this one is compared with (same table)
     std::unique_ptr<BenchKernel> bench;
     const HostBuffer* results = nullptr;
-    double work = 0;           // node fetches (fetch kernels) or traversals (stack kernels) per run
+    double work = 0;  // node fetches (fetch kernels), traversals (stack kernels) or ray steps (step kernels) per run
     double createSeconds = 0;  // vkCreateComputePipelines and the rest of Bench's set-up
     double firstSeconds = 0;
     std::vector<double> seconds;
@@ -185,7 +300,7 @@ struct Case {
 int usage() {
     std::fprintf(stderr,
                  "usage: penumbra_microbench [--runs N] [--invocations N] [--stack-invocations N] [--steps N] "
-                 "[--only fetch|stack] "
+                 "[--only fetch|stack|step] "
                  "[--spirv-dir DIR]\n");
     return 2;
 }
@@ -219,7 +334,8 @@ int main(int argc, char** argv) {
         }
     }
     if (runs < 1 || invocations < kWorkgroup || invocations % kWorkgroup || stackInvocations < kWorkgroup ||
-        stackInvocations % kWorkgroup || steps < 1 || (!only.empty() && only != "fetch" && only != "stack"))
+        stackInvocations % kWorkgroup || steps < 1 ||
+        (!only.empty() && only != "fetch" && only != "stack" && only != "step"))
         return usage();
 
     try {
@@ -350,6 +466,45 @@ int main(int argc, char** argv) {
             }
         }
 
+        // Steps: one ray per invocation on four-wide nodes against a node's eight children
+        // across eight invocations (step.comp), the tables about equal in bytes.
+        std::map<std::string, StepTables> stepTables;
+        const std::string raysLabel = "rays across lanes, 4-wide nodes (device address)";
+        if (only.empty() || only == "step") {
+            VkPhysicalDeviceSubgroupProperties subgroup{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
+            VkPhysicalDeviceProperties2 properties{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+            properties.pNext = &subgroup;
+            vkGetPhysicalDeviceProperties2(context.physicalDevice(), &properties);
+            const bool shuffles = subgroup.subgroupSize >= 8 &&
+                                  (subgroup.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) &&
+                                  (subgroup.supportedOperations & VK_SUBGROUP_FEATURE_SHUFFLE_BIT);
+            if (!context.info().shaderInt64) {
+                std::printf("(skipped the steps: no shaderInt64 on this device)\n");
+            } else {
+                stepTables["small"] = makeStepTables(512, 256, 3);            // 32 KiB and 24 KiB
+                stepTables["large"] = makeStepTables(1u << 19, 1u << 18, 4);  // 32 MiB and 24 MiB
+                for (const std::string table : {"small", "large"}) {
+                    const StepTables& t = stepTables[table];
+                    Push p = push;
+                    p.mask = t.count4 - 1;
+                    addCase(table, raysLabel, "step4", raysLabel, "step_rays", steps, SSBO, t.wide4.data(),
+                            t.wide4.size() * 4, NONE, p, double(invocations) * steps, invocations);
+                    if (!shuffles) {
+                        std::printf("(skipped %s, 8-wide steps: subgroups of fewer than 8 lanes or no shuffles)\n",
+                                    table.c_str());
+                        continue;
+                    }
+                    p.mask = t.count8 - 1;
+                    addCase(table, "a node's children across lanes, 8-wide nodes (device address)", "step8", raysLabel,
+                            "step_children8", steps, SSBO, t.wide8.data(), t.wide8.size() * 4, NONE, p,
+                            double(invocations) / 8.0 * steps, invocations);
+                    addCase(table, "the same without the shuffles, each lane alone (device address)", "step8 alone",
+                            raysLabel, "step_children8_alone", steps, SSBO, t.wide8.data(), t.wide8.size() * 4, NONE, p,
+                            double(invocations) / 8.0 * steps, invocations);
+                }
+            }
+        }
+
         // First dispatch (llvmpipe compiles the kernel here or at pipeline creation: "compile
         // s" is the creation time plus the first dispatch's excess over the median), then
         // `runs` rounds in which
@@ -389,7 +544,7 @@ int main(int argc, char** argv) {
         };
         bool header = false;
         for (const auto& c : cases) {
-            if (c.group == "stack") continue;
+            if (c.group == "stack" || c.group.rfind("step", 0) == 0) continue;
             if (!header) {
                 std::printf("\nNode fetches in a divergent walk: %u invocations x %u steps, median of %d runs\n\n",
                             invocations, steps, runs);
@@ -421,6 +576,39 @@ int main(int argc, char** argv) {
             std::printf("| %s (depth %s) | %s | %.2f | %.1f | %.0f | %.2f | %.3f |\n", c.table.c_str(),
                         c.table == "small tree" ? "9" : "19", c.label.c_str(), rate / 1e6, fetches / c.work,
                         fetches / seconds / 1e6, rate / baselineRate(c),
+                        c.createSeconds + std::max(0.0, c.firstSeconds - seconds));
+        }
+        header = false;
+        for (const auto& c : cases) {
+            if (c.group.rfind("step", 0) != 0) continue;
+            const bool children8 = c.group == "step8";
+            if (!header) {
+                std::printf(
+                    "\nTraversal steps: %u invocations x %u steps (8-wide: eight invocations a ray), nodes "
+                    "through their device address, median of %d runs\n\n",
+                    invocations, steps, runs);
+                std::printf(
+                    "| table | mapping | M ray steps/s | M box tests/s | vs rays | compile s |\n"
+                    "|---|---|---|---|---|---|\n");
+                header = true;
+            }
+            // The first 256 rays against their walk replayed on the CPU, bit for bit (the
+            // lanes that go alone walk no ray's path).
+            const StepTables& t = stepTables.at(c.table);
+            for (uint32_t ray = 0; ray < (c.group == "step8 alone" ? 0u : 256u); ++ray) {
+                const size_t at = 2 * size_t(children8 ? 8 * ray : ray);
+                const auto [acc, node] = replayStep(t, children8, ray, steps);
+                if (std::bit_cast<uint32_t>(acc) != std::bit_cast<uint32_t>(c.output[at]) || node != c.output[at + 1]) {
+                    std::printf("MISMATCH: %s, %s: ray %u walked otherwise than on the CPU\n", c.table.c_str(),
+                                c.label.c_str(), ray);
+                    allAgree = false;
+                    break;
+                }
+            }
+            const double seconds = median(c.seconds), rate = c.work / seconds;
+            std::printf("| %s (%s) | %s | %.1f | %.0f | %.2f | %.3f |\n", c.table.c_str(),
+                        c.table == "small" ? "32 / 24 KiB" : "32 / 24 MiB", c.label.c_str(), rate / 1e6,
+                        rate * (c.group == "step4" ? 4 : 8) / 1e6, rate / baselineRate(c),
                         c.createSeconds + std::max(0.0, c.firstSeconds - seconds));
         }
         std::printf("\nLoad average at the end: %s. Results agree across variants: %s\n", loadAverage().c_str(),

@@ -1,0 +1,155 @@
+#version 460
+// Cost of one traversal step in two mappings of the work onto SIMD lanes. Every ray walks
+// STEPS nodes of a table through the table's device address: at each node it tests the
+// node's quantized child boxes (decoded as shaders/geometry/bvh.glsl decodes them), goes on
+// to the nearest child hit (to a child chosen by the step number when none is hit), and the
+// child's reference, XOR a per-ray salt, names the next node, so that the lanes' nodes
+// differ and no load can be hoisted. The stack is left out of both.
+// - STEP_RAYS: one ray per invocation and four-wide nodes, as the renderer traces today
+//   (shared/types.h WideNode: 64 bytes).
+// - STEP_CHILDREN8: one ray per eight invocations and eight-wide nodes, one child per
+//   invocation; the nearest child is found with subgroup shuffles. A node is 96 bytes: a
+//   frame (origin, per-axis step exponents, child mask), the children's base index, then
+//   eight 8-byte child records (six plane bytes, a 16-bit offset from the base).
+// - STEP_CHILDREN8_ALONE: that step without the shuffles: each lane goes on to its own
+//   child, hit or not, so the lanes part ways after the first node. Not a traversal: what
+//   the rest of the eight-wide step costs, the floor under any way of combining the lanes.
+// Compiled once per variant by tools/microbenchmarks/CMakeLists.txt (-DSTEP_*).
+#extension GL_EXT_buffer_reference : require
+#extension GL_EXT_buffer_reference_uvec2 : require
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#extension GL_GOOGLE_include_directive : require
+#if defined(STEP_CHILDREN8_ALONE)
+#define STEP_CHILDREN8  // the same step with its lanes' results not combined (below)
+#endif
+#if defined(STEP_CHILDREN8)
+#extension GL_KHR_shader_subgroup_basic : require
+#extension GL_KHR_shader_subgroup_shuffle : require
+#endif
+#include "common.glsl"
+
+layout(buffer_reference, std430, buffer_reference_align = 8) readonly restrict buffer Words64 { uint64_t v[]; };
+
+const float FLOAT_MAX = 3.402823466e38;
+const float BOX_EXIT_SCALE = 1.0000004;  // shared/types.h
+
+// An origin in [0, 1)^3 and an inverse direction in [-8, 8], never 0, from exact
+// operations only, so that the program can replay the walk on the CPU bit for bit.
+void makeRay(uint salt, out vec3 origin, out vec3 invDir) {
+    origin = vec3((uvec3(salt) >> uvec3(0u, 8u, 16u)) & 255u) * (1.0 / 256.0);
+    invDir = (vec3(uvec3(hash(salt), hash(salt + 1u), hash(salt + 2u)) & 1023u) - 511.5) * (1.0 / 64.0);
+}
+
+// 2^(e - 127) for the biased exponents in bytes 0-2 of `meta`.
+vec3 stepOf(uint meta) { return uintBitsToFloat(((uvec3(meta) >> uvec3(0u, 8u, 16u)) & 0xffu) << 23u); }
+
+#if defined(STEP_RAYS)
+
+vec4 maxOfNumbers(vec4 a, vec4 b) { return mix(b, a, greaterThan(a, b)); }
+vec4 minOfNumbers(vec4 a, vec4 b) { return mix(b, a, lessThan(a, b)); }
+
+void main() {
+    uint id = gl_GlobalInvocationID.x;
+    uint salt = hash(id);
+    vec3 origin, invDir;
+    makeRay(salt, origin, invDir);
+    bvec3 negative = lessThan(invDir, vec3(0.0));
+    uint node = salt & pc.mask;
+    float acc = 0.0;
+    Words64 at = Words64(pc.address);
+    for (uint s = 0u; s < STEPS; ++s) {
+        // intersectWideNode (geometry/bvh.glsl), with tMax = FLOAT_MAX.
+        uvec2 w0 = unpackUint2x32(at.v[8u * node]), w1 = unpackUint2x32(at.v[8u * node + 1u]);
+        uvec2 w2 = unpackUint2x32(at.v[8u * node + 2u]), w3 = unpackUint2x32(at.v[8u * node + 3u]);
+        uvec2 w4 = unpackUint2x32(at.v[8u * node + 4u]), w5 = unpackUint2x32(at.v[8u * node + 5u]);
+        uvec2 w6 = unpackUint2x32(at.v[8u * node + 6u]);
+        uvec4 frame = uvec4(w0, w1), planesA = uvec4(w2, w3), planesB = uvec4(w4, w5);
+        uvec4 ref = uvec4(planesB.zw, w6);
+        vec3 corner = uintBitsToFloat(frame.xyz);
+        vec3 step = stepOf(frame.w);
+        uvec3 nearWords = mix(uvec3(planesA.xyz), uvec3(planesA.w, planesB.xy), negative);
+        uvec3 farWords = mix(uvec3(planesA.w, planesB.xy), uvec3(planesA.xyz), negative);
+        const uvec4 bytes = uvec4(0u, 8u, 16u, 24u);
+        vec4 nearX = (corner.x + vec4((uvec4(nearWords.x) >> bytes) & 0xffu) * step.x - origin.x) * invDir.x;
+        vec4 nearY = (corner.y + vec4((uvec4(nearWords.y) >> bytes) & 0xffu) * step.y - origin.y) * invDir.y;
+        vec4 nearZ = (corner.z + vec4((uvec4(nearWords.z) >> bytes) & 0xffu) * step.z - origin.z) * invDir.z;
+        vec4 farX = (corner.x + vec4((uvec4(farWords.x) >> bytes) & 0xffu) * step.x - origin.x) * invDir.x;
+        vec4 farY = (corner.y + vec4((uvec4(farWords.y) >> bytes) & 0xffu) * step.y - origin.y) * invDir.y;
+        vec4 farZ = (corner.z + vec4((uvec4(farWords.z) >> bytes) & 0xffu) * step.z - origin.z) * invDir.z;
+        vec4 tNear = maxOfNumbers(maxOfNumbers(nearX, nearY), maxOfNumbers(nearZ, vec4(0.0)));
+        vec4 tFar = minOfNumbers(minOfNumbers(farX, farY), minOfNumbers(farZ, vec4(FLOAT_MAX))) * BOX_EXIT_SCALE;
+        bvec4 hit = lessThanEqual(tNear, tFar);
+        uint hits = (frame.w >> 24u) & ((hit.x ? 1u : 0u) | (hit.y ? 2u : 0u) | (hit.z ? 4u : 0u) | (hit.w ? 8u : 0u));
+        // nearestChild (geometry/bvh.glsl).
+        uint c = s & 3u;
+        float best = 0.0;
+        bool found = false;
+        for (uint k = 0u; k < 4u; ++k) {
+            if ((hits & (1u << k)) != 0u && (!found || tNear[k] < best)) {
+                c = k;
+                best = tNear[k];
+                found = true;
+            }
+        }
+        uint next = c == 0u ? ref.x : (c == 1u ? ref.y : (c == 2u ? ref.z : ref.w));
+        acc += best + float(bitCount(hits));
+        node = (next ^ salt) & pc.mask;
+    }
+    results[id] = vec2(acc, float(node));
+}
+
+#elif defined(STEP_CHILDREN8)
+
+// The lane of the group of eight that holds `lane`'s ray.
+uint groupLane(uint lane) { return (gl_SubgroupInvocationID & ~7u) | lane; }
+
+void main() {
+    uint child = gl_GlobalInvocationID.x & 7u;  // subgroups are eight lanes or a multiple
+    uint salt = hash(gl_GlobalInvocationID.x >> 3u);
+    vec3 origin, invDir;
+    makeRay(salt, origin, invDir);
+    bvec3 negative = lessThan(invDir, vec3(0.0));
+    uint node = salt & pc.mask;
+    float acc = 0.0;
+    Words64 at = Words64(pc.address);
+    for (uint s = 0u; s < STEPS; ++s) {
+        uvec2 w0 = unpackUint2x32(at.v[12u * node]), w1 = unpackUint2x32(at.v[12u * node + 1u]);
+        uint base = unpackUint2x32(at.v[12u * node + 2u]).x;
+        uvec2 record = unpackUint2x32(at.v[12u * node + 4u + child]);
+        vec3 corner = uintBitsToFloat(uvec3(w0, w1.x));
+        vec3 step = stepOf(w1.y);
+        vec3 lo = corner + vec3((uvec3(record.x) >> uvec3(0u, 8u, 16u)) & 0xffu) * step;
+        vec3 hi = corner + vec3(record.x >> 24u, record.y & 0xffu, (record.y >> 8u) & 0xffu) * step;
+        vec3 tn = (mix(lo, hi, negative) - origin) * invDir;
+        vec3 tf = (mix(hi, lo, negative) - origin) * invDir;
+        float tNear = max(max(tn.x, tn.y), max(tn.z, 0.0));
+        float tFar = min(min(tf.x, tf.y), min(tf.z, FLOAT_MAX)) * BOX_EXIT_SCALE;
+        bool hit = ((w1.y >> (24u + child)) & 1u) != 0u && tNear <= tFar;
+#if defined(STEP_CHILDREN8_ALONE)
+        acc += hit ? tNear : 0.0;
+        node = ((base + (record.y >> 16u)) ^ salt) & pc.mask;
+        continue;
+#endif
+        // The nearest child hit, lowest lane on ties: a butterfly over the eight lanes of
+        // (entry distance's bits, lane). Entry distances are >= 0, so their bits order as
+        // the floats do; a miss is all ones.
+        uint key = hit ? floatBitsToUint(tNear) : 0xffffffffu, best = child;
+        uint hits = hit ? 1u << child : 0u;
+        for (uint m = 1u; m < 8u; m <<= 1u) {
+            uint otherKey = subgroupShuffleXor(key, m), otherLane = subgroupShuffleXor(best, m);
+            bool take = otherKey < key || (otherKey == key && otherLane < best);
+            key = take ? otherKey : key;
+            best = take ? otherLane : best;
+            hits |= subgroupShuffleXor(hits, m);
+        }
+        uint chosen = hits == 0u ? (s & 7u) : best;
+        uint next = base + subgroupShuffle(record.y >> 16u, groupLane(chosen));
+        acc += (hits == 0u ? 0.0 : uintBitsToFloat(key)) + float(bitCount(hits));
+        node = (next ^ salt) & pc.mask;
+    }
+    results[gl_GlobalInvocationID.x] = vec2(acc, float(node));
+}
+
+#else
+#error "no STEP_* defined"
+#endif
