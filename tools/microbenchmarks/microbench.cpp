@@ -27,6 +27,7 @@
 #include "gpu/buffer.h"
 #include "gpu/context.h"
 #include "gpu/vk_check.h"
+#include "hash.h"
 
 namespace {
 
@@ -216,15 +217,6 @@ StepTables makeStepTables(uint32_t count4, uint32_t count8, uint32_t seed) {
         }
     }
     return t;
-}
-
-uint32_t lowbias32(uint32_t x) {  // common.glsl's hash
-    x ^= x >> 16;
-    x *= 0x7feb352du;
-    x ^= x >> 15;
-    x *= 0x846ca68bu;
-    x ^= x >> 16;
-    return x;
 }
 
 // step.comp's walk of ray `ray` replayed on the CPU with the same operations in the same

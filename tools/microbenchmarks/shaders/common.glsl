@@ -1,5 +1,5 @@
 // Shared by the micro-benchmark kernels: the push constants, the result buffer, a hash for
-// per-lane values and a ray-box slab test standing in for a traversal step's arithmetic.
+// per-lane values (hash.h) and a ray-box slab test standing in for a traversal step's arithmetic.
 #ifndef MICROBENCH_COMMON_GLSL
 #define MICROBENCH_COMMON_GLSL
 
@@ -20,16 +20,7 @@ layout(push_constant) uniform Push {
 // away and lets the driver check that every variant computed the same thing.
 layout(std430, binding = 0) writeonly restrict buffer Results { vec2 results[]; };
 
-// Chris Wellons' "lowbias32" integer hash (hash-prospector, 2018): cheap and well
-// distributed, so per-lane indices differ.
-uint hash(uint x) {
-    x ^= x >> 16;
-    x *= 0x7feb352du;
-    x ^= x >> 15;
-    x *= 0x846ca68bu;
-    x ^= x >> 16;
-    return x;
-}
+#include "hash.h"
 
 // Slab test (Kay and Kajiya 1986) of the invocation's ray against [lo, hi]: the entry
 // distance when hit, else 0. Branch-free, as in shaders/geometry/intersect.glsl.
