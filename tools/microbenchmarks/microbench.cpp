@@ -174,7 +174,7 @@ Tables makeTables(uint32_t count, uint32_t seed) {
 // and its box, origin 0 and step 2^-8 on each axis, lies in [0, 1)^3.
 struct StepTables {
     uint32_t count4 = 0, count8 = 0;
-    std::vector<uint32_t> wide4, wide8;
+    std::vector<uint32_t> wide4, wide4Float, wide8;  // wide4Float: wide4's boxes as floats
 };
 
 constexpr uint32_t kStepExponents = 119u | 119u << 8 | 119u << 16;  // 2^(119 - 127) = 2^-8
@@ -203,6 +203,19 @@ StepTables makeStepTables(uint32_t count4, uint32_t count8, uint32_t seed) {
             }
             n[10 + c] = uint32_t(rng()) % count4;
         }
+    }
+    // The same nodes with each plane decoded as the shader decodes it (origin 0 + q * step,
+    // exact): 32 words a node, the planes loX[4] loY[4] loZ[4] hiX[4] hiY[4] hiZ[4], the
+    // four references, the meta word.
+    t.wide4Float.assign(size_t(count4) * 32, 0);
+    for (uint32_t i = 0; i < count4; ++i) {
+        const uint32_t* n = &t.wide4[size_t(i) * 16];
+        uint32_t* f = &t.wide4Float[size_t(i) * 32];
+        for (uint32_t side = 0; side < 6; ++side)
+            for (uint32_t c = 0; c < 4; ++c)
+                f[4 * side + c] = std::bit_cast<uint32_t>(0.0f + float((n[4 + side] >> (8 * c)) & 255u) * 0.00390625f);
+        for (uint32_t c = 0; c < 4; ++c) f[24 + c] = n[10 + c];
+        f[28] = n[3];
     }
     t.wide8.assign(size_t(count8) * 24, 0);
     for (uint32_t i = 0; i < count8; ++i) {
@@ -481,6 +494,9 @@ int main(int argc, char** argv) {
                     p.mask = t.count4 - 1;
                     addCase(table, raysLabel, "step4", raysLabel, "step_rays", steps, SSBO, t.wide4.data(),
                             t.wide4.size() * 4, NONE, p, double(invocations) * steps, invocations);
+                    addCase(table, "rays across lanes, 4-wide nodes of float planes (device address)", "step4",
+                            raysLabel, "step_rays_float", steps, SSBO, t.wide4Float.data(), t.wide4Float.size() * 4,
+                            NONE, p, double(invocations) * steps, invocations);
                     if (!shuffles) {
                         std::printf("(skipped %s, 8-wide steps: subgroups of fewer than 8 lanes or no shuffles)\n",
                                     table.c_str());

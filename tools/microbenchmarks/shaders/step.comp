@@ -7,6 +7,9 @@
 // differ and no load can be hoisted. The stack is left out of both.
 // - STEP_RAYS: one ray per invocation and four-wide nodes, as the renderer traces today
 //   (shared/types.h WideNode: 64 bytes).
+// - STEP_RAYS_FLOAT: that step on the same boxes stored as floats, 128 bytes a node (the
+//   planes of each axis and side for the four children, the references, the child mask):
+//   no decode, twice the bytes.
 // - STEP_CHILDREN8: one ray per eight invocations and eight-wide nodes, one child per
 //   invocation; the nearest child is found with subgroup shuffles. A node is 96 bytes: a
 //   frame (origin, per-axis step exponents, child mask), the children's base index, then
@@ -21,6 +24,9 @@
 #extension GL_GOOGLE_include_directive : require
 #if defined(STEP_CHILDREN8_ALONE)
 #define STEP_CHILDREN8  // the same step with its lanes' results not combined (below)
+#endif
+#if defined(STEP_RAYS_FLOAT)
+#define STEP_RAYS  // the same step with the planes stored as floats (below)
 #endif
 #if defined(STEP_CHILDREN8)
 #extension GL_KHR_shader_subgroup_basic : require
@@ -45,6 +51,11 @@ vec3 stepOf(uint meta) { return uintBitsToFloat(((uvec3(meta) >> uvec3(0u, 8u, 1
 
 #if defined(STEP_RAYS)
 
+// Four floats from two 64-bit words.
+vec4 planesAt(Words64 at, uint word) {
+    return uintBitsToFloat(uvec4(unpackUint2x32(at.v[word]), unpackUint2x32(at.v[word + 1u])));
+}
+
 vec4 maxOfNumbers(vec4 a, vec4 b) { return mix(b, a, greaterThan(a, b)); }
 vec4 minOfNumbers(vec4 a, vec4 b) { return mix(b, a, lessThan(a, b)); }
 
@@ -59,6 +70,20 @@ void main() {
     Words64 at = Words64(pc.address);
     for (uint s = 0u; s < STEPS; ++s) {
         // intersectWideNode (geometry/bvh.glsl), with tMax = FLOAT_MAX.
+#if defined(STEP_RAYS_FLOAT)
+        // Each side of each axis is two 64-bit words (four floats); the direction picks which.
+        uint base = 16u * node;
+        uvec3 nearAt = base + uvec3(0u, 2u, 4u) + mix(uvec3(0u), uvec3(6u), negative);
+        uvec3 farAt = base + uvec3(0u, 2u, 4u) + mix(uvec3(6u), uvec3(0u), negative);
+        vec4 nearX = (planesAt(at, nearAt.x) - origin.x) * invDir.x;
+        vec4 nearY = (planesAt(at, nearAt.y) - origin.y) * invDir.y;
+        vec4 nearZ = (planesAt(at, nearAt.z) - origin.z) * invDir.z;
+        vec4 farX = (planesAt(at, farAt.x) - origin.x) * invDir.x;
+        vec4 farY = (planesAt(at, farAt.y) - origin.y) * invDir.y;
+        vec4 farZ = (planesAt(at, farAt.z) - origin.z) * invDir.z;
+        uvec4 ref = uvec4(unpackUint2x32(at.v[base + 12u]), unpackUint2x32(at.v[base + 13u]));
+        uint meta = unpackUint2x32(at.v[base + 14u]).x;
+#else
         uvec2 w0 = unpackUint2x32(at.v[8u * node]), w1 = unpackUint2x32(at.v[8u * node + 1u]);
         uvec2 w2 = unpackUint2x32(at.v[8u * node + 2u]), w3 = unpackUint2x32(at.v[8u * node + 3u]);
         uvec2 w4 = unpackUint2x32(at.v[8u * node + 4u]), w5 = unpackUint2x32(at.v[8u * node + 5u]);
@@ -76,10 +101,12 @@ void main() {
         vec4 farX = (corner.x + vec4((uvec4(farWords.x) >> bytes) & 0xffu) * step.x - origin.x) * invDir.x;
         vec4 farY = (corner.y + vec4((uvec4(farWords.y) >> bytes) & 0xffu) * step.y - origin.y) * invDir.y;
         vec4 farZ = (corner.z + vec4((uvec4(farWords.z) >> bytes) & 0xffu) * step.z - origin.z) * invDir.z;
+        uint meta = frame.w;
+#endif
         vec4 tNear = maxOfNumbers(maxOfNumbers(nearX, nearY), maxOfNumbers(nearZ, vec4(0.0)));
         vec4 tFar = minOfNumbers(minOfNumbers(farX, farY), minOfNumbers(farZ, vec4(FLOAT_MAX))) * BOX_EXIT_SCALE;
         bvec4 hit = lessThanEqual(tNear, tFar);
-        uint hits = (frame.w >> 24u) & ((hit.x ? 1u : 0u) | (hit.y ? 2u : 0u) | (hit.z ? 4u : 0u) | (hit.w ? 8u : 0u));
+        uint hits = (meta >> 24u) & ((hit.x ? 1u : 0u) | (hit.y ? 2u : 0u) | (hit.z ? 4u : 0u) | (hit.w ? 8u : 0u));
         // nearestChild (geometry/bvh.glsl).
         uint c = s & 3u;
         float best = 0.0;
