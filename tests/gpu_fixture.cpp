@@ -21,6 +21,16 @@ std::filesystem::path freshOutputDir(const std::string& group, const std::string
     return dir;
 }
 
-std::string shellQuoted(const std::filesystem::path& path) { return "'" + path.string() + "'"; }
+// Single quotes around the path, each quote inside it closed, escaped and reopened ('\'').
+// Built by appending: GCC 12 warns (-Wrestrict, a false positive) on "'" + string + "'".
+std::string shellQuoted(const std::filesystem::path& path) {
+    std::string quoted = "'";
+    for (char c : path.string()) {
+        if (c == '\'') quoted += "'\\''";
+        else quoted += c;
+    }
+    quoted += '\'';
+    return quoted;
+}
 
 }  // namespace penumbra::test
