@@ -267,12 +267,14 @@ uint32_t spreadBits10(uint32_t v) {  // bits 0-9 of v to bits 0, 3, 6, ... 27
     return v;
 }
 
-// A camera ray through `film` and, where it hits, an AO ray from the hit, their rounds
-// appended to `camera` and `ao`. Returns the AO ray's origin and direction octant.
+// Where an AO ray starts and which octant it heads into (the regrouping's keys).
 struct AoRayStart {
     glm::vec3 origin;
     uint32_t octant;
 };
+
+// A camera ray through `film` and, where it hits, an AO ray from the hit, their rounds
+// appended to `camera` and `ao`. Returns the AO ray's start, none where the camera ray missed.
 std::optional<AoRayStart> traceProbeSample(const Bvh& bvh, const gpu::RenderParams& p, glm::vec2 film,
                                            std::mt19937& rng, LaneRays& camera, LaneRays& ao) {
     std::uniform_real_distribution<float> uniform(-1.0f, 1.0f);
@@ -299,6 +301,7 @@ void printLaneUse(const std::string& scene, const std::string& kind, const LaneU
                 use.ifNodeShare(), use.ifPrimitiveShare());
 }
 
+// The lanes that traced a ray (an AO lane whose camera ray missed traced none, and idles).
 std::vector<const LaneRays*> groupOf(const std::vector<LaneRays>& lanes) {
     std::vector<const LaneRays*> group;
     for (const LaneRays& lane : lanes)
