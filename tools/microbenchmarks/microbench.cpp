@@ -497,6 +497,13 @@ int main(int argc, char** argv) {
                     addCase(table, "rays across lanes, 4-wide nodes of float planes (device address)", "step4",
                             raysLabel, "step_rays_float", steps, SSBO, t.wide4Float.data(), t.wide4Float.size() * 4,
                             NONE, p, double(invocations) * steps, invocations);
+                    // Every node's frame: origin 0, the exponents, all four children.
+                    Push frame = p;
+                    frame.boxOrigin[0] = frame.boxOrigin[1] = frame.boxOrigin[2] = 0.0f;
+                    frame.threshold = kStepExponents | 0xfu << 24;
+                    addCase(table, "rays across lanes, 4-wide nodes, frame not loaded (device address)", "step4",
+                            raysLabel, "step_rays_no_frame", steps, SSBO, t.wide4.data(), t.wide4.size() * 4, NONE,
+                            frame, double(invocations) * steps, invocations);
                     if (!shuffles) {
                         std::printf("(skipped %s, 8-wide steps: subgroups of fewer than 8 lanes or no shuffles)\n",
                                     table.c_str());

@@ -10,6 +10,10 @@
 // - STEP_RAYS_FLOAT: that step on the same boxes stored as floats, 128 bytes a node (the
 //   planes of each axis and side for the four children, the references, the child mask):
 //   no decode, twice the bytes.
+// - STEP_RAYS_NO_FRAME: that step without loading the node's frame (origin, exponents,
+//   child mask: two of its seven 64-bit words), which the push constants give instead (every
+//   node of the table has the same): what a node whose frame came from its parent, and not
+//   from memory, would save at most.
 // - STEP_CHILDREN8: one ray per eight invocations and eight-wide nodes, one child per
 //   invocation; the nearest child is found with subgroup shuffles. A node is 96 bytes: a
 //   frame (origin, per-axis step exponents, child mask), the children's base index, then
@@ -25,8 +29,8 @@
 #if defined(STEP_CHILDREN8_ALONE)
 #define STEP_CHILDREN8  // the same step with its lanes' results not combined (below)
 #endif
-#if defined(STEP_RAYS_FLOAT)
-#define STEP_RAYS  // the same step with the planes stored as floats (below)
+#if defined(STEP_RAYS_FLOAT) || defined(STEP_RAYS_NO_FRAME)
+#define STEP_RAYS  // the same step with the planes stored as floats, or without the frame (below)
 #endif
 #if defined(STEP_CHILDREN8)
 #extension GL_KHR_shader_subgroup_basic : require
@@ -84,7 +88,11 @@ void main() {
         uvec4 ref = uvec4(unpackUint2x32(at.v[base + 12u]), unpackUint2x32(at.v[base + 13u]));
         uint meta = unpackUint2x32(at.v[base + 14u]).x;
 #else
+#if defined(STEP_RAYS_NO_FRAME)
+        uvec2 w0 = floatBitsToUint(pc.boxOrigin.xy), w1 = uvec2(floatBitsToUint(pc.boxOrigin.z), pc.threshold);
+#else
         uvec2 w0 = unpackUint2x32(at.v[8u * node]), w1 = unpackUint2x32(at.v[8u * node + 1u]);
+#endif
         uvec2 w2 = unpackUint2x32(at.v[8u * node + 2u]), w3 = unpackUint2x32(at.v[8u * node + 3u]);
         uvec2 w4 = unpackUint2x32(at.v[8u * node + 4u]), w5 = unpackUint2x32(at.v[8u * node + 5u]);
         uvec2 w6 = unpackUint2x32(at.v[8u * node + 6u]);
