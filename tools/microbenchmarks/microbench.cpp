@@ -504,6 +504,12 @@ int main(int argc, char** argv) {
                     addCase(table, "rays across lanes, 4-wide nodes, frame not loaded (device address)", "step4",
                             raysLabel, "step_rays_no_frame", steps, SSBO, t.wide4.data(), t.wide4.size() * 4, NONE,
                             frame, double(invocations) * steps, invocations);
+                    addCase(table, "rays across lanes, 4-wide nodes, next nodes touched early (device address)",
+                            "step4", raysLabel, "step_rays_prefetch", steps, SSBO, t.wide4.data(), t.wide4.size() * 4,
+                            NONE, p, double(invocations) * steps, invocations);
+                    addCase(table, "two rays per invocation, interleaved (device address)", "step4 pair", raysLabel,
+                            "step_rays_pair", steps, SSBO, t.wide4.data(), t.wide4.size() * 4, NONE, p,
+                            2.0 * invocations * steps, invocations);
                     if (!shuffles) {
                         std::printf("(skipped %s, 8-wide steps: subgroups of fewer than 8 lanes or no shuffles)\n",
                                     table.c_str());
@@ -610,9 +616,11 @@ int main(int argc, char** argv) {
             // The first 256 rays against their walk replayed on the CPU, bit for bit (the
             // lanes that go alone walk no ray's path).
             const StepTables& t = stepTables.at(c.table);
+            const bool pair = c.group == "step4 pair";  // invocation i: ray 2i's sum, ray 2i + 1's node
             for (uint32_t ray = 0; ray < (c.group == "step8 alone" ? 0u : 256u); ++ray) {
                 const size_t at = 2 * size_t(children8 ? 8 * ray : ray);
-                const auto [acc, node] = replayStep(t, children8, ray, steps);
+                const float acc = replayStep(t, children8, pair ? 2 * ray : ray, steps).first;
+                const float node = replayStep(t, children8, pair ? 2 * ray + 1 : ray, steps).second;
                 if (std::bit_cast<uint32_t>(acc) != std::bit_cast<uint32_t>(c.output[at]) || node != c.output[at + 1]) {
                     std::printf("MISMATCH: %s, %s: ray %u walked otherwise than on the CPU\n", c.table.c_str(),
                                 c.label.c_str(), ray);
@@ -623,7 +631,7 @@ int main(int argc, char** argv) {
             const double seconds = median(c.seconds), rate = c.work / seconds;
             std::printf("| %s (%s) | %s | %.1f | %.0f | %.2f | %.3f |\n", c.table.c_str(),
                         c.table == "small" ? "32 / 24 KiB" : "32 / 24 MiB", c.label.c_str(), rate / 1e6,
-                        rate * (c.group == "step4" ? 4 : 8) / 1e6, rate / baselineRate(c),
+                        rate * (c.group.rfind("step4", 0) == 0 ? 4 : 8) / 1e6, rate / baselineRate(c),
                         c.createSeconds + std::max(0.0, c.firstSeconds - seconds));
         }
         std::printf("\nLoad average at the end: %s. Results agree across variants: %s\n", loadAverage().c_str(),

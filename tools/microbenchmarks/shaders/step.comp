@@ -14,6 +14,12 @@
 //   child mask: two of its seven 64-bit words), which the push constants give instead (every
 //   node of the table has the same): what a node whose frame came from its parent, and not
 //   from memory, would save at most.
+// - STEP_RAYS_PAIR: that step for two rays per invocation, interleaved: how much of a
+//   step is waiting on its loads, which a second independent ray lets the CPU overlap.
+// - STEP_RAYS_PREFETCH: that step, which also loads the first word of each of the four
+//   nodes it could go on to as soon as it has the node's references, so that the next
+//   step's line is on its way while the boxes are tested (a load used only by a test that
+//   never passes, since GLSL has no prefetch).
 // - STEP_CHILDREN8: one ray per eight invocations and eight-wide nodes, one child per
 //   invocation; the nearest child is found with subgroup shuffles. A node is 96 bytes: a
 //   frame (origin, per-axis step exponents, child mask), the children's base index, then
@@ -29,8 +35,8 @@
 #if defined(STEP_CHILDREN8_ALONE)
 #define STEP_CHILDREN8  // the same step with its lanes' results not combined (below)
 #endif
-#if defined(STEP_RAYS_FLOAT) || defined(STEP_RAYS_NO_FRAME)
-#define STEP_RAYS  // the same step with the planes stored as floats, or without the frame (below)
+#if defined(STEP_RAYS_FLOAT) || defined(STEP_RAYS_NO_FRAME) || defined(STEP_RAYS_PAIR) || defined(STEP_RAYS_PREFETCH)
+#define STEP_RAYS  // variants of the same step (below)
 #endif
 #if defined(STEP_CHILDREN8)
 #extension GL_KHR_shader_subgroup_basic : require
@@ -63,16 +69,10 @@ vec4 planesAt(Words64 at, uint word) {
 vec4 maxOfNumbers(vec4 a, vec4 b) { return mix(b, a, greaterThan(a, b)); }
 vec4 minOfNumbers(vec4 a, vec4 b) { return mix(b, a, lessThan(a, b)); }
 
-void main() {
-    uint id = gl_GlobalInvocationID.x;
-    uint salt = hash(id);
-    vec3 origin, invDir;
-    makeRay(salt, origin, invDir);
+// Step s of the ray (salt, origin, invDir) at `node`: adds to `acc`, returns the next node.
+uint wideStep(Words64 at, uint node, uint s, uint salt, vec3 origin, vec3 invDir, inout float acc) {
     bvec3 negative = lessThan(invDir, vec3(0.0));
-    uint node = salt & pc.mask;
-    float acc = 0.0;
-    Words64 at = Words64(pc.address);
-    for (uint s = 0u; s < STEPS; ++s) {
+    {
         // intersectWideNode (geometry/bvh.glsl), with tMax = FLOAT_MAX.
 #if defined(STEP_RAYS_FLOAT)
         // Each side of each axis is two 64-bit words (four floats); the direction picks which.
@@ -98,6 +98,11 @@ void main() {
         uvec2 w6 = unpackUint2x32(at.v[8u * node + 6u]);
         uvec4 frame = uvec4(w0, w1), planesA = uvec4(w2, w3), planesB = uvec4(w4, w5);
         uvec4 ref = uvec4(planesB.zw, w6);
+#if defined(STEP_RAYS_PREFETCH)
+        uvec4 ahead = (ref ^ salt) & pc.mask;
+        uint64_t touched = at.v[8u * ahead.x] ^ at.v[8u * ahead.y] ^ at.v[8u * ahead.z] ^ at.v[8u * ahead.w];
+        if (touched == 0xffffffffffffffffUL && pc.threshold == 1u) acc += 1.0;  // never: the table has no such word
+#endif
         vec3 corner = uintBitsToFloat(frame.xyz);
         vec3 step = stepOf(frame.w);
         uvec3 nearWords = mix(uvec3(planesA.xyz), uvec3(planesA.w, planesB.xy), negative);
@@ -128,9 +133,36 @@ void main() {
         }
         uint next = c == 0u ? ref.x : (c == 1u ? ref.y : (c == 2u ? ref.z : ref.w));
         acc += best + float(bitCount(hits));
-        node = (next ^ salt) & pc.mask;
+        return (next ^ salt) & pc.mask;
     }
+}
+
+void main() {
+    Words64 at = Words64(pc.address);
+#if defined(STEP_RAYS_PAIR)
+    // Two rays per invocation, a step of each per iteration: two independent chains of
+    // loads for the CPU to overlap. The result holds the first ray's sum, the second's node.
+    uint saltA = hash(2u * gl_GlobalInvocationID.x), saltB = hash(2u * gl_GlobalInvocationID.x + 1u);
+    vec3 originA, invDirA, originB, invDirB;
+    makeRay(saltA, originA, invDirA);
+    makeRay(saltB, originB, invDirB);
+    uint nodeA = saltA & pc.mask, nodeB = saltB & pc.mask;
+    float accA = 0.0, accB = 0.0;
+    for (uint s = 0u; s < STEPS; ++s) {
+        nodeA = wideStep(at, nodeA, s, saltA, originA, invDirA, accA);
+        nodeB = wideStep(at, nodeB, s, saltB, originB, invDirB, accB);
+    }
+    results[gl_GlobalInvocationID.x] = vec2(accA, float(nodeB));
+#else
+    uint id = gl_GlobalInvocationID.x;
+    uint salt = hash(id);
+    vec3 origin, invDir;
+    makeRay(salt, origin, invDir);
+    uint node = salt & pc.mask;
+    float acc = 0.0;
+    for (uint s = 0u; s < STEPS; ++s) node = wideStep(at, node, s, salt, origin, invDir, acc);
     results[id] = vec2(acc, float(node));
+#endif
 }
 
 #elif defined(STEP_CHILDREN8)
