@@ -6,6 +6,7 @@
 // lanes. Kernels: tools/microbenchmarks/shaders; run everything with tools/microbench.
 #include <algorithm>
 #include <bit>
+#include <cfloat>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -24,6 +25,8 @@
 #include <vulkan/vulkan.h>
 
 #include "bench_harness.h"
+#include "bvh/bvh.h"
+#include "bvh/intersect.h"
 #include "gpu/buffer.h"
 #include "gpu/context.h"
 #include "gpu/vk_check.h"
@@ -39,6 +42,10 @@ using penumbra::bench::median;
 using penumbra::bench::readSpirv;
 using penumbra::gpu::Context;
 using penumbra::gpu::vkCheck;
+namespace gpu = penumbra::gpu;
+using penumbra::decodeWideChild;
+using penumbra::intersectBox;
+using penumbra::WideChildBox;
 
 constexpr uint32_t kSmallNodes = 1024;  // SMALL_NODES in fetch.comp: 32 KiB of 32-byte nodes
 constexpr uint32_t kLargeNodes = 1u << 20;
@@ -169,15 +176,17 @@ Tables makeTables(uint32_t count, uint32_t seed) {
     return t;
 }
 
-// Node tables of step.comp: four-wide nodes as shared/types.h's WideNode (16 words) and
+// Node tables of step.comp: four-wide nodes as the renderer's (gpu::WideNode) and
 // eight-wide nodes of 24 words (step.comp says how they are laid out). Every child exists
 // and its box, origin 0 and step 2^-8 on each axis, lies in [0, 1)^3.
 struct StepTables {
     uint32_t count4 = 0, count8 = 0;
-    std::vector<uint32_t> wide4, wide4Float, wide8;  // wide4Float: wide4's boxes as floats
+    std::vector<gpu::WideNode> wide4;
+    std::vector<uint32_t> wide4Float, wide8;  // wide4Float: wide4's boxes as floats
 };
 
 constexpr uint32_t kStepExponents = 119u | 119u << 8 | 119u << 16;  // 2^(119 - 127) = 2^-8
+constexpr float kStep = 1.0f / 256.0f;
 
 StepTables makeStepTables(uint32_t count4, uint32_t count8, uint32_t seed) {
     std::mt19937 rng(seed);
@@ -190,37 +199,42 @@ StepTables makeStepTables(uint32_t count4, uint32_t count8, uint32_t seed) {
             hi[k] = lo[k] + 1 + rng() % 55;
         }
     };
-    t.wide4.assign(size_t(count4) * 16, 0);
-    for (uint32_t i = 0; i < count4; ++i) {
-        uint32_t* n = &t.wide4[size_t(i) * 16];
-        n[3] = kStepExponents | 0xfu << 24;
+    t.wide4.assign(count4, gpu::WideNode{});
+    for (gpu::WideNode& n : t.wide4) {
+        n.meta = kStepExponents | gpu::WIDE_ALL_CHILDREN << gpu::WIDE_CHILD_MASK_SHIFT;
+        uint32_t* loPlanes[3] = {&n.loX, &n.loY, &n.loZ};
+        uint32_t* hiPlanes[3] = {&n.hiX, &n.hiY, &n.hiZ};
+        uint32_t* refs[4] = {&n.child0, &n.child1, &n.child2, &n.child3};
         for (uint32_t c = 0; c < 4; ++c) {
             uint32_t lo[3], hi[3];
             planes(lo, hi);
             for (int k = 0; k < 3; ++k) {
-                n[4 + k] |= lo[k] << (8 * c);
-                n[7 + k] |= hi[k] << (8 * c);
+                *loPlanes[k] |= lo[k] << (8 * c);
+                *hiPlanes[k] |= hi[k] << (8 * c);
             }
-            n[10 + c] = uint32_t(rng()) % count4;
+            *refs[c] = uint32_t(rng()) % count4;
         }
     }
-    // The same nodes with each plane decoded as the shader decodes it (origin 0 + q * step,
-    // exact): 32 words a node, the planes loX[4] loY[4] loZ[4] hiX[4] hiY[4] hiZ[4], the
-    // four references, the meta word.
+    // The same nodes with each plane decoded as the traversal decodes it (decodeWideChild):
+    // 32 words a node, the planes loX[4] loY[4] loZ[4] hiX[4] hiY[4] hiZ[4], the four
+    // references, the meta word.
     t.wide4Float.assign(size_t(count4) * 32, 0);
     for (uint32_t i = 0; i < count4; ++i) {
-        const uint32_t* n = &t.wide4[size_t(i) * 16];
         uint32_t* f = &t.wide4Float[size_t(i) * 32];
-        for (uint32_t side = 0; side < 6; ++side)
-            for (uint32_t c = 0; c < 4; ++c)
-                f[4 * side + c] = std::bit_cast<uint32_t>(0.0f + float((n[4 + side] >> (8 * c)) & 255u) * 0.00390625f);
-        for (uint32_t c = 0; c < 4; ++c) f[24 + c] = n[10 + c];
-        f[28] = n[3];
+        for (uint32_t c = 0; c < 4; ++c) {
+            const WideChildBox box = decodeWideChild(t.wide4[i], c);
+            for (int k = 0; k < 3; ++k) {
+                f[4 * k + c] = std::bit_cast<uint32_t>(box.lo[k]);
+                f[4 * (3 + k) + c] = std::bit_cast<uint32_t>(box.hi[k]);
+            }
+            f[24 + c] = box.ref;
+        }
+        f[28] = t.wide4[i].meta;
     }
     t.wide8.assign(size_t(count8) * 24, 0);
     for (uint32_t i = 0; i < count8; ++i) {
         uint32_t* n = &t.wide8[size_t(i) * 24];
-        n[3] = kStepExponents | 0xffu << 24;
+        n[3] = kStepExponents | 0xffu << gpu::WIDE_CHILD_MASK_SHIFT;
         n[4] = uint32_t(rng()) % count8;
         for (uint32_t c = 0; c < 8; ++c) {
             uint32_t lo[3], hi[3];
@@ -232,57 +246,48 @@ StepTables makeStepTables(uint32_t count4, uint32_t count8, uint32_t seed) {
     return t;
 }
 
-// step.comp's walk of ray `ray` replayed on the CPU with the same operations in the same
-// order (the build does not contract them, and lavapipe does not fuse): its (acc, node).
+// step.comp's walk of ray `ray` replayed on the CPU with the traversal's own box decode and
+// test (decodeWideChild, intersectBox: the same operations in the same order; the build
+// does not contract them, and lavapipe does not fuse): its (acc, node).
 std::pair<float, float> replayStep(const StepTables& t, bool children8, uint32_t ray, uint32_t steps) {
     const uint32_t salt = lowbias32(ray);
-    float origin[3], invDir[3];
+    glm::vec3 origin, invDir;
     for (uint32_t k = 0; k < 3; ++k) {
         origin[k] = float((salt >> (8 * k)) & 255u) * (1.0f / 256.0f);
         invDir[k] = (float(lowbias32(salt + k) & 1023u) - 511.5f) * (1.0f / 64.0f);
     }
-    const uint32_t mask = (children8 ? t.count8 : t.count4) - 1;
-    const float step = std::ldexp(1.0f, -8), kMax = 3.402823466e38f, kExitScale = 1.0000004f;
+    const uint32_t mask = (children8 ? t.count8 : t.count4) - 1, arity = children8 ? 8 : 4;
     uint32_t node = salt & mask;
     float acc = 0.0f;
     for (uint32_t s = 0; s < steps; ++s) {
-        const uint32_t arity = children8 ? 8 : 4;
-        const uint32_t* n = children8 ? &t.wide8[size_t(node) * 24] : &t.wide4[size_t(node) * 16];
-        uint32_t hits = 0, chosen = s & (arity - 1);
+        const uint32_t* n8 = &t.wide8[children8 ? size_t(node) * 24 : 0];
+        uint32_t hits = 0, next = 0, fallback = 0;  // fallback: where the ray goes when no box is hit
         float best = 0.0f;
         for (uint32_t c = 0; c < arity; ++c) {
-            uint32_t lo[3], hi[3];
-            for (int k = 0; k < 3; ++k) {
-                if (children8) {
-                    const uint32_t a = n[8 + 2 * c], b = n[9 + 2 * c];
-                    const uint32_t bytes[6] = {a & 255u, (a >> 8) & 255u, (a >> 16) & 255u,
-                                               a >> 24,  b & 255u,        (b >> 8) & 255u};
-                    lo[k] = bytes[k];
-                    hi[k] = bytes[3 + k];
-                } else {
-                    lo[k] = (n[4 + k] >> (8 * c)) & 255u;
-                    hi[k] = (n[7 + k] >> (8 * c)) & 255u;
+            WideChildBox box;
+            if (children8) {
+                const uint32_t a = n8[8 + 2 * c], b = n8[9 + 2 * c];
+                const uint32_t lo[3] = {a & 255u, (a >> 8) & 255u, (a >> 16) & 255u};
+                const uint32_t hi[3] = {a >> 24, b & 255u, (b >> 8) & 255u};
+                for (int k = 0; k < 3; ++k) {
+                    box.lo[k] = 0.0f + float(lo[k]) * kStep;
+                    box.hi[k] = 0.0f + float(hi[k]) * kStep;
                 }
+                box.ref = n8[4] + (b >> 16);
+            } else {
+                box = decodeWideChild(t.wide4[node], c);
             }
-            float tn[3], tf[3];
-            for (int k = 0; k < 3; ++k) {
-                const float l = 0.0f + float(lo[k]) * step, h = 0.0f + float(hi[k]) * step;
-                const bool negative = invDir[k] < 0.0f;
-                tn[k] = ((negative ? h : l) - origin[k]) * invDir[k];
-                tf[k] = ((negative ? l : h) - origin[k]) * invDir[k];
-            }
-            const float tNear = std::max(std::max(tn[0], tn[1]), std::max(tn[2], 0.0f));
-            const float tFar = std::min(std::min(tf[0], tf[1]), std::min(tf[2], kMax)) * kExitScale;
-            if (!(tNear <= tFar)) continue;
-            if (hits == 0 || tNear < best) {
-                chosen = c;
-                best = tNear;
+            if (c == (s & (arity - 1))) fallback = box.ref;
+            float tEntry;
+            if (!intersectBox(box.lo, box.hi, origin, invDir, FLT_MAX, tEntry)) continue;
+            if (hits == 0 || tEntry < best) {  // nearest first, the lower child on ties
+                best = tEntry;
+                next = box.ref;
             }
             hits |= 1u << c;
         }
-        const uint32_t next = children8 ? n[4] + (n[9 + 2 * chosen] >> 16) : n[10 + chosen];
         acc += best + float(std::popcount(hits));
-        node = (next ^ salt) & mask;
+        node = ((hits != 0 ? next : fallback) ^ salt) & mask;
     }
     return {acc, float(node)};
 }
@@ -492,24 +497,25 @@ int main(int argc, char** argv) {
                     const StepTables& t = stepTables[table];
                     Push p = push;
                     p.mask = t.count4 - 1;
-                    addCase(table, raysLabel, "step4", raysLabel, "step_rays", steps, SSBO, t.wide4.data(),
-                            t.wide4.size() * 4, NONE, p, double(invocations) * steps, invocations);
+                    const VkDeviceSize bytes4 = t.wide4.size() * sizeof(gpu::WideNode);
+                    addCase(table, raysLabel, "step4", raysLabel, "step_rays", steps, SSBO, t.wide4.data(), bytes4,
+                            NONE, p, double(invocations) * steps, invocations);
                     addCase(table, "rays across lanes, 4-wide nodes of float planes (device address)", "step4",
                             raysLabel, "step_rays_float", steps, SSBO, t.wide4Float.data(), t.wide4Float.size() * 4,
                             NONE, p, double(invocations) * steps, invocations);
                     // Every node's frame: origin 0, the exponents, all four children.
                     Push frame = p;
                     frame.boxOrigin[0] = frame.boxOrigin[1] = frame.boxOrigin[2] = 0.0f;
-                    frame.threshold = kStepExponents | 0xfu << 24;
+                    frame.threshold = kStepExponents | gpu::WIDE_ALL_CHILDREN << gpu::WIDE_CHILD_MASK_SHIFT;
                     addCase(table, "rays across lanes, 4-wide nodes, frame not loaded (device address)", "step4",
-                            raysLabel, "step_rays_no_frame", steps, SSBO, t.wide4.data(), t.wide4.size() * 4, NONE,
-                            frame, double(invocations) * steps, invocations);
+                            raysLabel, "step_rays_no_frame", steps, SSBO, t.wide4.data(), bytes4, NONE, frame,
+                            double(invocations) * steps, invocations);
                     addCase(table, "rays across lanes, 4-wide nodes, next nodes touched early (device address)",
-                            "step4", raysLabel, "step_rays_prefetch", steps, SSBO, t.wide4.data(), t.wide4.size() * 4,
-                            NONE, p, double(invocations) * steps, invocations);
+                            "step4", raysLabel, "step_rays_prefetch", steps, SSBO, t.wide4.data(), bytes4, NONE, p,
+                            double(invocations) * steps, invocations);
                     addCase(table, "two rays per invocation, interleaved (device address)", "step4 pair", raysLabel,
-                            "step_rays_pair", steps, SSBO, t.wide4.data(), t.wide4.size() * 4, NONE, p,
-                            2.0 * invocations * steps, invocations);
+                            "step_rays_pair", steps, SSBO, t.wide4.data(), bytes4, NONE, p, 2.0 * invocations * steps,
+                            invocations);
                     if (!shuffles) {
                         std::printf("(skipped %s, 8-wide steps: subgroups of fewer than 8 lanes or no shuffles)\n",
                                     table.c_str());

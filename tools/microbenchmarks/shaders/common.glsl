@@ -5,14 +5,16 @@
 
 layout(local_size_x = 64) in;
 
-// Steps per invocation (fetch kernels) or tree depth (stack kernels).
+// Steps per invocation (fetch and step kernels) or tree depth (stack kernels).
 layout(constant_id = 0) const uint STEPS = 32u;
 
 layout(push_constant) uniform Push {
-    uvec2 address;     // buffer device address of the node table (SOURCE_BDA)
+    uvec2 address;     // buffer device address of the node table (SOURCE_BDA, step kernels)
     uint mask;         // node count - 1 (node count is a power of two)
-    uint threshold;    // stack kernels: a child is visited when a 16-bit hash is below it
-    vec4 boxOrigin;    // packed nodes: box = boxOrigin + boxScale * quantized / 255
+    uint threshold;    // stack kernels: a child is visited when a 16-bit hash is below it;
+                       // STEP_RAYS_NO_FRAME: every node's meta word
+    vec4 boxOrigin;    // packed nodes: box = boxOrigin + boxScale * quantized / 255;
+                       // STEP_RAYS_NO_FRAME: every node's origin (xyz)
     vec4 boxScale;
 } pc;
 

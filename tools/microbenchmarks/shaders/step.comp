@@ -43,11 +43,10 @@
 #extension GL_KHR_shader_subgroup_shuffle : require
 #endif
 #include "common.glsl"
+#include "common/math.glsl"  // FLOAT_MAX
+#include "shared/types.h"     // the renderer's WideNode layout, BOX_EXIT_SCALE
 
 layout(buffer_reference, std430, buffer_reference_align = 8) readonly restrict buffer Words64 { uint64_t v[]; };
-
-const float FLOAT_MAX = 3.402823466e38;
-const float BOX_EXIT_SCALE = 1.0000004;  // shared/types.h
 
 // An origin in [0, 1)^3 and an inverse direction in [-8, 8], never 0, from exact
 // operations only, so that the program can replay the walk on the CPU bit for bit.
@@ -119,7 +118,7 @@ uint wideStep(Words64 at, uint node, uint s, uint salt, vec3 origin, vec3 invDir
         vec4 tNear = maxOfNumbers(maxOfNumbers(nearX, nearY), maxOfNumbers(nearZ, vec4(0.0)));
         vec4 tFar = minOfNumbers(minOfNumbers(farX, farY), minOfNumbers(farZ, vec4(FLOAT_MAX))) * BOX_EXIT_SCALE;
         bvec4 hit = lessThanEqual(tNear, tFar);
-        uint hits = (meta >> 24u) & ((hit.x ? 1u : 0u) | (hit.y ? 2u : 0u) | (hit.z ? 4u : 0u) | (hit.w ? 8u : 0u));
+        uint hits = (meta >> WIDE_CHILD_MASK_SHIFT) & ((hit.x ? 1u : 0u) | (hit.y ? 2u : 0u) | (hit.z ? 4u : 0u) | (hit.w ? 8u : 0u));
         // nearestChild (geometry/bvh.glsl).
         uint c = s & 3u;
         float best = 0.0;
@@ -191,7 +190,7 @@ void main() {
         vec3 tf = (mix(hi, lo, negative) - origin) * invDir;
         float tNear = max(max(tn.x, tn.y), max(tn.z, 0.0));
         float tFar = min(min(tf.x, tf.y), min(tf.z, FLOAT_MAX)) * BOX_EXIT_SCALE;
-        bool hit = ((w1.y >> (24u + child)) & 1u) != 0u && tNear <= tFar;
+        bool hit = ((w1.y >> (WIDE_CHILD_MASK_SHIFT + child)) & 1u) != 0u && tNear <= tFar;
 #if defined(STEP_CHILDREN8_ALONE)
         acc += hit ? tNear : 0.0;
         node = ((base + (record.y >> 16u)) ^ salt) & pc.mask;
