@@ -191,6 +191,49 @@ TEST(PassBands, ABudgetLearntOnCheapPixelsIsNotSpentOnCostlyOnes) {
     EXPECT_LT(submissions, 100);
 }
 
+TEST(PassBands, AfterTheFirstPassSweepsGiveEachPixelAsManySamplesAsFit) {
+    // Every pixel sample costs `cost`; the first pass is split, then sweeps follow.
+    auto sweepBands = [](uint32_t width, uint32_t height, uint32_t spp, double cost) {
+        PassBands bands(width, height, spp);
+        std::vector<PassBand> sweeps;
+        while (!bands.finished()) {
+            const PassBand band = bands.next(0.25);
+            if (band.firstSample > 0) sweeps.push_back(band);
+            bands.measured(cost * double(band.pixelSamples()));
+        }
+        return sweeps;
+    };
+    // Cheap: the 15 samples left go to every pixel in one sweep of whole-width row bands,
+    // top to bottom, the first at most two passes' pixel samples.
+    std::vector<PassBand> cheap = sweepBands(64, 48, 16, 1e-7);
+    ASSERT_FALSE(cheap.empty());
+    uint32_t row = 0;
+    for (const PassBand& b : cheap) {
+        EXPECT_EQ(b.firstSample, 1u);
+        EXPECT_EQ(b.count, 15u);
+        EXPECT_EQ(b.firstRow, row);
+        EXPECT_EQ(b.firstColumn, 0u);
+        EXPECT_EQ(b.columnCount, 64u);
+        row += b.rowCount;
+    }
+    EXPECT_EQ(row, 48u);
+    EXPECT_LE(cheap.front().pixelSamples(), 2u * 64 * 48);
+    // Costlier: one row of one sample takes 0.077 s, so the first two sweeps give 3 samples
+    // (0.23 s a row; 3 also where the estimate of a band's fixed cost, the smallest band's
+    // time, lowers the costs measured by up to an eighth) in bands of one row, and the last
+    // sweep the one sample left, in bands of 3 rows.
+    std::vector<PassBand> costly = sweepBands(64, 48, 8, 1.2e-3);
+    ASSERT_EQ(costly.size(), 2u * 48 + 16);
+    for (size_t i = 0; i < costly.size(); ++i) {
+        const bool last = i >= 2 * 48;
+        EXPECT_EQ(costly[i].firstSample, last ? 7u : 1u + 3u * uint32_t(i / 48));
+        EXPECT_EQ(costly[i].count, last ? 1u : 3u);
+        EXPECT_EQ(costly[i].rowCount, last ? 3u : 1u);
+        EXPECT_EQ(costly[i].firstRow, last ? 3u * uint32_t(i - 2 * 48) : uint32_t(i % 48));
+        EXPECT_LE(double(costly[i].pixelSamples()) * 1.2e-3, 0.25);
+    }
+}
+
 TEST(PassBands, SplittingARenderChangesNoPixel) {
     // A sample's value depends only on (seed, pixel, sample index) and each pixel's sum
     // receives its samples in the same order, so the bands must give identical bits.

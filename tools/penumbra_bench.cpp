@@ -14,6 +14,11 @@
 // time-to-error comparison of tools/bench-mitsuba) spends its time: Renderer::renderAll as
 // `penumbra render` times it, its submissions, the same passes in one submission, and an
 // empty submission (the fixed cost of one).
+// --samples-per-dispatch renders each scene's spp (rounded up to a power of two, at least
+// 16) in one submission of dispatches that add K = 1, 2, 4, ... spp samples to each pixel,
+// alternating over --runs rounds, and prints the medians of samples per CPU second and
+// their ratio to K = 1: what a dispatch gains when a pixel's next sample finds its last
+// one's reads in the caches (the reason for render/pass_bands.h's sweeps).
 // --spp N renders every scene at N samples per pixel (throughput does not depend on spp).
 // --emitter-first rule|off|exact: how BRDF-sampled rays find emitters (render/emitter_first.h,
 // EmitterFirst; default rule), so that one build measures both paths on any scene.
@@ -183,6 +188,35 @@ size_t triangleCount(const Scene& scene) {
 double median(std::vector<double> v) {
     std::sort(v.begin(), v.end());
     return v[v.size() / 2];
+}
+
+// --samples-per-dispatch (see the top of this file).
+void samplesPerDispatch(const gpu::Context& context, Scene scene, int runs) {
+    uint32_t spp = 16;
+    while (spp < scene.sampler.spp && spp < PassBands::kMaxPassesPerBand) spp *= 2;
+    scene.sampler.spp = spp;
+    Renderer renderer(context, scene);
+    renderer.compileKernel();
+    std::vector<uint32_t> ks;
+    for (uint32_t k = 1; k <= spp; k *= 2) ks.push_back(k);
+    std::vector<std::vector<double>> rates(ks.size());
+    const double samples = double(scene.film.width) * scene.film.height * scene.sampler.spp;
+    for (int r = 0; r < runs; ++r)
+        for (size_t i = 0; i < ks.size(); ++i) {
+            renderer.reset();
+            const double cpu0 = processCpuSeconds();
+            context.submitAndWait([&](VkCommandBuffer cmd) {
+                for (uint32_t first = 0; first < scene.sampler.spp; first += ks[i])
+                    renderer.recordPasses(cmd, first, ks[i], 0, scene.film.height);
+            });
+            rates[i].push_back(samples / (processCpuSeconds() - cpu0) * 1e-6);
+        }
+    std::printf("%s, %u spp, Msamples per CPU second (median of %d), by samples per dispatch:\n", scene.name.c_str(),
+                scene.sampler.spp, runs);
+    const double base = median(rates[0]);
+    for (size_t i = 0; i < ks.size(); ++i)
+        std::printf("  K = %2u: %7.3f  (%.2fx K = 1)\n", ks[i], median(rates[i]), median(rates[i]) / base);
+    std::fflush(stdout);
 }
 
 // --low-spp: per spp, medians over `runs` of: renderAll (what penumbra:render_seconds
@@ -402,7 +436,8 @@ void laneUse(const std::string& name) {
 
 int main(int argc, char** argv) {
     int runs = 5;
-    bool countOnly = false, lowSpp = false, fatesOnly = false, lanesOnly = false, instructions = false;
+    bool countOnly = false, lowSpp = false, perDispatch = false, fatesOnly = false, lanesOnly = false,
+         instructions = false;
     uint32_t spp = 0;
     EmitterFirst emitterFirst = EmitterFirst::Rule;
     InlineGeometry inlineGeometry = InlineGeometry::Rule;
@@ -412,6 +447,7 @@ int main(int argc, char** argv) {
         if (!std::strcmp(argv[i], "--runs") && i + 1 < argc) runs = std::atoi(argv[++i]);
         else if (!std::strcmp(argv[i], "--count-rays")) countOnly = true;
         else if (!std::strcmp(argv[i], "--low-spp")) lowSpp = true;
+        else if (!std::strcmp(argv[i], "--samples-per-dispatch")) perDispatch = true;
         else if (!std::strcmp(argv[i], "--brdf-ray-fates")) fatesOnly = true;
         else if (!std::strcmp(argv[i], "--lanes")) lanesOnly = true;
         else if (!std::strcmp(argv[i], "--instructions")) instructions = true;
@@ -446,7 +482,8 @@ int main(int argc, char** argv) {
         std::fprintf(stderr,
                      "usage: penumbra_bench [--runs N] [--spp N] [--emitter-first rule|off|exact] [--inline rule|off]\n"
                      "                      [--node-reads device|texels|storage|storage32|address]\n"
-                     "                      [--count-rays | --low-spp | --brdf-ray-fates | --lanes | --instructions]\n"
+                     "                      [--count-rays | --low-spp | --samples-per-dispatch | --brdf-ray-fates | "
+                     "--lanes | --instructions]\n"
                      "                      SCENE|procedural:N ...\n"
                      "       penumbra_bench --write-mesh N FILE\n");
         return 2;
@@ -461,6 +498,14 @@ int main(int argc, char** argv) {
             return 0;
         }
         gpu::Context context;
+        if (perDispatch) {
+            for (const std::string& name : scenes) {
+                Scene scene = benchScene(name);
+                if (spp > 0) scene.sampler.spp = spp;
+                samplesPerDispatch(context, scene, runs);
+            }
+            return 0;
+        }
         if (lowSpp) {
             for (const std::string& name : scenes) lowSppBreakdown(context, benchScene(name), runs);
             return 0;

@@ -3,6 +3,8 @@
 // interrupted batch resumes. Reuse across jobs: compute pipelines always (KernelCache),
 // the uploaded scene when consecutive jobs differ only in camera, sampler or integrator.
 // Exit status rule and summary: docs/BATCH.md.
+#include <unistd.h>
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <csignal>
@@ -10,7 +12,6 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
-#include <unistd.h>
 
 #include "batch/job_file.h"
 #include "cli/commands.h"
@@ -120,10 +121,10 @@ public:
     explicit Ticker(bool enabled) : m_enabled(enabled) {}
     void show(const std::string& tag, const RenderProgress& p, double pixels) {
         if (!m_enabled) return;
-        double rate = p.seconds > 0 ? p.samplesDone * pixels / p.seconds : 0.0;
+        double rate = p.seconds > 0 ? p.meanSamplesDone * pixels / p.seconds : 0.0;
         end();
-        m_width = std::fprintf(stderr, "penumbra: %s: %u/%u spp  %.2f M samples/s", tag.c_str(), p.samplesDone,
-                               p.samplesTotal, rate * 1e-6);
+        m_width = std::fprintf(stderr, "penumbra: %s: %u/%u spp (%.0f%%)  %.2f M samples/s", tag.c_str(), p.samplesDone,
+                               p.samplesTotal, 100.0 * p.meanSamplesDone / std::max(p.samplesTotal, 1u), rate * 1e-6);
         std::fflush(stderr);
     }
     void end() {

@@ -27,27 +27,13 @@ PassBands::PassBands(uint32_t width, uint32_t height, uint32_t spp, uint64_t max
 
 PassBand PassBands::next(double target) {
     if (finished()) throw std::logic_error("pass bands: the render is finished");
-    const uint64_t pass = uint64_t(m_width) * m_height;
     const bool passStart =
         std::all_of(m_strips.begin(), m_strips.end(), [](const Strip& s) { return s.row == 0 && s.column == 0; });
-    // Whole passes, once one is known to take at most half the target.
-    if (passStart && m_passCost >= 0.0 && m_passCost <= target / 2 &&
-        (m_maxPixelSamples == 0 || m_maxPixelSamples >= pass)) {
-        double passes = m_passCost > 0.0 ? target / m_passCost : double(kMaxPassesPerBand);
-        passes = std::min(
-            {passes, 2.0 * std::max<uint32_t>(m_lastPasses, 1), double(kMaxPassesPerBand), double(m_spp - m_sample)});
-        // Whole passes that fit in the per-pixel sample budget (integer division: a
-        // partial pass does not count).
-        const uint32_t passesThatFit = m_maxPixelSamples / pass;
-        if (m_maxPixelSamples > 0) passes = std::min(passes, double(passesThatFit));
-        const uint32_t count = std::max<uint32_t>(1, uint32_t(passes));
-        PassBand band{m_sample, count, 0, m_height, 0, m_width};
-        m_sample += count;
-        m_lastPasses = count;
-        m_lastPixels = band.pixelSamples();
-        m_lastWhole = true;
-        return band;
-    }
+    // Sweeps of row bands, once every strip is measured and a row of one sample takes at
+    // most half the target (pass_bands.h).
+    const bool sweepsFit = passStart && m_passCost >= 0.0 && maxCost() * m_width <= target / 2 &&
+                           (m_maxPixelSamples == 0 || m_maxPixelSamples >= m_width);
+    if (m_sweepCount > 0 || sweepsFit) return nextSweepBand(target);
     // Sized by the costliest strip's last measured cost per pixel sample, growing at most x2
     // per band: a part of the film costlier than any measured takes at most twice the last
     // band's pixels.
@@ -77,11 +63,46 @@ PassBand PassBands::next(double target) {
         }
     }
     m_lastPixels = band.pixelSamples();
-    m_lastWhole = false;
+    m_pixelSamplesDone += m_lastPixels;
+    m_lastSweepRows = 0;
     if (std::all_of(m_strips.begin(), m_strips.end(), [](const Strip& t) { return t.done(); })) {
         ++m_sample;
         for (Strip& t : m_strips) t.row = t.column = 0;
         m_nextStrip = 0;
+    }
+    return band;
+}
+
+PassBand PassBands::nextSweepBand(double target) {
+    const double rowSeconds = std::max(maxCost(), 0.0) * m_width;  // the costliest row, one sample
+    if (m_sweepCount == 0) {
+        // As many samples as one row takes within the target: the more samples a dispatch
+        // adds to each pixel, the more of a pixel's reads its next sample finds in the caches.
+        double count = rowSeconds > 0.0 ? target / rowSeconds : double(kMaxPassesPerBand);
+        count = std::min({count, double(kMaxPassesPerBand), double(m_spp - m_sample)});
+        if (m_maxPixelSamples > 0) count = std::min(count, double(m_maxPixelSamples / m_width));
+        m_sweepCount = std::max<uint32_t>(1, uint32_t(count));
+        m_sweepRow = 0;
+    }
+    // As many rows as fit in the target at the costliest strip's cost, and at most twice the
+    // pixel samples of the last band or of one pass, whichever is more: the growth that
+    // whole passes had (two passes after a split one, then twice the last band).
+    const double rowSamples = double(m_width) * m_sweepCount;  // pixel samples of one row of the sweep
+    const double pass = double(m_width) * m_height;
+    double rows = rowSeconds > 0.0 ? target / (rowSeconds * m_sweepCount) : double(m_height);
+    rows = std::min(rows, 2.0 * std::max(double(m_lastPixels), pass) / rowSamples);
+    if (m_maxPixelSamples > 0) rows = std::min(rows, double(m_maxPixelSamples) / rowSamples);
+    rows = std::clamp(rows, 1.0, double(m_height - m_sweepRow));
+    PassBand band{m_sample, m_sweepCount, m_sweepRow, uint32_t(rows), 0, m_width};
+    m_lastSweepFirstRow = m_sweepRow;
+    m_lastSweepRows = band.rowCount;
+    m_sweepRow += band.rowCount;
+    m_lastPixels = band.pixelSamples();
+    m_pixelSamplesDone += m_lastPixels;
+    if (m_sweepRow == m_height) {
+        m_sample += m_sweepCount;
+        m_sweepCount = 0;
+        m_sweepRow = 0;
     }
     return band;
 }
@@ -96,8 +117,13 @@ void PassBands::measured(double seconds) {
     if (m_lastPixels == 0) return;
     seconds = std::max(seconds, 0.0);
     m_fixedSeconds = m_fixedSeconds < 0.0 ? seconds : std::min(m_fixedSeconds, seconds);
-    if (m_lastWhole) {
-        m_passCost = seconds / m_lastPasses;
+    if (m_lastSweepRows > 0) {
+        // A sweep's band spans strips of different costs: its mean may only raise theirs,
+        // so that a costly strip's estimate is never lowered by the cheap rows beside it.
+        const double cost = std::max(seconds - m_fixedSeconds, 0.0) / double(m_lastPixels);
+        const uint32_t end = m_lastSweepFirstRow + m_lastSweepRows;
+        for (Strip& t : m_strips)
+            if (t.firstRow < end && m_lastSweepFirstRow < t.firstRow + t.rows) t.cost = std::max(t.cost, cost);
         return;
     }
     Strip& s = m_strips[size_t(m_lastStrip)];

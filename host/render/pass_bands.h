@@ -3,7 +3,7 @@
 // up to 8 horizontal strips, visited in a spread-out order (0, 4, 2, 6, 1, 5, 3, 7); each
 // submission renders one band of one strip (rows, or a run of 8-pixel tiles of one row),
 // sized by the costliest strip's cost per pixel sample and at most twice the previous
-// band, or whole passes once a pass is known to take at most half the target. A band's
+// band, or sweeps of row bands (below) once every strip is measured. A band's
 // time has a fixed part (on lavapipe under load, tens of milliseconds per dispatch) that
 // is taken out before costs are computed, bounded by the shortest band seen. Costs differ
 // across the image (sky is far cheaper than a glossy floor under 65536 light samples): the
@@ -11,6 +11,19 @@
 // sizing by the costliest keeps a budget learnt on cheap pixels from being spent on
 // costly ones. Every pixel still receives sample indices 0..spp-1 exactly once and in
 // order, so the sums (and the image) are bit-identical to whole passes.
+//
+// Once the first pass has measured every strip, and a row of the film takes at most half
+// the target, the rest is rendered in sweeps of row bands from top to bottom: each sweep
+// gives every pixel `count` more samples, as many as one row can take within the target
+// (often all that are left), and each band is as many rows as fit. One dispatch then adds
+// many samples to each of its pixels one after another (integrators/kernel_common.glsl,
+// main), which is faster per sample the more it adds: each invocation's fixed cost is
+// spread over more samples, and a pixel's next sample may find what its last one read
+// still in the CPU's caches. On lavapipe (2 cores), 16 samples per dispatch rendered
+// 1.29-1.34x the samples per CPU second of one sample per dispatch on the 1M-triangle
+// bench scene and 1.24x on the Cornell box, 4 samples 1.17-1.25x and 1.17x (penumbra_bench
+// --samples-per-dispatch; docs/PERFORMANCE.md, "Round 16"). Whole passes over the film
+// are the sweeps whose one band holds every row.
 #pragma once
 
 #include <cstddef>
@@ -53,6 +66,9 @@ public:
     bool finished() const { return m_sample >= m_spp; }
     // Sample indices every pixel has.
     uint32_t samplesDone() const { return m_sample; }
+    // Pixel samples of the bands handed out so far over the film's pixels: samplesDone()
+    // plus the part of a sweep or pass already handed out (for progress and time left).
+    double meanSamplesDone() const { return double(m_pixelSamplesDone) / (double(m_width) * m_height); }
 
 private:
     struct Strip {
@@ -63,6 +79,8 @@ private:
     };
     // The costliest strip's cost, or < 0 if none is known.
     double maxCost() const;
+    // The next band of the current sweep (see above), starting one if none is under way.
+    PassBand nextSweepBand(double target);
 
     uint32_t m_width, m_height, m_spp;
     uint64_t m_maxPixelSamples;
@@ -73,10 +91,13 @@ private:
     size_t m_nextStrip = 0;         // position in m_order
     double m_fixedSeconds = -1.0;   // the shortest band so far: a bound on each band's fixed cost
     double m_passCost = -1.0;       // one whole pass, once measured or known for every strip
-    uint32_t m_lastPasses = 0;      // passes in the last whole-pass band
     uint64_t m_lastPixels = 0;      // pixel samples of the last band
-    bool m_lastWhole = false;       // the last band was whole passes
     int m_lastStrip = -1;           // the last band's strip
+    uint32_t m_sweepCount = 0;      // samples per pixel of the current sweep; 0: none under way
+    uint32_t m_sweepRow = 0;        // the current sweep's next row
+    uint32_t m_lastSweepRows = 0;   // rows of the last band, when it was a sweep's; else 0
+    uint32_t m_lastSweepFirstRow = 0;
+    uint64_t m_pixelSamplesDone = 0;
 };
 
 }  // namespace penumbra

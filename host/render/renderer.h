@@ -22,8 +22,9 @@
 namespace penumbra {
 
 struct RenderProgress {
-    uint32_t samplesDone = 0;  // per pixel
+    uint32_t samplesDone = 0;  // per pixel: samples every pixel has
     uint32_t samplesTotal = 0;
+    double meanSamplesDone = 0.0;  // per pixel on average: past samplesDone while a sweep is part done
     double seconds = 0.0;      // since the render started
 };
 
