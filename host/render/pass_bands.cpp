@@ -2,6 +2,7 @@
 #include "render/pass_bands.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace penumbra {
@@ -76,11 +77,12 @@ PassBand PassBands::next(double target) {
 PassBand PassBands::nextSweepBand(double target) {
     const double rowSeconds = std::max(maxCost(), 0.0) * m_width;  // the costliest row, one sample
     if (m_sweepCount == 0) {
-        // As many samples as one row takes within the target: the more samples a dispatch
-        // adds to each pixel, the more of a pixel's reads its next sample finds in the caches.
+        // As many samples as one row takes within the target (and as fit in the cap on a
+        // band's pixel samples, a whole row each): the more samples a dispatch adds to each
+        // pixel, the faster each one is (pass_bands.h).
         double count = rowSeconds > 0.0 ? target / rowSeconds : double(kMaxPassesPerBand);
         count = std::min({count, double(kMaxPassesPerBand), double(m_spp - m_sample)});
-        if (m_maxPixelSamples > 0) count = std::min(count, double(m_maxPixelSamples / m_width));
+        if (m_maxPixelSamples > 0) count = std::min(count, std::floor(double(m_maxPixelSamples) / m_width));
         m_sweepCount = std::max<uint32_t>(1, uint32_t(count));
         m_sweepRow = 0;
     }
