@@ -273,8 +273,13 @@ TEST_P(PbrSampling, ChiSquarePdfFormulaReciprocityAndFurnace) {
 
 INSTANTIATE_TEST_SUITE_P(Materials, PbrSampling, ::testing::Range(0, kCases),
                          [](const ::testing::TestParamInfo<int>& info) {
-                             return "r" + std::to_string(int(std::lround(100 * kRoughness[info.param / 2]))) + "_m" +
-                                    std::to_string(int(kMetallic[info.param % 2]));
+                             // Appended, not "r" + ...: GCC 12 warns falsely (-Wrestrict) on
+                             // a literal plus a temporary string.
+                             std::string name = "r";
+                             name += std::to_string(int(std::lround(100 * kRoughness[info.param / 2])));
+                             name += "_m";
+                             name += std::to_string(int(kMetallic[info.param % 2]));
+                             return name;
                          });
 
 // Roughness 0 is clamped to PBR_MIN_ALPHA: at normal incidence, where D peaks at
