@@ -250,6 +250,31 @@ TEST(PassBands, SplittingARenderChangesNoPixel) {
     EXPECT_TRUE(samePixels(test::renderScene(scene), reference));
 }
 
+TEST(PassBands, ProgressCountsThePixelSamplesHandedOut) {
+    // Small bands, so that sweeps are part done between reports: the mean grows by each
+    // band's pixel samples over the film's pixels, never falls below the samples every pixel
+    // has, and ends at the spp; the seconds never go back.
+    const gpu::Context& context = test::gpuContext();
+    Scene scene = test::sceneFromJson(litScene(21, 10), "stop-progress");
+    scene.sampler.spp = 8;
+    Renderer renderer(context, scene);
+    std::vector<RenderProgress> reports;
+    renderer.renderAll([&](const RenderProgress& p) { reports.push_back(p); }, nullptr, RenderPacing{1.0, 21 * 4});
+    ASSERT_GE(reports.size(), 2u);
+    for (size_t i = 0; i < reports.size(); ++i) {
+        const RenderProgress& p = reports[i];
+        EXPECT_EQ(p.samplesTotal, 8u);
+        EXPECT_GE(p.meanSamplesDone, double(p.samplesDone)) << i;
+        EXPECT_LE(p.meanSamplesDone, double(p.samplesDone + 8)) << i;
+        if (i > 0) {
+            EXPECT_GT(p.meanSamplesDone, reports[i - 1].meanSamplesDone) << i;
+            EXPECT_GE(p.seconds, reports[i - 1].seconds) << i;
+        }
+    }
+    EXPECT_EQ(reports.back().samplesDone, 8u);
+    EXPECT_DOUBLE_EQ(reports.back().meanSamplesDone, 8.0);
+}
+
 TEST(RenderStop, RenderStopsWithinTwoSecondsOfTheSignalWritingNothing) {
     for (int signal : {SIGINT, SIGTERM}) {
         fs::path dir = freshDir(signal == SIGINT ? "render-int" : "render-term");

@@ -303,8 +303,10 @@ void Renderer::renderAll(const std::function<void(const RenderProgress&)>& progr
         const double device = timer.seconds();
         bands.measured(device >= 0.0 ? device : std::chrono::duration<double>(Clock::now() - t0).count());
         if (progress)
-            progress({bands.samplesDone(), total, std::chrono::duration<double>(Clock::now() - start).count(),
-                      bands.meanSamplesDone()});
+            progress({.samplesDone = bands.samplesDone(),
+                      .samplesTotal = total,
+                      .seconds = std::chrono::duration<double>(Clock::now() - start).count(),
+                      .meanSamplesDone = bands.meanSamplesDone()});
     }
 }
 

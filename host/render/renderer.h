@@ -24,8 +24,8 @@ namespace penumbra {
 struct RenderProgress {
     uint32_t samplesDone = 0;  // per pixel: samples every pixel has
     uint32_t samplesTotal = 0;
+    double seconds = 0.0;          // since the render started
     double meanSamplesDone = 0.0;  // per pixel on average: past samplesDone while a sweep is part done
-    double seconds = 0.0;      // since the render started
 };
 
 // How Renderer::renderAll sizes its GPU submissions (render/pass_bands.h).
