@@ -3,6 +3,7 @@
 // builds stay within the GPU stack bound, and secondary rays started with offsetRayOrigin
 // never re-hit their own primitive. All scenes and rays come from fixed seeds.
 #include <algorithm>
+#include <cfloat>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -553,6 +554,68 @@ TEST(Bvh, WideNodesHoldEveryLeafOnceInsideItsBox) {
         for (const auto& [range, uses] : leafUses) EXPECT_EQ(uses, 1u);
         for (uint32_t uses : nodeUses) EXPECT_EQ(uses, 1u);
         expectAllAgree(scene, bvh, rays);
+    }
+}
+
+namespace {
+
+// Every way to cover binary node n's subtree with at most k nodes: n itself, or covers of
+// its two children with j and k - j nodes (wide.cpp's collapse, enumerated).
+void allCovers(const std::vector<gpu::BvhNode>& nodes, uint32_t n, uint32_t k,
+               std::vector<std::vector<uint32_t>>& out) {
+    out.push_back({n});
+    if (nodes[n].primCount > 0) return;
+    for (uint32_t j = 1; j < k; ++j) {
+        std::vector<std::vector<uint32_t>> left, right;
+        allCovers(nodes, n + 1, j, left);
+        allCovers(nodes, nodes[n].offset, k - j, right);
+        for (const auto& a : left)
+            for (const auto& b : right) {
+                out.push_back(a);
+                out.back().insert(out.back().end(), b.begin(), b.end());
+            }
+    }
+}
+
+// The least total area of wide nodes for interior node n's subtree, by trying every cover
+// of its two children at every wide node.
+double leastWideArea(const std::vector<gpu::BvhNode>& nodes, uint32_t n, std::map<uint32_t, double>& memo) {
+    if (auto found = memo.find(n); found != memo.end()) return found->second;
+    double best = DBL_MAX;
+    for (uint32_t j = 1; j < WIDE_NODE_ARITY; ++j) {
+        std::vector<std::vector<uint32_t>> left, right;
+        allCovers(nodes, n + 1, j, left);
+        allCovers(nodes, nodes[n].offset, WIDE_NODE_ARITY - j, right);
+        for (const auto& a : left)
+            for (const auto& b : right) {
+                double cost = 0.0;
+                for (const auto* side : {&a, &b})
+                    for (uint32_t c : *side)
+                        if (nodes[c].primCount == 0) cost += leastWideArea(nodes, c, memo);
+                best = std::min(best, cost);
+            }
+    }
+    return memo[n] = double(nodeArea(nodes[n])) + best;
+}
+
+}  // namespace
+
+TEST(Bvh, OptimalCollapseHasTheLeastWideNodeArea) {
+    // Small trees: the optimal rule's area is the least of every collapse, enumerated, and
+    // no more than the greedy rule's. Larger ones: no more than the greedy rule's.
+    Random rng(2024);
+    for (int round = 0; round < 12; ++round) {
+        const bool small = round < 8;
+        Bvh bvh = buildBvh(small ? randomScene(rng, 20 + 4 * round, 3, 3) : randomScene(rng, 3000, 50, 50),
+                           BvhOptions{.maxLeafSize = small ? 2u : 4u});
+        ASSERT_EQ(bvh.nodes[0].primCount, 0u);
+        const double optimal = wideNodeArea(bvh.nodes, WideCollapse::Optimal);
+        const double greedy = wideNodeArea(bvh.nodes, WideCollapse::Greedy);
+        EXPECT_LE(optimal, greedy * (1.0 + 1e-12)) << "round " << round;
+        if (small) {
+            std::map<uint32_t, double> memo;
+            EXPECT_NEAR(optimal, leastWideArea(bvh.nodes, 0, memo), 1e-9 * optimal) << "round " << round;
+        }
     }
 }
 

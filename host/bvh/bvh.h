@@ -86,10 +86,19 @@ float nodeArea(const gpu::BvhNode& node);
 // Bounds of one primitive.
 void primitiveBounds(const gpu::Primitive& primitive, glm::vec3& lo, glm::vec3& hi);
 
+// How makeWideNodes picks each wide node's children among the binary nodes below it
+// (host/bvh/wide.cpp): the least total surface area of the wide nodes, or the greedy rule
+// that opens the largest child first (kept for comparison: tests, benchmarks).
+enum class WideCollapse { Optimal, Greedy };
+
 // The four-wide, quantized arrangement of a depth-first binary tree (shared/types.h,
 // host/bvh/wide.cpp): wide node 0 is the root, each node's interior children follow in
 // depth-first order.
-std::vector<gpu::WideNode> makeWideNodes(const std::vector<gpu::BvhNode>& nodes);
+std::vector<gpu::WideNode> makeWideNodes(const std::vector<gpu::BvhNode>& nodes,
+                                         WideCollapse rule = WideCollapse::Optimal);
+// The total surface area of the binary nodes that makeWideNodes(nodes, rule) turns into wide
+// nodes: what the optimal rule minimises (the SAH cost of the node steps).
+double wideNodeArea(const std::vector<gpu::BvhNode>& nodes, WideCollapse rule);
 
 // The most entries a traversal of the wide tree `nodes` (makeWideNodes) holds on its stack:
 // one per interior node on its path from the root, so the interior nodes on the longest
