@@ -90,7 +90,7 @@ private:
     std::vector<uint32_t> m_order;  // strip visiting order
     size_t m_nextStrip = 0;         // position in m_order
     double m_fixedSeconds = -1.0;   // the shortest band so far: a bound on each band's fixed cost
-    double m_passCost = -1.0;       // one whole pass, once measured or known for every strip
+    double m_passCost = -1.0;       // one whole pass, once every strip's cost is known
     uint64_t m_lastPixels = 0;      // pixel samples of the last band
     int m_lastStrip = -1;           // the last band's strip
     uint32_t m_sweepCount = 0;      // samples per pixel of the current sweep; 0: none under way
