@@ -559,41 +559,43 @@ TEST(Bvh, WideNodesHoldEveryLeafOnceInsideItsBox) {
 
 namespace {
 
+void allCovers(const std::vector<gpu::BvhNode>& nodes, uint32_t n, uint32_t k, std::vector<std::vector<uint32_t>>& out);
+
+// Every way to cover interior node n's two children with at most k nodes, j of them or
+// fewer under its left child (wide.cpp's collapse, enumerated).
+void splitCovers(const std::vector<gpu::BvhNode>& nodes, uint32_t n, uint32_t k, uint32_t j,
+                 std::vector<std::vector<uint32_t>>& out) {
+    std::vector<std::vector<uint32_t>> left, right;
+    allCovers(nodes, n + 1, j, left);
+    allCovers(nodes, nodes[n].offset, k - j, right);
+    for (const auto& a : left)
+        for (const auto& b : right) {
+            out.push_back(a);
+            out.back().insert(out.back().end(), b.begin(), b.end());
+        }
+}
+
 // Every way to cover binary node n's subtree with at most k nodes: n itself, or covers of
-// its two children with j and k - j nodes (wide.cpp's collapse, enumerated).
+// its two children.
 void allCovers(const std::vector<gpu::BvhNode>& nodes, uint32_t n, uint32_t k,
                std::vector<std::vector<uint32_t>>& out) {
     out.push_back({n});
     if (nodes[n].primCount > 0) return;
-    for (uint32_t j = 1; j < k; ++j) {
-        std::vector<std::vector<uint32_t>> left, right;
-        allCovers(nodes, n + 1, j, left);
-        allCovers(nodes, nodes[n].offset, k - j, right);
-        for (const auto& a : left)
-            for (const auto& b : right) {
-                out.push_back(a);
-                out.back().insert(out.back().end(), b.begin(), b.end());
-            }
-    }
+    for (uint32_t j = 1; j < k; ++j) splitCovers(nodes, n, k, j, out);
 }
 
 // The least total area of wide nodes for interior node n's subtree, by trying every cover
 // of its two children at every wide node.
 double leastWideArea(const std::vector<gpu::BvhNode>& nodes, uint32_t n, std::map<uint32_t, double>& memo) {
     if (auto found = memo.find(n); found != memo.end()) return found->second;
+    std::vector<std::vector<uint32_t>> covers;
+    for (uint32_t j = 1; j < WIDE_NODE_ARITY; ++j) splitCovers(nodes, n, WIDE_NODE_ARITY, j, covers);
     double best = DBL_MAX;
-    for (uint32_t j = 1; j < WIDE_NODE_ARITY; ++j) {
-        std::vector<std::vector<uint32_t>> left, right;
-        allCovers(nodes, n + 1, j, left);
-        allCovers(nodes, nodes[n].offset, WIDE_NODE_ARITY - j, right);
-        for (const auto& a : left)
-            for (const auto& b : right) {
-                double cost = 0.0;
-                for (const auto* side : {&a, &b})
-                    for (uint32_t c : *side)
-                        if (nodes[c].primCount == 0) cost += leastWideArea(nodes, c, memo);
-                best = std::min(best, cost);
-            }
+    for (const auto& cover : covers) {
+        double cost = 0.0;
+        for (uint32_t c : cover)
+            if (nodes[c].primCount == 0) cost += leastWideArea(nodes, c, memo);
+        best = std::min(best, cost);
     }
     return memo[n] = double(nodeArea(nodes[n])) + best;
 }
