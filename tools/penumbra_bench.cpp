@@ -17,8 +17,9 @@
 // --samples-per-dispatch renders each scene's spp (rounded up to a power of two, at least
 // 16) in one submission of dispatches that add K = 1, 2, 4, ... spp samples to each pixel,
 // alternating over --runs rounds, and prints the medians of samples per CPU second and
-// their ratio to K = 1: what a dispatch gains when a pixel's next sample finds its last
-// one's reads in the caches (the reason for render/pass_bands.h's sweeps).
+// their ratio to K = 1: what a dispatch gains by adding more samples to each pixel (an
+// invocation's fixed cost spread wider, a pixel's last reads still in the caches), the
+// reason for render/pass_bands.h's sweeps.
 // --spp N renders every scene at N samples per pixel (throughput does not depend on spp).
 // --emitter-first rule|off|exact: how BRDF-sampled rays find emitters (render/emitter_first.h,
 // EmitterFirst; default rule), so that one build measures both paths on any scene.
@@ -444,7 +445,7 @@ int main(int argc, char** argv) {
     NodeReads nodeReads = NodeReads::Device;
     std::vector<std::string> scenes;
     for (int i = 1; i < argc; ++i) {
-        if (!std::strcmp(argv[i], "--runs") && i + 1 < argc) runs = std::atoi(argv[++i]);
+        if (!std::strcmp(argv[i], "--runs") && i + 1 < argc) runs = std::max(1, std::atoi(argv[++i]));
         else if (!std::strcmp(argv[i], "--count-rays")) countOnly = true;
         else if (!std::strcmp(argv[i], "--low-spp")) lowSpp = true;
         else if (!std::strcmp(argv[i], "--samples-per-dispatch")) perDispatch = true;

@@ -4,7 +4,6 @@
 // the uploaded scene when consecutive jobs differ only in camera, sampler or integrator.
 // Exit status rule and summary: docs/BATCH.md.
 #include <unistd.h>
-#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <csignal>
@@ -121,10 +120,9 @@ public:
     explicit Ticker(bool enabled) : m_enabled(enabled) {}
     void show(const std::string& tag, const RenderProgress& p, double pixels) {
         if (!m_enabled) return;
-        double rate = p.seconds > 0 ? p.meanSamplesDone * pixels / p.seconds : 0.0;
         end();
         m_width = std::fprintf(stderr, "penumbra: %s: %u/%u spp (%.0f%%)  %.2f M samples/s", tag.c_str(), p.samplesDone,
-                               p.samplesTotal, 100.0 * p.meanSamplesDone / std::max(p.samplesTotal, 1u), rate * 1e-6);
+                               p.samplesTotal, 100.0 * p.shareDone(), p.samplesPerSecond(pixels) * 1e-6);
         std::fflush(stderr);
     }
     void end() {

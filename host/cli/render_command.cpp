@@ -1,6 +1,5 @@
 // `penumbra render`: load, render on the GPU with progress on stderr, write EXR (+ PNG).
 #include <unistd.h>
-#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <csignal>
@@ -50,13 +49,8 @@ int renderCommand(const RenderOptions& options) {
     const uint64_t pixels = uint64_t(scene.film.width) * scene.film.height;
     auto progress = [&](const RenderProgress& p) {
         if (!showProgress) return;
-        // A sweep gives every pixel many samples band by band (render/pass_bands.h): the
-        // rate and the time left follow the samples handed out, the count what every pixel has.
-        const double done = p.meanSamplesDone;
-        double rate = p.seconds > 0 ? done * pixels / p.seconds : 0.0;
-        double left = done > 0 ? p.seconds * (p.samplesTotal - done) / done : 0.0;
         std::fprintf(stderr, "\rpenumbra: %u/%u spp (%.0f%%)  %.2f M samples/s  %.1f s left   ", p.samplesDone,
-                     p.samplesTotal, 100.0 * done / std::max(p.samplesTotal, 1u), rate * 1e-6, left);
+                     p.samplesTotal, 100.0 * p.shareDone(), p.samplesPerSecond(double(pixels)) * 1e-6, p.secondsLeft());
         std::fflush(stderr);
     };
     // A stop is seen at the next submission (each about 0.25 s, render/pass_bands.h); the

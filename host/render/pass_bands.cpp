@@ -32,14 +32,14 @@ PassBand PassBands::next(double target) {
         std::all_of(m_strips.begin(), m_strips.end(), [](const Strip& s) { return s.row == 0 && s.column == 0; });
     // Sweeps of row bands, once every strip is measured and a row of one sample takes at
     // most half the target (pass_bands.h).
-    const bool sweepsFit = passStart && m_passCost >= 0.0 && maxCost() * m_width <= target / 2 &&
+    const bool sweepsFit = passStart && allMeasured() && maxCost() * m_width <= target / 2 &&
                            (m_maxPixelSamples == 0 || m_maxPixelSamples >= m_width);
     if (m_sweepCount > 0 || sweepsFit) return nextSweepBand(target);
     // Sized by the costliest strip's last measured cost per pixel sample, growing at most x2
     // per band: a part of the film costlier than any measured takes at most twice the last
     // band's pixels.
     double pixels = double(m_firstBandPixels);
-    if (m_lastPixels > 0) pixels = 2.0 * double(m_lastPixels);
+    if (m_last.pixelSamples() > 0) pixels = 2.0 * double(m_last.pixelSamples());
     if (maxCost() > 0.0) pixels = std::min(pixels, target / maxCost());
     pixels = std::max(pixels, double(kTile));
     if (m_maxPixelSamples > 0) pixels = std::min(pixels, double(m_maxPixelSamples));
@@ -63,9 +63,9 @@ PassBand PassBands::next(double target) {
             ++s.row;
         }
     }
-    m_lastPixels = band.pixelSamples();
-    m_pixelSamplesDone += m_lastPixels;
-    m_lastSweepRows = 0;
+    m_last = band;
+    m_lastInSweep = false;
+    m_pixelSamplesDone += band.pixelSamples();
     if (std::all_of(m_strips.begin(), m_strips.end(), [](const Strip& t) { return t.done(); })) {
         ++m_sample;
         for (Strip& t : m_strips) t.row = t.column = 0;
@@ -92,21 +92,24 @@ PassBand PassBands::nextSweepBand(double target) {
     const double rowSamples = double(m_width) * m_sweepCount;  // pixel samples of one row of the sweep
     const double pass = double(m_width) * m_height;
     double rows = rowSeconds > 0.0 ? target / (rowSeconds * m_sweepCount) : double(m_height);
-    rows = std::min(rows, 2.0 * std::max(double(m_lastPixels), pass) / rowSamples);
+    rows = std::min(rows, 2.0 * std::max(double(m_last.pixelSamples()), pass) / rowSamples);
     if (m_maxPixelSamples > 0) rows = std::min(rows, double(m_maxPixelSamples) / rowSamples);
     rows = std::clamp(rows, 1.0, double(m_height - m_sweepRow));
     PassBand band{m_sample, m_sweepCount, m_sweepRow, uint32_t(rows), 0, m_width};
-    m_lastSweepFirstRow = m_sweepRow;
-    m_lastSweepRows = band.rowCount;
+    m_last = band;
+    m_lastInSweep = true;
     m_sweepRow += band.rowCount;
-    m_lastPixels = band.pixelSamples();
-    m_pixelSamplesDone += m_lastPixels;
+    m_pixelSamplesDone += band.pixelSamples();
     if (m_sweepRow == m_height) {
         m_sample += m_sweepCount;
         m_sweepCount = 0;
         m_sweepRow = 0;
     }
     return band;
+}
+
+bool PassBands::allMeasured() const {
+    return std::all_of(m_strips.begin(), m_strips.end(), [](const Strip& t) { return t.cost >= 0.0; });
 }
 
 double PassBands::maxCost() const {
@@ -116,26 +119,20 @@ double PassBands::maxCost() const {
 }
 
 void PassBands::measured(double seconds) {
-    if (m_lastPixels == 0) return;
+    const uint64_t pixels = m_last.pixelSamples();
+    if (pixels == 0) return;
     seconds = std::max(seconds, 0.0);
     m_fixedSeconds = m_fixedSeconds < 0.0 ? seconds : std::min(m_fixedSeconds, seconds);
-    if (m_lastSweepRows > 0) {
-        // A sweep's band spans strips of different costs: its mean may only raise theirs,
-        // so that a costly strip's estimate is never lowered by the cheap rows beside it.
-        const double cost = std::max(seconds - m_fixedSeconds, 0.0) / double(m_lastPixels);
-        const uint32_t end = m_lastSweepFirstRow + m_lastSweepRows;
-        for (Strip& t : m_strips)
-            if (t.firstRow < end && m_lastSweepFirstRow < t.firstRow + t.rows) t.cost = std::max(t.cost, cost);
+    const double cost = std::max(seconds - m_fixedSeconds, 0.0) / double(pixels);
+    if (!m_lastInSweep) {
+        m_strips[size_t(m_lastStrip)].cost = cost;
         return;
     }
-    Strip& s = m_strips[size_t(m_lastStrip)];
-    s.cost = std::max(seconds - m_fixedSeconds, 0.0) / double(m_lastPixels);
-    // A whole pass: every strip's cost over its pixels, plus one band's fixed cost.
-    if (std::all_of(m_strips.begin(), m_strips.end(), [](const Strip& t) { return t.cost >= 0.0; })) {
-        double pass = m_fixedSeconds;
-        for (const Strip& t : m_strips) pass += t.cost * double(t.rows) * m_width;
-        m_passCost = pass;
-    }
+    // A sweep's band spans strips of different costs: its mean may only raise theirs, so
+    // that a costly strip's estimate is never lowered by the cheap rows beside it.
+    const uint32_t end = m_last.firstRow + m_last.rowCount;
+    for (Strip& t : m_strips)
+        if (t.firstRow < end && m_last.firstRow < t.firstRow + t.rows) t.cost = std::max(t.cost, cost);
 }
 
 }  // namespace penumbra

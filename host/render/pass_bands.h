@@ -77,6 +77,8 @@ private:
         double cost = -1.0;            // its last band's seconds per pixel sample; < 0 unknown
         bool done() const { return row >= rows; }
     };
+    // Whether every strip's cost is known (once the first pass is done).
+    bool allMeasured() const;
     // The costliest strip's cost, or < 0 if none is known.
     double maxCost() const;
     // The next band of the current sweep (see above), starting one if none is under way.
@@ -90,14 +92,12 @@ private:
     std::vector<uint32_t> m_order;  // strip visiting order
     size_t m_nextStrip = 0;         // position in m_order
     double m_fixedSeconds = -1.0;   // the shortest band so far: a bound on each band's fixed cost
-    double m_passCost = -1.0;       // one whole pass, once every strip's cost is known
-    uint64_t m_lastPixels = 0;      // pixel samples of the last band
-    int m_lastStrip = -1;           // the last band's strip
+    PassBand m_last;                // the last band handed out (none: no pixel samples)
+    bool m_lastInSweep = false;     // it was a sweep's, not one strip's
+    int m_lastStrip = -1;           // the strip of the last band, when not a sweep's
     uint32_t m_sweepCount = 0;      // samples per pixel of the current sweep; 0: none under way
     uint32_t m_sweepRow = 0;        // the current sweep's next row
-    uint32_t m_lastSweepRows = 0;   // rows of the last band, when it was a sweep's; else 0
-    uint32_t m_lastSweepFirstRow = 0;
-    uint64_t m_pixelSamplesDone = 0;
+    uint64_t m_pixelSamplesDone = 0;  // of every band handed out
 };
 
 }  // namespace penumbra

@@ -26,6 +26,15 @@ struct RenderProgress {
     uint32_t samplesTotal = 0;
     double seconds = 0.0;          // since the render started
     double meanSamplesDone = 0.0;  // per pixel on average: past samplesDone while a sweep is part done
+
+    // What the progress lines of `render` and `batch` show beside samplesDone / samplesTotal:
+    // a sweep (render/pass_bands.h) gives every pixel many samples band by band, so the
+    // share done, the rate and the time left follow the pixel samples handed out.
+    double shareDone() const { return samplesTotal > 0 ? meanSamplesDone / samplesTotal : 0.0; }
+    double samplesPerSecond(double pixels) const { return seconds > 0 ? meanSamplesDone * pixels / seconds : 0.0; }
+    double secondsLeft() const {
+        return meanSamplesDone > 0 ? seconds * (samplesTotal - meanSamplesDone) / meanSamplesDone : 0.0;
+    }
 };
 
 // How Renderer::renderAll sizes its GPU submissions (render/pass_bands.h).
