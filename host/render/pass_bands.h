@@ -89,14 +89,14 @@ private:
     uint64_t m_firstBandPixels;
     uint32_t m_sample = 0;
     std::vector<Strip> m_strips;
-    std::vector<uint32_t> m_order;  // strip visiting order
-    size_t m_nextStrip = 0;         // position in m_order
-    double m_fixedSeconds = -1.0;   // the shortest band so far: a bound on each band's fixed cost
-    PassBand m_last;                // the last band handed out (none: no pixel samples)
-    bool m_lastInSweep = false;     // it was a sweep's, not one strip's
-    int m_lastStrip = -1;           // the strip of the last band, when not a sweep's
-    uint32_t m_sweepCount = 0;      // samples per pixel of the current sweep; 0: none under way
-    uint32_t m_sweepRow = 0;        // the current sweep's next row
+    std::vector<uint32_t> m_order;    // strip visiting order
+    size_t m_nextStrip = 0;           // position in m_order
+    double m_fixedSeconds = -1.0;     // the shortest band so far: a bound on each band's fixed cost
+    PassBand m_last;                  // the last band handed out (none: no pixel samples)
+    bool m_lastInSweep = false;       // it was a sweep's, not one strip's
+    int m_lastStrip = -1;             // the strip of the last band, when not a sweep's
+    uint32_t m_sweepCount = 0;        // samples per pixel of the current sweep; 0: none under way
+    uint32_t m_sweepRow = 0;          // the current sweep's next row
     uint64_t m_pixelSamplesDone = 0;  // of every band handed out
 };
 
