@@ -40,6 +40,21 @@ bool isFiniteVec(vec3 v) { return !any(isnan(v)) && !any(isinf(v)); }
 
 float sqr(float x) { return x * x; }
 
+// dot(a, b) and cross(a, b) with no fused multiply-add in them, for code whose rounding must
+// not depend on the driver. `precise` (SPIR-V NoContraction) keeps separate instructions from
+// being fused, but dot and cross are one instruction each (OpDot, GLSL.std.450 Cross), which a
+// driver may compute with fmas inside: Mesa 26's lavapipe does (docs/PERFORMANCE.md, "Round
+// 17"). Spelled out, every product and sum is its own instruction, in glm's order (glm::dot:
+// x + y, then + z; glm::cross), which the CPU mirrors in host/bvh compute with -ffp-contract=off.
+float preciseDot(vec3 a, vec3 b) {
+    precise float d = a.x * b.x + a.y * b.y + a.z * b.z;
+    return d;
+}
+vec3 preciseCross(vec3 a, vec3 b) {
+    precise vec3 c = vec3(a.y * b.z - b.y * a.z, a.z * b.x - b.z * a.x, a.x * b.y - b.x * a.y);
+    return c;
+}
+
 // atan(y, x) to about float precision (a few ULP). Vulkan lets atan be off by 4096 ULP and
 // lavapipe's is off by ~2e-5 relative (measured through the solid angles of
 // sampling/spherical_*.glsl, whose pdfs integrated to 1 + 2e-5), so the built-in is not

@@ -8,8 +8,11 @@
 // sphere test's c = |f|^2 - r^2 cancel, so the fused rounding moved t by over 1e-4 from the
 // CPU's: the GPU was no less accurate, it just rounded differently (docs/PERFORMANCE.md,
 // "On a GPU: NVIDIA H200"). The CPU side compiles with -ffp-contract=off for the same
-// reason. lavapipe fuses nothing, and its kernels run the same instructions either way
-// (tools/bench-instructions).
+// reason. On lavapipe 25.0 `precise` changes no instruction count (tools/bench-instructions).
+//
+// `precise` alone is not enough for dot and cross, which a driver may compute with fmas
+// inside them (Mesa 26's lavapipe does): the tests use preciseDot and preciseCross
+// (common/math.glsl), whose order is glm's, as host/bvh/intersect.h computes them.
 //
 // Contract: the ray is origin + t * dir (dir need not be unit length, but is in practice);
 // a hit counts only for t strictly inside (0, tMax). Both faces of triangles and quads hit.
@@ -17,6 +20,7 @@
 #define PENUMBRA_INTERSECT_GLSL
 
 #include "shared/types.h"
+#include "common/math.glsl"
 #include "common/specialization.glsl"
 
 // Triangles and parallelograms (quads) in one test: both are p0 + u e1 + v e2, the triangle
@@ -35,13 +39,13 @@
 // every comparison below fails. uv = (u, v).
 bool intersectFlat(vec3 p0, vec3 e1, vec3 e2, bool parallelogram, vec3 origin, vec3 dir, float tMax, out float t,
                    out vec2 uv) {
-    precise vec3 pvec = cross(dir, e2);
-    precise float invDet = 1.0 / dot(e1, pvec);
+    precise vec3 pvec = preciseCross(dir, e2);
+    precise float invDet = 1.0 / preciseDot(e1, pvec);
     precise vec3 tvec = origin - p0;
-    precise float u = dot(tvec, pvec) * invDet;
-    precise vec3 qvec = cross(tvec, e1);
-    precise float v = dot(dir, qvec) * invDet;
-    precise float tHit = dot(e2, qvec) * invDet;
+    precise float u = preciseDot(tvec, pvec) * invDet;
+    precise vec3 qvec = preciseCross(tvec, e1);
+    precise float v = preciseDot(dir, qvec) * invDet;
+    precise float tHit = preciseDot(e2, qvec) * invDet;
     precise float extent = parallelogram ? max(u, v) : u + v;
     bool hit = u >= 0.0 && v >= 0.0 && extent <= 1.0 && tHit > 0.0 && tHit < tMax;
     t = hit ? tHit : 0.0;
@@ -64,11 +68,11 @@ bool intersectTriangle(vec3 p0, vec3 p1, vec3 p2, vec3 origin, vec3 dir, float t
 // with the same values.
 bool intersectSphere(vec3 centre, float radius, vec3 origin, vec3 dir, float tMax, out float t) {
     precise vec3 f = origin - centre;
-    precise float a = dot(dir, dir);
-    precise float b = -dot(f, dir);                           // half the usual b, sign flipped
+    precise float a = preciseDot(dir, dir);
+    precise float b = -preciseDot(f, dir);                    // half the usual b, sign flipped
     precise vec3 l = f + (b / a) * dir;                       // centre -> closest point on the line
-    precise float discriminant = a * (radius * radius - dot(l, l));  // = b^2 - a c, robustly
-    precise float c = dot(f, f) - radius * radius;
+    precise float discriminant = a * (radius * radius - preciseDot(l, l));  // = b^2 - a c, robustly
+    precise float c = preciseDot(f, f) - radius * radius;
     precise float q = b + (b >= 0.0 ? 1.0 : -1.0) * sqrt(max(discriminant, 0.0));
     precise float t0 = c / q;
     precise float t1 = q / a;

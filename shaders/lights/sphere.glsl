@@ -28,7 +28,11 @@ float spherePdf(vec3 x, vec3 center, float r, vec3 y, vec3 ny, float d, uint sph
         sphereCone(r, D, cosThetaMax, oneMinusCos);
         return 1.0 / (TWO_PI * oneMinusCos);
     }
-    float cosY = abs(dot(normalize(y - x), ny));
+    // Spelled out (preciseDot, common/math.glsl): at the visible cap's rim cosY cancels to
+    // near 0, where a fused rounding moved the pdf enough for the cap chart's chi-square to
+    // fail on Mesa 26 (p = 3e-6; docs/PERFORMANCE.md, "Round 17").
+    precise vec3 w = y - x;
+    precise float cosY = abs(preciseDot(w, ny) / sqrt(preciseDot(w, w)));
     if (cosY <= 0.0) return 0.0;
     float area = sphereSampling == SPHERE_AREA ? 4.0 * PI * r * r        // whole sphere
                                                       : TWO_PI * r * r * (1.0 - r / D);  // visible cap
