@@ -30,12 +30,13 @@ float schlickWeight(float c) {
 // free to fuse products into fmas can fuse differently at the two call sites. Near D's
 // peak |n x h| is about alpha, so one product fused in the cross product moves D by about
 // 2^-24 / alpha, relatively. That broke reciprocity on an NVIDIA H200 (docs/PERFORMANCE.md,
-// "On a GPU: NVIDIA H200").
+// "On a GPU: NVIDIA H200"). The dot and cross products are spelled out (preciseDot,
+// preciseCross in common/math.glsl), since `precise` does not reach inside them ("Round 17").
 float ggxD(float alpha, vec3 n, vec3 h) {
-    precise float cosH = dot(n, h);
-    precise vec3 t = cross(n, h);
+    precise float cosH = preciseDot(n, h);
+    precise vec3 t = preciseCross(n, h);
     precise float a2 = alpha * alpha;
-    precise float d = a2 * cosH * cosH + dot(t, t);
+    precise float d = a2 * cosH * cosH + preciseDot(t, t);
     precise float D = a2 / (PI * d * d);
     return D;
 }
