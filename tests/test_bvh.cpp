@@ -7,7 +7,6 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
-#include <iomanip>
 #include <map>
 #include <numeric>
 #include <random>
@@ -408,13 +407,6 @@ TEST(Bvh, EmptySceneHasOneLeafThatNothingHits) {
 }
 
 namespace {
-// A float with the digits that tell it from its neighbours.
-std::string exactText(float value) {
-    std::ostringstream text;
-    text << std::setprecision(9) << value;
-    return text.str();
-}
-
 // Closest hits on CPU (BVH) and GPU must equal brute force for a small scene.
 void expectAllAgree(const std::vector<gpu::Primitive>& scene, const Bvh& bvh, const std::vector<TraceRay>& rays) {
     CpuComparison cpu = compareCpu(scene, bvh, rays);
@@ -428,11 +420,18 @@ void expectAllAgree(const std::vector<gpu::Primitive>& scene, const Bvh& bvh, co
         if (ok && reference)
             ok = std::abs(g.t - reference->t) <= 1e-4f * reference->t &&
                  (bvh.originalIndex[g.primitive] == reference->primitive || g.t == reference->t);
-        if (!ok && failures++ == 0)
-            ADD_FAILURE() << "gpu disagrees for " << describe(rays[i]) << ": brute force "
-                          << (reference ? "t=" + exactText(reference->t) : std::string("no hit")) << ", gpu "
-                          << (g.primitive != gpu::NO_HIT ? "t=" + exactText(g.t) : std::string("no hit")) << " any hit "
-                          << g.anyHit;
+        if (!ok && failures++ == 0) {
+            std::ostringstream s;
+            s.precision(9);  // as describe(): enough digits to tell a float from its neighbours
+            s << "gpu disagrees for " << describe(rays[i]) << ": brute force ";
+            if (reference) s << "t=" << reference->t;
+            else s << "no hit";
+            s << ", gpu ";
+            if (g.primitive != gpu::NO_HIT) s << "t=" << g.t;
+            else s << "no hit";
+            s << " any hit " << g.anyHit;
+            ADD_FAILURE() << s.str();
+        }
     }
     EXPECT_EQ(failures, 0u);
 }

@@ -69,8 +69,8 @@ uint32_t quantize(float value, float origin, float step, bool upper) {
 
 class Collapser {
 public:
-    Collapser(const std::vector<gpu::BvhNode>& nodes, WideCollapse rule) : m_nodes(nodes) {
-        if (rule == WideCollapse::Optimal) optimise();
+    Collapser(const std::vector<gpu::BvhNode>& nodes, WideCollapse rule) : m_nodes(nodes), m_rule(rule) {
+        if (m_rule == WideCollapse::Optimal) optimise();
     }
 
     std::vector<gpu::WideNode> run() {
@@ -136,7 +136,7 @@ private:
     void fill(uint32_t slot, uint32_t n) {
         m_area += double(nodeArea(m_nodes[n]));
         std::vector<uint32_t> children;
-        if (!m_asNode.empty()) {
+        if (m_rule == WideCollapse::Optimal) {
             const uint32_t j = bestSplit(n, WIDE_NODE_ARITY);
             cover(left(n), j, children);
             cover(right(n), WIDE_NODE_ARITY - j, children);
@@ -207,9 +207,10 @@ private:
     }
 
     const std::vector<gpu::BvhNode>& m_nodes;
+    const WideCollapse m_rule;
     std::vector<gpu::WideNode> m_wide;
-    std::vector<std::array<double, WIDE_NODE_ARITY>> m_cover;  // empty: the greedy rule
-    std::vector<double> m_asNode;
+    std::vector<std::array<double, WIDE_NODE_ARITY>> m_cover;  // the optimal rule's D(n, k)
+    std::vector<double> m_asNode;                              // and its W(n)
     double m_area = 0.0;
 };
 
