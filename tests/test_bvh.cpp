@@ -110,9 +110,9 @@ struct SceneBuffers {
 // Runs the test kernel `name` over the scene's buffers: one invocation per input (binding
 // 0, 64 per workgroup), each writing one Result (binding 1). The push constants are the
 // input count, the node buffer's device address and the traversal stacks' address and
-// entries per invocation (bvh_trace.comp's "_address" variant: wideStackDepth entries, as
-// the renderer gives them; these scenes' rays seldom fill the stack, so a count one short
-// passes here, and Bvh.StackDepthIsTheLongestPathsInteriorNodes checks the count itself).
+// entries per invocation (bvh_trace.comp's "_address" variant: childStackDepth entries, as
+// the renderer gives them; most of these scenes' rays seldom fill the stack, so
+// Bvh.StackDepthIsTheLongestPathsInteriorNodes checks the count itself, with rays that do).
 template <class Result, class Input>
 std::vector<Result> runSceneKernel(const char* name, const Bvh& bvh,
                                    const std::vector<gpu::TriangleNormals>& shadingNormals,
@@ -121,7 +121,7 @@ std::vector<Result> runSceneKernel(const char* name, const Bvh& bvh,
     auto inputBuffer = gpu::Buffer::fromVector(ctx, inputs);
     gpu::Buffer results(ctx, inputs.size() * sizeof(Result), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     SceneBuffers scene(ctx, bvh, shadingNormals);
-    const uint32_t groups = uint32_t((inputs.size() + 63) / 64), depth = wideStackDepth(bvh.wideNodes);
+    const uint32_t groups = uint32_t((inputs.size() + 63) / 64), depth = childStackDepth(bvh.wideNodes);
     gpu::Buffer stacks(ctx, VkDeviceSize(groups) * 64 * depth * sizeof(uint32_t),
                        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | gpu::deviceAddressUsage(ctx));
     const uint32_t push[6] = {
@@ -198,8 +198,9 @@ std::string describe(const TraceRay& ray) {
     return s.str();
 }
 
-// CPU BVH against CPU brute force on the same math: t must be bitwise equal, the primitive
-// equal unless two primitives are hit at exactly the same t (then either is right).
+// CPU BVH (with either kind of stack entry) against CPU brute force on the same math: t must
+// be bitwise equal, the primitive equal unless two primitives are hit at exactly the same t
+// (then either is right).
 struct CpuComparison {
     uint32_t hits = 0, ties = 0, failures = 0;
     std::string firstFailure;
@@ -213,7 +214,11 @@ CpuComparison compareCpu(const std::vector<gpu::Primitive>& scene, const Bvh& bv
         auto reference = intersectBruteForce(scene, o, d, tMax);
         auto hit = intersectClosest(bvh, o, d, tMax);
         bool any = intersectAny(bvh, o, d, tMax);
-        bool ok = bool(reference) == bool(hit) && any == bool(reference);
+        // The traversal with node entries on its stack finds the same distance.
+        auto nodesHit = intersectClosest(bvh, o, d, tMax, nullptr, StackEntries::Nodes);
+        bool nodesAny = intersectAny(bvh, o, d, tMax, nullptr, StackEntries::Nodes);
+        bool ok = bool(reference) == bool(hit) && any == bool(reference) && bool(nodesHit) == bool(hit) &&
+                  nodesAny == any && (!hit || nodesHit->t == hit->t);
         if (ok && reference) {
             ++result.hits;
             ok = hit->t == reference->t;
@@ -651,45 +656,54 @@ TEST(Bvh, LargestLeavesSurviveTheStackPacking) {
 
 TEST(Bvh, TraversalRoundsAddUpToItsWork) {
     // penumbra_bench --lanes replays TraversalWork::rounds: one entry per round of the outer
-    // loop (nodes << 16 | primitives), for both queries, the any-hit's cut-short last round
-    // too, and nothing recorded where no rounds are asked for.
+    // loop (nodes << 16 | primitives), for both queries and both kinds of stack entry, the
+    // any-hit's cut-short last round too, and nothing recorded where no rounds are asked
+    // for. A round starts at a node popped from the stack, or, with child entries, perhaps
+    // at a leaf, whose round then tests no node.
     Random rng(41);
     auto scene = randomScene(rng, 600, 60, 60);
     Bvh bvh = buildBvh(scene);
     auto rays = randomRays(rng, 400, 16.0f, &scene);
-    size_t anyHits = 0;
+    size_t anyHits = 0, leafRounds = 0;
     for (const auto& ray : rays)
-        for (bool any : {false, true}) {
-            std::vector<uint32_t> rounds;
-            TraversalWork work;
-            work.rounds = &rounds;
-            const vec3 o(ray.originTMax), d(ray.dir);
-            const bool hit = any ? intersectAny(bvh, o, d, kInf, &work)
-                                 : bool(intersectClosest(bvh, o, d, kInf, &work));
-            anyHits += any && hit;
-            uint32_t nodes = 0, primitives = 0;
-            for (uint32_t r : rounds) {
-                EXPECT_GE(r >> 16, 1u) << "every round tests a node";
-                nodes += r >> 16;
-                primitives += r & 0xffffu;
+        for (bool any : {false, true})
+            for (StackEntries entries : {StackEntries::Children, StackEntries::Nodes}) {
+                std::vector<uint32_t> rounds;
+                TraversalWork work;
+                work.rounds = &rounds;
+                const vec3 o(ray.originTMax), d(ray.dir);
+                const bool hit = any ? intersectAny(bvh, o, d, kInf, &work, entries)
+                                     : bool(intersectClosest(bvh, o, d, kInf, &work, entries));
+                anyHits += any && hit;
+                uint32_t nodes = 0, primitives = 0;
+                for (uint32_t r : rounds) {
+                    EXPECT_NE(r, 0u) << "every round tests a node or a leaf";
+                    if (entries == StackEntries::Nodes) EXPECT_GE(r >> 16, 1u) << "every round tests a node";
+                    leafRounds += (r >> 16) == 0;
+                    nodes += r >> 16;
+                    primitives += r & 0xffffu;
+                }
+                EXPECT_EQ(nodes, work.nodes);
+                EXPECT_EQ(primitives, work.primitives);
+                TraversalWork unrecorded;
+                if (any) intersectAny(bvh, o, d, kInf, &unrecorded, entries);
+                else intersectClosest(bvh, o, d, kInf, &unrecorded, entries);
+                EXPECT_EQ(unrecorded.nodes, work.nodes);
+                EXPECT_EQ(unrecorded.rounds, nullptr);
             }
-            EXPECT_EQ(nodes, work.nodes);
-            EXPECT_EQ(primitives, work.primitives);
-            TraversalWork unrecorded;
-            if (any) intersectAny(bvh, o, d, kInf, &unrecorded);
-            else intersectClosest(bvh, o, d, kInf, &unrecorded);
-            EXPECT_EQ(unrecorded.nodes, work.nodes);
-            EXPECT_EQ(unrecorded.rounds, nullptr);
-        }
-    EXPECT_GT(anyHits, 100u) << "rays that stop at their first hit are the case to cover";
+    EXPECT_GT(anyHits, 200u) << "rays that stop at their first hit are the case to cover";
+    EXPECT_GT(leafRounds, 0u) << "child entries that are leaves are a case to cover";
 }
 
 TEST(Bvh, StackDepthIsTheLongestPathsInteriorNodes) {
-    // wideStackDepth sizes the "_address" kernels' stacks (render/traversal_stacks.h): no
-    // traversal may hold more entries, and it must not be larger than one can. Rays from the
-    // common centre of nested spheres start inside every box, so nothing is culled and every
-    // interior node on every path pushes the children it does not take first: some ray holds
-    // exactly that many.
+    // No traversal whose stack entries are nodes may hold more than wideStackDepth entries,
+    // nor one that pushes child references more than childStackDepth (which sizes the
+    // "_address" kernels' stacks, render/traversal_stacks.h), and neither may be larger than
+    // one can. Rays from the common centre of nested spheres start inside every box, so
+    // nothing is culled and every interior node on every path pushes the children it does
+    // not take first: some ray holds exactly wideStackDepth nodes, and more than that many
+    // children, so a child stack of wideStackDepth entries would lose some (the GPU
+    // comparison below then fails).
     EXPECT_EQ(wideStackDepth(buildBvh({}).wideNodes), 1u);
     EXPECT_EQ(wideStackDepth(buildBvh({sphere(vec3(0), 1.0f)}).wideNodes), 1u);
     std::vector<gpu::Primitive> nested;
@@ -699,27 +713,36 @@ TEST(Bvh, StackDepthIsTheLongestPathsInteriorNodes) {
     const Bvh nestedBvh = buildBvh(nested, {2, 16});
     const uint32_t depth = wideStackDepth(nestedBvh.wideNodes);
     EXPECT_GE(depth, 4u) << "300 primitives in leaves of at most 2 take several levels";
-    uint32_t deepest = 0;
+    EXPECT_EQ(childStackDepth(nestedBvh.wideNodes), 3 * depth);
+    uint32_t deepestNodes = 0, deepestChildren = 0;
     std::vector<TraceRay> fromCentre;
     for (int i = 0; i < 200; ++i) {
-        TraversalWork work;
+        TraversalWork nodes, children;
         vec3 dir = rng.unitVector();
-        intersectClosest(nestedBvh, c, dir, kInf, &work);
-        deepest = std::max(deepest, work.deepestStack);
+        intersectClosest(nestedBvh, c, dir, kInf, &nodes, StackEntries::Nodes);
+        intersectClosest(nestedBvh, c, dir, kInf, &children, StackEntries::Children);
+        deepestNodes = std::max(deepestNodes, nodes.deepestStack);
+        deepestChildren = std::max(deepestChildren, children.deepestStack);
         fromCentre.push_back({glm::vec4(c, kInf), glm::vec4(dir, 0)});
     }
-    EXPECT_EQ(deepest, depth);
+    EXPECT_EQ(deepestNodes, depth);
+    EXPECT_GT(deepestChildren, depth);
+    EXPECT_LE(deepestChildren, childStackDepth(nestedBvh.wideNodes));
     expectAllAgree(nested, nestedBvh, fromCentre);
     const auto scene = randomScene(rng, 400, 40, 40, 6.0f);
     const Bvh bvh = buildBvh(scene);
-    deepest = 0;
+    deepestNodes = deepestChildren = 0;
     for (const TraceRay& ray : randomRays(rng, 2000, 8.0f)) {
-        TraversalWork work;
-        intersectClosest(bvh, vec3(ray.originTMax), vec3(ray.dir), kInf, &work);
-        deepest = std::max(deepest, work.deepestStack);
+        TraversalWork nodes, children;
+        intersectClosest(bvh, vec3(ray.originTMax), vec3(ray.dir), kInf, &nodes, StackEntries::Nodes);
+        intersectClosest(bvh, vec3(ray.originTMax), vec3(ray.dir), kInf, &children, StackEntries::Children);
+        deepestNodes = std::max(deepestNodes, nodes.deepestStack);
+        deepestChildren = std::max(deepestChildren, children.deepestStack);
     }
-    EXPECT_GT(deepest, 1u);
-    EXPECT_LE(deepest, wideStackDepth(bvh.wideNodes));
+    EXPECT_GT(deepestNodes, 1u);
+    EXPECT_LE(deepestNodes, wideStackDepth(bvh.wideNodes));
+    EXPECT_GT(deepestChildren, 1u);
+    EXPECT_LE(deepestChildren, childStackDepth(bvh.wideNodes));
 }
 
 TEST(Bvh, NonFiniteRaysMissAndTerminate) {

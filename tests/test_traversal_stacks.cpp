@@ -21,6 +21,12 @@ TEST(TraversalStacks, HoldTheFilmUpToTheLimitAndAlwaysOneRow) {
     EXPECT_EQ(stackInvocationsFor(5, 5, 1), 5u * 64u);
     EXPECT_EQ(stackInvocationsFor(10000, 4), 10000u * 64u);  // one row of a very wide film
     EXPECT_EQ(stackInvocationsFor(0, 0), 64u);
+    // The limit keeps the buffer within kStackBytes for deep trees' stacks.
+    EXPECT_EQ(stackInvocationLimit(45), kStackInvocations);  // the 1M-triangle bench scene's
+    EXPECT_EQ(stackInvocationLimit(64), kStackInvocations);
+    EXPECT_EQ(stackInvocationLimit(3 * BVH_MAX_DEPTH), 87381u);
+    EXPECT_LE(uint64_t(stackInvocationLimit(3 * BVH_MAX_DEPTH)) * 3 * BVH_MAX_DEPTH * 4, kStackBytes);
+    EXPECT_EQ(stackInvocationLimit(0xffffffffu), 1u);
 }
 
 TEST(TraversalStacks, DispatchesFitAndAreAsLargeAsFits) {

@@ -61,22 +61,32 @@ struct CpuHit {
     glm::vec2 uv{0.0f};      // triangle: barycentrics of v1, v2; quad: (s, t); sphere: unused
 };
 
+// What a traversal's stack holds (shaders/geometry/bvh.glsl, traverse): child references,
+// as the "_address" kernels push them (the children hit, sorted by entry distance, all but
+// the nearest), or nodes with the bits of their children still to visit, as the kernels
+// with a local-array stack push them (tested again when popped).
+enum class StackEntries { Children, Nodes };
+
 // What one traversal did: wide nodes whose boxes it tested, primitives it tested.
 struct TraversalWork {
     uint32_t nodes = 0;
     uint32_t primitives = 0;
-    uint32_t deepestStack = 0;  // the most entries the traversal stack held (at most wideStackDepth)
+    // The most entries the traversal stack held: at most childStackDepth with
+    // StackEntries::Children, wideStackDepth with StackEntries::Nodes.
+    uint32_t deepestStack = 0;
     // When set, one entry per round of the traversal's outer loop: the nodes its descent
     // tested, << 16, | the primitives its leaf tested (penumbra_bench --lanes replays the
     // rounds of eight rays in lockstep, as a SIMD group runs them).
     std::vector<uint32_t>* rounds = nullptr;
 };
 
-// Closest hit with t in (0, tMax), and whether any hit exists; the same formulas as the GLSL.
-// `work`, when given, gets the traversal's steps added to it.
+// Closest hit with t in (0, tMax), and whether any hit exists; the same formulas as the GLSL,
+// the same steps as its traversal with `entries` on its stack. `work`, when given, gets the
+// traversal's steps added to it.
 std::optional<CpuHit> intersectClosest(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax,
-                                       TraversalWork* work = nullptr);
-bool intersectAny(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax, TraversalWork* work = nullptr);
+                                       TraversalWork* work = nullptr, StackEntries entries = StackEntries::Children);
+bool intersectAny(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax, TraversalWork* work = nullptr,
+                  StackEntries entries = StackEntries::Children);
 // Every primitive tested in turn: the reference the BVH must agree with.
 std::optional<CpuHit> intersectBruteForce(const std::vector<gpu::Primitive>& primitives, glm::vec3 origin,
                                           glm::vec3 dir, float tMax);
@@ -102,10 +112,14 @@ double wideNodeArea(const std::vector<gpu::BvhNode>& nodes, WideCollapse rule);
 
 // The most entries a traversal of the wide tree `nodes` (makeWideNodes) holds on its stack:
 // one per interior node on its path from the root, so the interior nodes on the longest
-// such path; at least 1 (also for an empty tree). The "_address" kernels keep this many per
-// invocation (render/traversal_stacks.h). Throws std::logic_error if a child reference
+// such path; at least 1 (also for an empty tree): the kernels whose stack entries are nodes
+// hold at most this many. Throws std::logic_error if a child reference
 // does not point past its parent, as makeWideNodes lays them out.
 uint32_t wideStackDepth(const std::vector<gpu::WideNode>& nodes);
+// The most entries a traversal that pushes child references holds (StackEntries::Children):
+// up to WIDE_NODE_ARITY - 1 per interior node on its path, so that many times
+// wideStackDepth. The "_address" kernels keep this many per invocation.
+uint32_t childStackDepth(const std::vector<gpu::WideNode>& nodes);
 
 // Child `child` (0 to 3) of a wide node, decoded as the shader decodes it.
 struct WideChildBox {

@@ -1,8 +1,10 @@
-// CPU traversal of the flat BVH (closest hit, any hit: one loop, as on the GPU) and the
-// brute-force reference. The loop mirrors `traverse` in shaders/geometry/bvh.glsl step by
+// CPU traversal of the flat BVH (closest hit, any hit: one loop, as on the GPU, with either
+// kind of stack entry) and the brute-force reference. The loop mirrors `traverse` in shaders/geometry/bvh.glsl step by
 // step, with the intersection routines of bvh/intersect.h, so CPU and GPU results differ
 // only by rounding.
 #include <algorithm>
+#include <bit>
+#include <utility>
 
 #include "bvh/bvh.h"
 #include "bvh/intersect.h"
@@ -27,14 +29,56 @@ uint32_t nearestChild(uint32_t hits, const float tEntry[WIDE_NODE_ARITY]) {
     return nearest;
 }
 
+// Orders two children by key (entry distance bits), carrying their references:
+// orderChildren of bvh.glsl.
+void orderChildren(uint32_t& keyA, uint32_t& refA, uint32_t& keyB, uint32_t& refB) {
+    if (keyB < keyA) {
+        std::swap(keyA, keyB);
+        std::swap(refA, refB);
+    }
+}
+
+// The four children of a wide node tested against the ray: bit c of the result is set where
+// child c exists and is hit before tMax (intersectWideNode of bvh.glsl).
+uint32_t testWideNode(const gpu::WideNode& wide, glm::vec3 origin, glm::vec3 invDir, float tMax,
+                      float tEntry[WIDE_NODE_ARITY], uint32_t refs[WIDE_NODE_ARITY]) {
+    uint32_t hits = 0;
+    for (uint32_t c = 0; c < WIDE_NODE_ARITY; ++c) {
+        WideChildBox box = decodeWideChild(wide, c);
+        refs[c] = box.ref;
+        if (intersectBox(box.lo, box.hi, origin, invDir, tMax, tEntry[c]) && box.exists) hits |= 1u << c;
+    }
+    return hits;
+}
+
+// The primitives of leaf `leaf` tested against the ray (testLeaf of bvh.glsl); true when
+// `anyHit` and one is hit.
+bool testLeaf(const Bvh& bvh, uint32_t leaf, glm::vec3 origin, glm::vec3 dir, bool anyHit, CpuHit& hit,
+              TraversalWork& work) {
+    uint32_t first = leaf & gpu::BVH_OFFSET_MASK, end = first + (leaf >> BVH_COUNT_SHIFT);
+    for (uint32_t i = first; i < end; ++i) {
+        float t;
+        glm::vec2 uv;
+        ++work.primitives;
+        if (intersectPrimitive(bvh.primitives[i], origin, dir, hit.t, t, uv)) {
+            hit.t = t;
+            hit.primitive = i;
+            hit.uv = uv;
+            if (anyHit) return true;
+        }
+    }
+    return false;
+}
+
 // The loop behind both queries, step for step the `traverse` of shaders/geometry/bvh.glsl,
 // over the wide nodes (shared/types.h): while-while (descend to a leaf, then test its
-// primitives), nearest child first, a node with other children hit back on the stack with
-// their bits, tested again when popped; a return at the first hit for `anyHit`. Returns
-// whether anything was hit; `hit` holds the closest hit found (for `anyHit`, the first).
-// `work` counts the nodes and primitives tested and the deepest the stack went.
-bool traverse(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax, bool anyHit, CpuHit& hit,
-              TraversalWork& work) {
+// primitives), nearest child first, and the other children hit kept on the stack as
+// `entries` says: as references, sorted by entry distance; or as their node with their bits,
+// tested again when popped. A return at the first hit for `anyHit`. Returns whether
+// anything was hit; `hit` holds the closest hit found (for `anyHit`, the first). `work`
+// counts the nodes and primitives tested and the deepest the stack went.
+bool traverse(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax, bool anyHit, StackEntries entries,
+              CpuHit& hit, TraversalWork& work) {
     hit.t = tMax;
     hit.primitive = gpu::NO_HIT;
     hit.uv = glm::vec2(0.0f);
@@ -44,78 +88,75 @@ bool traverse(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax, bool 
         return false;
     if (bvh.wideNodes.empty()) return false;
     glm::vec3 invDir = rayInverseDirection(dir);
-    uint32_t stack[BVH_MAX_DEPTH];  // node | children still to visit << WIDE_STACK_MASK_SHIFT
+    // Children: up to WIDE_NODE_ARITY - 1 references per level; nodes: one entry per level.
+    uint32_t stack[(WIDE_NODE_ARITY - 1) * BVH_MAX_DEPTH];
     int sp = 0;
-    uint32_t node = 0, allowed = gpu::WIDE_ALL_CHILDREN;  // the root, every child
+    const auto push = [&](uint32_t entry) {
+        stack[sp++] = entry;
+        work.deepestStack = std::max(work.deepestStack, uint32_t(sp));
+    };
+    // Children: the reference to take up next. Nodes: the node and its children allowed.
+    uint32_t ref = 0, allowed = gpu::WIDE_ALL_CHILDREN;  // the root, every child
     while (true) {
-        // Descend to a leaf, or until no allowed child is hit.
-        bool atLeaf = false;
-        uint32_t leaf = 0;
+        // Descend to a leaf, or until a node has no (allowed) child hit.
+        bool atLeaf = true;  // unless a node has no child hit
         const uint32_t nodesBefore = work.nodes, primitivesBefore = work.primitives;
         const auto endRound = [&] {
             if (work.rounds)
                 work.rounds->push_back((work.nodes - nodesBefore) << 16 | (work.primitives - primitivesBefore));
         };
-        while (true) {
+        while ((ref >> BVH_COUNT_SHIFT) == 0) {
             ++work.nodes;
-            const gpu::WideNode& wide = bvh.wideNodes[node];
-            uint32_t hits = 0, refs[WIDE_NODE_ARITY];
+            uint32_t refs[WIDE_NODE_ARITY];
             float tEntry[WIDE_NODE_ARITY];
-            for (uint32_t c = 0; c < WIDE_NODE_ARITY; ++c) {
-                WideChildBox box = decodeWideChild(wide, c);
-                refs[c] = box.ref;
-                if (intersectBox(box.lo, box.hi, origin, invDir, hit.t, tEntry[c]) && box.exists) hits |= 1u << c;
-            }
-            hits &= allowed;
-            if (hits == 0) break;
-            uint32_t c = nearestChild(hits, tEntry);
-            uint32_t rest = hits & ~(1u << c);
-            if (rest != 0) {
-                stack[sp++] = node | (rest << gpu::WIDE_STACK_MASK_SHIFT);
-                work.deepestStack = std::max(work.deepestStack, uint32_t(sp));
-            }
-            uint32_t next = refs[c];
-            if ((next >> BVH_COUNT_SHIFT) != 0) {
-                atLeaf = true;
-                leaf = next;
+            const uint32_t hits = testWideNode(bvh.wideNodes[ref], origin, invDir, hit.t, tEntry, refs) & allowed;
+            if (hits == 0) {
+                atLeaf = false;
                 break;
             }
-            node = next;
-            allowed = gpu::WIDE_ALL_CHILDREN;
-        }
-        if (atLeaf) {
-            uint32_t first = leaf & gpu::BVH_OFFSET_MASK, end = first + (leaf >> BVH_COUNT_SHIFT);
-            for (uint32_t i = first; i < end; ++i) {
-                float t;
-                glm::vec2 uv;
-                ++work.primitives;
-                if (intersectPrimitive(bvh.primitives[i], origin, dir, hit.t, t, uv)) {
-                    hit.t = t;
-                    hit.primitive = i;
-                    hit.uv = uv;
-                    if (anyHit) {
-                        endRound();
-                        return true;
-                    }
-                }
+            if (entries == StackEntries::Children) {
+                uint32_t key[WIDE_NODE_ARITY];
+                for (uint32_t c = 0; c < WIDE_NODE_ARITY; ++c)
+                    key[c] = (hits & (1u << c)) != 0 ? std::bit_cast<uint32_t>(tEntry[c]) : 0xffffffffu;
+                orderChildren(key[0], refs[0], key[1], refs[1]);
+                orderChildren(key[2], refs[2], key[3], refs[3]);
+                orderChildren(key[0], refs[0], key[2], refs[2]);
+                orderChildren(key[1], refs[1], key[3], refs[3]);
+                orderChildren(key[1], refs[1], key[2], refs[2]);
+                for (int c = std::popcount(hits) - 1; c >= 1; --c) push(refs[c]);
+                ref = refs[0];
+            } else {
+                const uint32_t c = nearestChild(hits, tEntry);
+                const uint32_t rest = hits & ~(1u << c);
+                if (rest != 0) push(ref | (rest << gpu::WIDE_STACK_MASK_SHIFT));
+                ref = refs[c];
+                allowed = gpu::WIDE_ALL_CHILDREN;
             }
+        }
+        if (atLeaf && testLeaf(bvh, ref, origin, dir, anyHit, hit, work)) {
+            endRound();
+            return true;
         }
         endRound();
         if (sp == 0) break;
         --sp;
-        node = stack[sp] & gpu::WIDE_STACK_NODE_MASK;
-        allowed = stack[sp] >> gpu::WIDE_STACK_MASK_SHIFT;
+        if (entries == StackEntries::Children) {
+            ref = stack[sp];
+        } else {
+            ref = stack[sp] & gpu::WIDE_STACK_NODE_MASK;
+            allowed = stack[sp] >> gpu::WIDE_STACK_MASK_SHIFT;
+        }
     }
     return hit.primitive != gpu::NO_HIT;
 }
 
 // traverse, its work added to `work` when that is given (and its rounds recorded where
 // `work` asks for them).
-bool traverseCounting(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax, bool anyHit, CpuHit& hit,
-                      TraversalWork* work) {
+bool traverseCounting(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax, bool anyHit, StackEntries entries,
+                      CpuHit& hit, TraversalWork* work) {
     TraversalWork counted;
     counted.rounds = work ? work->rounds : nullptr;
-    const bool found = traverse(bvh, origin, dir, tMax, anyHit, hit, counted);
+    const bool found = traverse(bvh, origin, dir, tMax, anyHit, entries, hit, counted);
     if (work) {
         work->nodes += counted.nodes;
         work->primitives += counted.primitives;
@@ -126,16 +167,17 @@ bool traverseCounting(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMa
 
 }  // namespace
 
-std::optional<CpuHit> intersectClosest(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax,
-                                       TraversalWork* work) {
+std::optional<CpuHit> intersectClosest(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax, TraversalWork* work,
+                                       StackEntries entries) {
     CpuHit hit;
-    if (!traverseCounting(bvh, origin, dir, tMax, false, hit, work)) return std::nullopt;
+    if (!traverseCounting(bvh, origin, dir, tMax, false, entries, hit, work)) return std::nullopt;
     return hit;
 }
 
-bool intersectAny(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax, TraversalWork* work) {
+bool intersectAny(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax, TraversalWork* work,
+                  StackEntries entries) {
     CpuHit hit;
-    return traverseCounting(bvh, origin, dir, tMax, true, hit, work);
+    return traverseCounting(bvh, origin, dir, tMax, true, entries, hit, work);
 }
 
 std::optional<CpuHit> intersectBruteForce(const std::vector<gpu::Primitive>& primitives, glm::vec3 origin,

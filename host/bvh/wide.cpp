@@ -249,6 +249,10 @@ uint32_t wideStackDepth(const std::vector<gpu::WideNode>& nodes) {
     return deepest;
 }
 
+uint32_t childStackDepth(const std::vector<gpu::WideNode>& nodes) {
+    return (WIDE_NODE_ARITY - 1) * wideStackDepth(nodes);
+}
+
 WideChildBox decodeWideChild(const gpu::WideNode& node, uint32_t child) {
     const uint32_t loPlanes[3] = {node.loX, node.loY, node.loZ};
     const uint32_t hiPlanes[3] = {node.hiX, node.hiY, node.hiZ};

@@ -63,8 +63,10 @@ BrdfRayFates brdfRayFates(const Scene& scene, const SceneArrays& arrays) {
                     const float r = std::sqrt(u1), phi = 2.0f * float(M_PI) * u2;
                     const glm::vec3 wi = r * std::cos(phi) * t1 + r * std::sin(phi) * t2 +
                                          std::sqrt(std::max(0.0f, 1.0f - u1)) * n;
+                    // Counted with node entries on the stack, as when the thresholds
+                    // (emitter_first.h) were measured; child entries count a few steps fewer.
                     TraversalWork work;
-                    const auto next = intersectClosest(bvh, origin, wi, 3.4e38f, &work);
+                    const auto next = intersectClosest(bvh, origin, wi, 3.4e38f, &work, StackEntries::Nodes);
                     fates.closestHitWork += double(work.nodes + work.primitives);
                     if (!next) fates.escape += 1.0;
                     else if (bvh.primitives[next->primitive].light != gpu::NO_LIGHT) fates.emitter += 1.0;

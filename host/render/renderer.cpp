@@ -63,8 +63,9 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
       m_options(kernelOptions()),
       m_tileRowSlices(
           tileRowSlicesFor(context.info(), std::getenv("LP_NUM_THREADS"), std::thread::hardware_concurrency())),
-      m_stackDepth(wideStackDepth(m_arrays.bvh.wideNodes)),
-      m_stackInvocations(stackInvocationsFor(tilesFor(m_params.width), tilesFor(m_params.height))) {
+      m_stackDepth(childStackDepth(m_arrays.bvh.wideNodes)),
+      m_stackInvocations(stackInvocationsFor(tilesFor(m_params.width), tilesFor(m_params.height),
+                                             stackInvocationLimit(m_stackDepth))) {
     using gpu::Buffer;
     m_paramsBuffer = Buffer(context, sizeof(gpu::RenderParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, 0,
                             VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, "render parameters");

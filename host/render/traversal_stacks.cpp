@@ -13,6 +13,11 @@ constexpr uint64_t kTileInvocations = uint64_t(PassBands::kTile) * PassBands::kT
 
 uint64_t invocationsOf(const DispatchShape& shape) { return uint64_t(shape.x) * shape.y * shape.z * kTileInvocations; }
 
+uint32_t stackInvocationLimit(uint32_t entries) {
+    const uint64_t fit = kStackBytes / (std::max<uint64_t>(entries, 1) * sizeof(uint32_t));
+    return uint32_t(std::clamp<uint64_t>(fit, 1, kStackInvocations));
+}
+
 uint32_t stackInvocationsFor(uint32_t tileColumns, uint32_t tileRows, uint32_t limit) {
     const uint64_t row = std::max<uint64_t>(tileColumns, 1) * kTileInvocations;
     const uint64_t film = row * std::max<uint32_t>(tileRows, 1);

@@ -1,5 +1,6 @@
 // Where the "_address" kernels keep their BVH traversal stacks (shaders/geometry/bvh.glsl):
-// a buffer of stackDepth 32-bit entries per invocation of a dispatch, reached through its
+// a buffer of childStackDepth (host/bvh/bvh.h) 32-bit entries, child references, per
+// invocation of a dispatch, reached through its
 // device address instead of a local array. On lavapipe 25.0 a store to a local array at a
 // per-lane index is a loop over the SIMD lanes with a branch on each lane's mask bit, which
 // mispredicts as lanes push at random; a store through an address is one masked scatter
@@ -16,8 +17,14 @@
 namespace penumbra {
 
 // Invocations whose stacks the buffer holds where a film has more: 2^18 (a 512 x 512 film),
-// at most 64 MiB with the deepest tree the builder makes (BVH_MAX_DEPTH entries each).
+// fewer where their stacks would take more than kStackBytes (stackInvocationLimit).
 inline constexpr uint32_t kStackInvocations = 1u << 18;
+inline constexpr uint64_t kStackBytes = uint64_t(64) << 20;
+
+// The most invocations whose stacks of `entries` 32-bit entries each fit in kStackBytes, at
+// most kStackInvocations and at least 1: 2^18 up to 64 entries, 87,381 for the deepest tree
+// the builder makes (3 x BVH_MAX_DEPTH entries).
+uint32_t stackInvocationLimit(uint32_t entries);
 
 // Invocations of a dispatch of `shape` (workgroups of 8 x 8).
 uint64_t invocationsOf(const DispatchShape& shape);

@@ -46,8 +46,9 @@ uvec2 bvhNodeAddress();
 // gather. 1.12-1.17x on scenes of 30k-1M primitives ("Round 13"). The kernel defines the
 // buffer's address, the entries per invocation and which invocation this is
 // (kernel_common.glsl: from PassConstants and the dispatch; render/traversal_stacks.h sizes
-// the buffer). An index past the last entry is clamped to it, so that a tree deeper than
-// the host counted could only change the image, never write outside the buffer
+// the buffer: childStackDepth entries, one per child still to visit, see traverse). An index
+// past the last entry is clamped to it, so that a tree deeper than the host counted could
+// only change the image, never write outside the buffer
 // (Bvh.StackDepthIsTheLongestPathsInteriorNodes checks the count).
 layout(buffer_reference, std430, buffer_reference_align = 4) restrict buffer TraversalStackAt { uint entries[]; };
 uvec2 bvhStackAddress();
@@ -183,18 +184,55 @@ uint nearestChild(uint hits, vec4 tEntry) {
     return nearest;
 }
 
+// The primitives of leaf `leaf` (offset | count << BVH_COUNT_SHIFT) tested against the ray,
+// `hit` kept as the closest found; true when `anyHit` and one is hit, so the query ends.
+bool testLeaf(uint leaf, vec3 origin, vec3 dir, bool anyHit, inout Hit hit) {
+    uint first = leaf & BVH_OFFSET_MASK, end = first + (leaf >> BVH_COUNT_SHIFT);
+    for (uint i = first; i < end; ++i) {
+        float t;
+        vec2 uv;
+        if (intersectPrimitive(loadPrimitive(i), origin, dir, hit.t, t, uv)) {
+            hit.t = t;
+            hit.primitive = i;
+            hit.uv = uv;
+            if (anyHit) return true;
+        }
+    }
+    return false;
+}
+
+// Orders two children by key (entry distance), carrying their references: one
+// compare-exchange of the sorting network in traverse.
+void orderChildren(inout uint keyA, inout uint refA, inout uint keyB, inout uint refB) {
+    bool swap = keyB < keyA;
+    uint key = keyA, ref = refA;
+    keyA = swap ? keyB : keyA;
+    refA = swap ? refB : refA;
+    keyB = swap ? key : keyB;
+    refB = swap ? ref : refB;
+}
+
 // The loop behind both queries. From a node, the ray goes on to the nearest child it hits
 // (for `anyHit` too: a blocked shadow ray meets its blocker sooner, 1.03-1.09x on a million
-// triangles, "Round 13"); if it hits others, the node goes on the stack with those
-// children's bits, and when the stack gives it back it is tested again with only those
-// bits allowed: a child that now lies behind the closest hit found meanwhile fails its box
-// test there and is skipped. One stack entry per node on the path from the root, so
-// BVH_MAX_DEPTH entries suffice (host/bvh/wide.cpp: the wide tree is no deeper than the
-// binary one; wideStackDepth counts them for the tree at hand). With `anyHit` it returns
-// at the first hit found. `anyHit` is a constant at both call sites below, so after
-// inlining the compiler keeps a copy of the loop specialised for each query. Primitive
-// `ignore` (NO_HIT: none) does not count in the inline tests; the tree's own tests need no
-// such rule (traceAnyIgnoring says why).
+// triangles, "Round 13"). What the stack keeps of the other children it hits depends on
+// where the stack lives:
+// - In memory through a device address (the "_address" kernels), one entry per child: the
+//   children hit are sorted by entry distance and all but the nearest pushed, farthest
+//   first, so a popped child is taken up at once. Up to three pushes a step cost three
+//   masked scatters there, less than testing the parent's four boxes again when it comes
+//   back: 1.05-1.09x on a million triangles ("Round 18"). WIDE_NODE_ARITY - 1 entries per
+//   node on the path from the root suffice (render/traversal_stacks.h sizes them).
+// - In a local array (every other kernel), one entry per node: the node with its other
+//   children's bits, tested again when popped with only those bits allowed, so a child that
+//   now lies behind the closest hit found meanwhile fails its box test there. A push to a
+//   local array is a loop over the SIMD lanes on lavapipe, and three of them per step cost
+//   more than the test again ("Round 7"). One entry per node on the path from the root, so
+//   BVH_MAX_DEPTH entries suffice (host/bvh/wide.cpp: the wide tree is no deeper than the
+//   binary one).
+// With `anyHit` it returns at the first hit found. `anyHit` is a constant at both call
+// sites below, so after inlining the compiler keeps a copy of the loop specialised for each
+// query. Primitive `ignore` (NO_HIT: none) does not count in the inline tests; the tree's
+// own tests need no such rule (traceAnyIgnoring says why).
 bool traverse(vec3 origin, vec3 dir, float tMax, bool anyHit, uint ignore, out Hit hit) {
     countRay();
     hit.t = tMax;
@@ -210,16 +248,52 @@ bool traverse(vec3 origin, vec3 dir, float tMax, bool anyHit, uint ignore, out H
     }
 #endif
     vec3 invDir = rayInverseDirection(dir);
-    // Entries: node | children still to visit << WIDE_STACK_MASK_SHIFT.
+    int sp = 0;
 #ifdef PENUMBRA_NODE_ADDRESS
+    // Entries: child references (offset | primCount << BVH_COUNT_SHIFT).
     TraversalStackAt stack = invocationStack();
     uint lastEntry = bvhStackDepth() - 1u;
-#define PENUMBRA_STACK_ENTRY(i) stack.entries[min(uint(i), lastEntry)]
+#define PENUMBRA_PUSH(value) stack.entries[min(uint(sp++), lastEntry)] = (value)
+    uint ref = 0u;  // the root, an interior node
+    while (true) {
+        // Descend to a leaf, or until a node has no child hit.
+        bool atLeaf = true;
+        while ((ref >> BVH_COUNT_SHIFT) == 0u) {
+            vec4 tEntry;
+            uvec4 refs;
+            uint hits = intersectWideNode(ref, origin, invDir, hit.t, tEntry, refs);
+            if (hits == 0u) {
+                atLeaf = false;
+                break;
+            }
+            // Entry distances are >= 0, so their bits order as the floats do; a child not
+            // hit sorts last. A sorting network of five compare-exchanges (Knuth, TAOCP
+            // vol. 3, 5.3.4) puts the children in order of entry, ties as the network
+            // leaves them (host/bvh/traverse.cpp sorts with the same network).
+            uvec4 key = floatBitsToUint(tEntry);
+            key.x = (hits & 1u) != 0u ? key.x : 0xffffffffu;
+            key.y = (hits & 2u) != 0u ? key.y : 0xffffffffu;
+            key.z = (hits & 4u) != 0u ? key.z : 0xffffffffu;
+            key.w = (hits & 8u) != 0u ? key.w : 0xffffffffu;
+            orderChildren(key.x, refs.x, key.y, refs.y);
+            orderChildren(key.z, refs.z, key.w, refs.w);
+            orderChildren(key.x, refs.x, key.z, refs.z);
+            orderChildren(key.y, refs.y, key.w, refs.w);
+            orderChildren(key.y, refs.y, key.z, refs.z);
+            uint count = uint(bitCount(hits));
+            if (count == 4u) PENUMBRA_PUSH(refs.w);
+            if (count >= 3u) PENUMBRA_PUSH(refs.z);
+            if (count >= 2u) PENUMBRA_PUSH(refs.y);
+            ref = refs.x;
+        }
+        if (atLeaf && testLeaf(ref, origin, dir, anyHit, hit)) return true;
+        if (sp == 0) break;
+        --sp;
+        ref = stack.entries[min(uint(sp), lastEntry)];
+    }
+#undef PENUMBRA_PUSH
 #else
-    uint stack[BVH_MAX_DEPTH];
-#define PENUMBRA_STACK_ENTRY(i) stack[i]
-#endif
-    int sp = 0;
+    uint stack[BVH_MAX_DEPTH];  // node | children still to visit << WIDE_STACK_MASK_SHIFT
     uint node = 0u, allowed = WIDE_ALL_CHILDREN;  // the root, every child
     while (true) {
         // Descend to a leaf, or until no allowed child is hit.
@@ -233,7 +307,7 @@ bool traverse(vec3 origin, vec3 dir, float tMax, bool anyHit, uint ignore, out H
             uint c = nearestChild(hits, tEntry);
             uint rest = hits & ~(1u << c);
             if (rest != 0u) {
-                PENUMBRA_STACK_ENTRY(sp) = node | (rest << WIDE_STACK_MASK_SHIFT);
+                stack[sp] = node | (rest << WIDE_STACK_MASK_SHIFT);
                 ++sp;
             }
             uint next = c == 0u ? ref.x : (c == 1u ? ref.y : (c == 2u ? ref.z : ref.w));
@@ -245,27 +319,15 @@ bool traverse(vec3 origin, vec3 dir, float tMax, bool anyHit, uint ignore, out H
             node = next;
             allowed = WIDE_ALL_CHILDREN;
         }
-        if (atLeaf) {
-            uint first = leaf & BVH_OFFSET_MASK, end = first + (leaf >> BVH_COUNT_SHIFT);
-            for (uint i = first; i < end; ++i) {
-                float t;
-                vec2 uv;
-                if (intersectPrimitive(loadPrimitive(i), origin, dir, hit.t, t, uv)) {
-                    hit.t = t;
-                    hit.primitive = i;
-                    hit.uv = uv;
-                    if (anyHit) return true;
-                }
-            }
-        }
+        if (atLeaf && testLeaf(leaf, origin, dir, anyHit, hit)) return true;
         if (sp == 0) break;
         --sp;
-        uint entry = PENUMBRA_STACK_ENTRY(sp);
+        uint entry = stack[sp];
         node = entry & WIDE_STACK_NODE_MASK;
         allowed = entry >> WIDE_STACK_MASK_SHIFT;
     }
+#endif
     return hit.primitive != NO_HIT;
-#undef PENUMBRA_STACK_ENTRY
 }
 
 // Nearest hit with t in (0, tMax), for camera and bounce rays.

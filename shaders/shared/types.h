@@ -77,8 +77,10 @@ struct WideNode {
 #define WIDE_NODE_ARITY 4u
 PENUMBRA_CONST uint WIDE_CHILD_MASK_SHIFT = 24u;
 PENUMBRA_CONST uint WIDE_ALL_CHILDREN = (1u << WIDE_NODE_ARITY) - 1u;  // a child mask with every bit
-// A traversal stack entry: a node whose children it still has to visit, as
-// node | childMask << WIDE_STACK_MASK_SHIFT (a node index below 2^27, see below).
+// A traversal stack entry of the kernels that keep their stack in a local array: a node
+// whose children it still has to visit, as node | childMask << WIDE_STACK_MASK_SHIFT (a
+// node index below 2^27, see below). The "_address" kernels push child references instead
+// (geometry/bvh.glsl, traverse).
 PENUMBRA_CONST uint WIDE_STACK_MASK_SHIFT = 28u;
 PENUMBRA_CONST uint WIDE_STACK_NODE_MASK = (1u << WIDE_STACK_MASK_SHIFT) - 1u;
 //
@@ -102,8 +104,9 @@ PENUMBRA_CONST uint BVH_MAX_PRIMITIVES = 1u << BVH_COUNT_SHIFT;
 // Bounds3::IntersectP). The CPU (host/bvh/intersect.h) and the GLSL read this one constant.
 PENUMBRA_CONST float BOX_EXIT_SCALE = 1.0000004f;
 
-// Deepest leaf the builder produces (root = depth 0). Traversal keeps at most one deferred
-// node per level on its stack, so a stack of BVH_MAX_DEPTH entries never overflows.
+// Deepest leaf the builder produces (root = depth 0). A traversal whose stack entries are
+// nodes keeps at most one deferred node per level on its stack, so a stack of
+// BVH_MAX_DEPTH entries never overflows.
 #define BVH_MAX_DEPTH 64
 // Closest-hit result meaning "no primitive was hit".
 PENUMBRA_CONST uint NO_HIT = 0xffffffffu;
