@@ -1,7 +1,7 @@
 // CPU traversal of the flat BVH (closest hit, any hit: one loop, as on the GPU, with either
-// kind of stack entry) and the brute-force reference. The loop mirrors `traverse` in shaders/geometry/bvh.glsl step by
-// step, with the intersection routines of bvh/intersect.h, so CPU and GPU results differ
-// only by rounding.
+// kind of stack entry) and the brute-force reference. The loop mirrors `traverse` in
+// shaders/geometry/bvh.glsl step by step, with the intersection routines of
+// bvh/intersect.h, so CPU and GPU results differ only by rounding.
 #include <algorithm>
 #include <bit>
 #include <utility>
