@@ -702,8 +702,9 @@ TEST(Bvh, StackDepthIsTheLongestPathsInteriorNodes) {
     // one can. Rays from the common centre of nested spheres start inside every box, so
     // nothing is culled and every interior node on every path pushes the children it does
     // not take first: some ray holds exactly wideStackDepth nodes, and more than that many
-    // children, so a child stack of wideStackDepth entries would lose some (the GPU
-    // comparison below then fails).
+    // children, so a child stack of wideStackDepth entries would clamp some away. (The GPU
+    // comparison below runs with childStackDepth entries; run with wideStackDepth it still
+    // passes on these rays, so it is the CPU count that shows the larger size is needed.)
     EXPECT_EQ(wideStackDepth(buildBvh({}).wideNodes), 1u);
     EXPECT_EQ(wideStackDepth(buildBvh({sphere(vec3(0), 1.0f)}).wideNodes), 1u);
     std::vector<gpu::Primitive> nested;
