@@ -107,23 +107,32 @@ struct SceneBuffers {
     }
 };
 
+// A traversal stack entry no push writes: a child reference never has every bit set
+// (offset + primCount <= BVH_MAX_PRIMITIVES).
+constexpr uint32_t kUnwrittenEntry = 0xffffffffu;
+
 // Runs the test kernel `name` over the scene's buffers: one invocation per input (binding
 // 0, 64 per workgroup), each writing one Result (binding 1). The push constants are the
 // input count, the node buffer's device address and the traversal stacks' address and
 // entries per invocation (bvh_trace.comp's "_address" variant: childStackDepth entries, as
-// the renderer gives them; most of these scenes' rays seldom fill the stack, so
-// Bvh.StackDepthIsTheLongestPathsInteriorNodes checks the count itself, with rays that do).
+// the renderer gives them, unless `stackDepth` says otherwise; most of these scenes' rays
+// seldom fill the stack, so Bvh.StackDepthIsTheLongestPathsInteriorNodes checks the count
+// itself, with rays that do). With `stacks`, the stacks start as kUnwrittenEntry and are
+// read back into it after the run, stackDepth entries per invocation.
 template <class Result, class Input>
 std::vector<Result> runSceneKernel(const char* name, const Bvh& bvh,
                                    const std::vector<gpu::TriangleNormals>& shadingNormals,
-                                   const std::vector<Input>& inputs, const std::vector<uint32_t>& specialization = {}) {
+                                   const std::vector<Input>& inputs, const std::vector<uint32_t>& specialization = {},
+                                   uint32_t stackDepth = 0, std::vector<uint32_t>* stackEntries = nullptr) {
     auto& ctx = test::gpuContext();
     auto inputBuffer = gpu::Buffer::fromVector(ctx, inputs);
     gpu::Buffer results(ctx, inputs.size() * sizeof(Result), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     SceneBuffers scene(ctx, bvh, shadingNormals);
-    const uint32_t groups = uint32_t((inputs.size() + 63) / 64), depth = childStackDepth(bvh.wideNodes);
-    gpu::Buffer stacks(ctx, VkDeviceSize(groups) * 64 * depth * sizeof(uint32_t),
-                       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | gpu::deviceAddressUsage(ctx));
+    const uint32_t groups = uint32_t((inputs.size() + 63) / 64),
+                   depth = stackDepth > 0 ? stackDepth : childStackDepth(bvh.wideNodes);
+    gpu::Buffer stacks = gpu::Buffer::fromVector(ctx,
+                                                 std::vector<uint32_t>(size_t(groups) * 64 * depth, kUnwrittenEntry),
+                                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | gpu::deviceAddressUsage(ctx));
     const uint32_t push[6] = {
         uint32_t(inputs.size()),    uint32_t(scene.nodes.address()),  uint32_t(scene.nodes.address() >> 32),
         uint32_t(stacks.address()), uint32_t(stacks.address() >> 32), depth};
@@ -132,6 +141,7 @@ std::vector<Result> runSceneKernel(const char* name, const Bvh& bvh,
     kernel.bind(1, results);
     scene.bind(kernel);
     kernel.run(groups, 1, 1, push);
+    if (stackEntries) *stackEntries = stacks.read<uint32_t>();
     auto out = results.read<Result>();
     out.resize(inputs.size());
     return out;
@@ -157,6 +167,12 @@ std::vector<uint32_t> nodeReadsSpecialization(uint32_t nodeReads) {
     return options.specialization();
 }
 
+// Whether the test device runs the "_address" kernels: it has shaderInt64 and
+// bufferDeviceAddress (lavapipe has both).
+bool deviceReadsNodesThroughAddresses() {
+    return test::gpuContext().info().shaderInt64 && test::gpuContext().info().bufferDeviceAddress;
+}
+
 // Every way a kernel reads nodes on the test device: texels, the storage buffer in loads of
 // 16 bytes, and of 32 where the device has shaderInt64 (lavapipe has), and those through the
 // buffer's device address where it also has bufferDeviceAddress (lavapipe has).
@@ -165,9 +181,27 @@ std::vector<std::pair<std::vector<uint32_t>, std::string>> everyNodeReads() {
         {{}, "texels"}, {nodeReadsSpecialization(NODE_READS_STORAGE), "storage"}};
     if (test::gpuContext().info().shaderInt64)
         reads.push_back({nodeReadsSpecialization(NODE_READS_STORAGE_32), "storage32"});
-    if (test::gpuContext().info().shaderInt64 && test::gpuContext().info().bufferDeviceAddress)
-        reads.push_back({nodeReadsSpecialization(NODE_READS_ADDRESS), "address"});
+    if (deviceReadsNodesThroughAddresses()) reads.push_back({nodeReadsSpecialization(NODE_READS_ADDRESS), "address"});
     return reads;
+}
+
+// The most traversal stack entries that any of `rays` used in the "_address" trace kernel,
+// whose stacks hold child references (its closest-hit and any-hit queries share a ray's
+// entries). It runs with `depth` entries per ray, more than it should need, so that the
+// kernel's clamp to the last entry hides no overflow; a push leaves its entry written, and
+// pops do not clear it.
+uint32_t gpuStackHighWater(const Bvh& bvh, const std::vector<TraceRay>& rays, uint32_t depth) {
+    std::vector<uint32_t> entries;
+    runSceneKernel<TraceResult>(nodeReadsKernel("tests/bvh_trace", NODE_READS_ADDRESS).c_str(), bvh, {}, rays,
+                                nodeReadsSpecialization(NODE_READS_ADDRESS), depth, &entries);
+    uint32_t deepest = 0;
+    for (size_t ray = 0; ray < rays.size(); ++ray)
+        for (uint32_t used = depth; used > deepest; --used)
+            if (entries[ray * depth + used - 1] != kUnwrittenEntry) {
+                deepest = used;
+                break;
+            }
+    return deepest;
 }
 
 // Origins uniform in [-originExtent, originExtent]^3, directions uniform on the sphere; with
@@ -678,7 +712,9 @@ TEST(Bvh, TraversalRoundsAddUpToItsWork) {
                 uint32_t nodes = 0, primitives = 0;
                 for (uint32_t r : rounds) {
                     EXPECT_NE(r, 0u) << "every round tests a node or a leaf";
-                    if (entries == StackEntries::Nodes) EXPECT_GE(r >> 16, 1u) << "every round tests a node";
+                    if (entries == StackEntries::Nodes) {
+                        EXPECT_GE(r >> 16, 1u) << "every round tests a node";
+                    }
                     leafRounds += (r >> 16) == 0;
                     nodes += r >> 16;
                     primitives += r & 0xffffu;
@@ -704,7 +740,9 @@ TEST(Bvh, StackDepthIsTheLongestPathsInteriorNodes) {
     // not take first: some ray holds exactly wideStackDepth nodes, and more than that many
     // children, so a child stack of wideStackDepth entries would clamp some away. (The GPU
     // comparison below runs with childStackDepth entries; run with wideStackDepth it still
-    // passes on these rays, so it is the CPU count that shows the larger size is needed.)
+    // passes on these rays, as the entries lost lie behind the closest hit. So the
+    // "_address" kernel's own stack use is read back, from a stack with room to spare: it
+    // must be what the CPU counts, closest-hit queries being the deeper of the two.)
     EXPECT_EQ(wideStackDepth(buildBvh({}).wideNodes), 1u);
     EXPECT_EQ(wideStackDepth(buildBvh({sphere(vec3(0), 1.0f)}).wideNodes), 1u);
     std::vector<gpu::Primitive> nested;
@@ -730,10 +768,14 @@ TEST(Bvh, StackDepthIsTheLongestPathsInteriorNodes) {
     EXPECT_GT(deepestChildren, depth);
     EXPECT_LE(deepestChildren, childStackDepth(nestedBvh.wideNodes));
     expectAllAgree(nested, nestedBvh, fromCentre);
+    if (deviceReadsNodesThroughAddresses()) {
+        EXPECT_EQ(gpuStackHighWater(nestedBvh, fromCentre, childStackDepth(nestedBvh.wideNodes) + 8), deepestChildren);
+    }
     const auto scene = randomScene(rng, 400, 40, 40, 6.0f);
     const Bvh bvh = buildBvh(scene);
     deepestNodes = deepestChildren = 0;
-    for (const TraceRay& ray : randomRays(rng, 2000, 8.0f)) {
+    const std::vector<TraceRay> random = randomRays(rng, 2000, 8.0f);
+    for (const TraceRay& ray : random) {
         TraversalWork nodes, children;
         intersectClosest(bvh, vec3(ray.originTMax), vec3(ray.dir), kInf, &nodes, StackEntries::Nodes);
         intersectClosest(bvh, vec3(ray.originTMax), vec3(ray.dir), kInf, &children, StackEntries::Children);
@@ -744,6 +786,9 @@ TEST(Bvh, StackDepthIsTheLongestPathsInteriorNodes) {
     EXPECT_LE(deepestNodes, wideStackDepth(bvh.wideNodes));
     EXPECT_GT(deepestChildren, 1u);
     EXPECT_LE(deepestChildren, childStackDepth(bvh.wideNodes));
+    if (deviceReadsNodesThroughAddresses()) {
+        EXPECT_EQ(gpuStackHighWater(bvh, random, childStackDepth(bvh.wideNodes) + 8), deepestChildren);
+    }
 }
 
 TEST(Bvh, NonFiniteRaysMissAndTerminate) {
