@@ -25,6 +25,7 @@
 // Quantizing: Ylitie, Karras & Laine 2017, section 3.1, with one exponent per axis and node.
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cfloat>
 #include <cmath>
 #include <stdexcept>
@@ -36,34 +37,52 @@ namespace penumbra {
 
 namespace {
 
-float stepOf(uint32_t biasedExponent) { return std::ldexp(1.0f, int(biasedExponent) - 127); }
+// A plane of an axis of a wide node (shared/types.h): base + the float whose exponent field
+// is E and whose mantissa holds q in bits 8-15, 2^(E - 127) + q * 2^(E - 142). That float
+// is exact, and one rounding follows, in the sum, as in the shader.
+float planeOf(float base, uint32_t exponent, uint32_t q) {
+    return base + std::bit_cast<float>(exponent << 23 | q << 8);
+}
 
-// The smallest biased exponent e (1 to 254) whose step 2^(e - 127) reaches from `origin` past
-// `top` in 255 steps, computed as the shader computes it (origin + 255 * step, rounded), so
-// that q_hi = 255 always covers the top.
-uint32_t exponentFor(float origin, float top) {
+// An axis of a node's frame: the base and the exponent E of the planes over [lo, hi].
+struct AxisFrame {
+    float base = 0.0f;
+    uint32_t exponent = 1;
+};
+
+// The smallest exponent E (1 to 254) whose planes reach from lo past hi in 255 steps of
+// 2^(E - 142), and its base: lo - 2^(E - 127), rounded to a float, then lowered a float at a
+// time until its plane 0 is at most lo. So q_lo = 0 and q_hi = 255 always contain [lo, hi].
+// Throws std::invalid_argument where no exponent reaches: an extent beyond about 1e36,
+// which no scene within limits.h's ranges has (the commands report it as an error).
+AxisFrame frameFor(float lo, float hi) {
     uint32_t e = 1;
-    double extent = double(top) - double(origin);
+    const double extent = double(hi) - double(lo);
     if (extent > 0.0) {
         int exponent;
         std::frexp(extent / 255.0, &exponent);  // extent / 255 < 2^exponent
-        e = uint32_t(std::clamp(exponent - 1 + 127, 1, 254));
+        e = uint32_t(std::clamp(exponent - 1 + 142, 1, 254));
     }
-    while (e < 254 && !(origin + 255.0f * stepOf(e) >= top)) ++e;
-    return e;
+    for (; e <= 254; ++e) {
+        float base = float(double(lo) - std::ldexp(1.0, int(e) - 127));
+        while (planeOf(base, e, 0) > lo) base = std::nextafter(base, -FLT_MAX);
+        if (planeOf(base, e, 255) >= hi) return {base, e};
+    }
+    throw std::invalid_argument("makeWideNodes: a node's extent (" + std::to_string(extent) +
+                                ") is too large for its quantized planes");
 }
 
-// One plane of one child: q with origin + q * step <= value (lower planes) or >= value
-// (upper planes), as tight as the byte allows.
-uint32_t quantize(float value, float origin, float step, bool upper) {
-    double q = (double(value) - double(origin)) / double(step);
+// One plane of one child: q with planeOf(q) <= value (lower planes) or >= value (upper
+// planes), as tight as the byte allows. The planes grow with q.
+uint32_t quantize(float value, const AxisFrame& frame, bool upper) {
+    const double step = std::ldexp(1.0, int(frame.exponent) - 142);
+    const double q = (double(value) - double(planeOf(frame.base, frame.exponent, 0))) / step;
     int32_t n = int32_t(std::clamp(upper ? std::ceil(q) : std::floor(q), 0.0, 255.0));
-    // Rounding in origin + n * step (the division above is exact, the sum is not) can land
-    // on the wrong side of the value: move outwards until the box contains it.
+    // The sum in planeOf rounds: move outwards until the box contains the value.
     if (upper)
-        while (n < 255 && origin + float(n) * step < value) ++n;
+        while (n < 255 && planeOf(frame.base, frame.exponent, uint32_t(n)) < value) ++n;
     else
-        while (n > 0 && origin + float(n) * step > value) --n;
+        while (n > 0 && planeOf(frame.base, frame.exponent, uint32_t(n)) > value) --n;
     return uint32_t(n);
 }
 
@@ -173,14 +192,12 @@ private:
             hi = glm::max(hi, m_nodes[c].boundsMax);
         }
         gpu::WideNode node{};
-        node.origin = lo;
-        uint32_t e[3];
-        float step[3];
+        AxisFrame frame[3];
         for (int axis = 0; axis < 3; ++axis) {
-            e[axis] = exponentFor(lo[axis], hi[axis]);
-            step[axis] = stepOf(e[axis]);
+            frame[axis] = frameFor(lo[axis], hi[axis]);
+            node.base[axis] = frame[axis].base;
         }
-        node.meta = e[0] | e[1] << 8 | e[2] << 16;
+        node.meta = frame[0].exponent | frame[1].exponent << 8 | frame[2].exponent << 16;
         uint32_t* loPlanes[3] = {&node.loX, &node.loY, &node.loZ};
         uint32_t* hiPlanes[3] = {&node.hiX, &node.hiY, &node.hiZ};
         uint32_t* refs[WIDE_NODE_ARITY] = {&node.child0, &node.child1, &node.child2, &node.child3};
@@ -189,8 +206,8 @@ private:
             const gpu::BvhNode& child = m_nodes[children[c]];
             node.meta |= 1u << (gpu::WIDE_CHILD_MASK_SHIFT + c);
             for (int axis = 0; axis < 3; ++axis) {
-                *loPlanes[axis] |= quantize(child.boundsMin[axis], lo[axis], step[axis], false) << (8 * c);
-                *hiPlanes[axis] |= quantize(child.boundsMax[axis], lo[axis], step[axis], true) << (8 * c);
+                *loPlanes[axis] |= quantize(child.boundsMin[axis], frame[axis], false) << (8 * c);
+                *hiPlanes[axis] |= quantize(child.boundsMax[axis], frame[axis], true) << (8 * c);
             }
             if (child.primCount > 0) {
                 *refs[c] = child.offset | child.primCount << BVH_COUNT_SHIFT;
@@ -258,9 +275,9 @@ WideChildBox decodeWideChild(const gpu::WideNode& node, uint32_t child) {
     const uint32_t hiPlanes[3] = {node.hiX, node.hiY, node.hiZ};
     WideChildBox box;
     for (int axis = 0; axis < 3; ++axis) {
-        float step = stepOf((node.meta >> (8 * axis)) & 0xffu);
-        box.lo[axis] = node.origin[axis] + float((loPlanes[axis] >> (8 * child)) & 0xffu) * step;
-        box.hi[axis] = node.origin[axis] + float((hiPlanes[axis] >> (8 * child)) & 0xffu) * step;
+        const uint32_t exponent = (node.meta >> (8 * axis)) & 0xffu;
+        box.lo[axis] = planeOf(node.base[axis], exponent, (loPlanes[axis] >> (8 * child)) & 0xffu);
+        box.hi[axis] = planeOf(node.base[axis], exponent, (hiPlanes[axis] >> (8 * child)) & 0xffu);
     }
     const uint32_t refs[WIDE_NODE_ARITY] = {node.child0, node.child1, node.child2, node.child3};
     box.ref = refs[child];

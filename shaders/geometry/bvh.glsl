@@ -111,7 +111,7 @@ vec4 minOfNumbers(vec4 a, vec4 b) { return mix(b, a, lessThan(a, b)); }
 // The four children of wide node `node` tested against the ray: bit c of the result is set
 // where child c exists and its box is hit before tMax, with entry distance tEntry[c] and
 // destination ref[c] (offset | primCount << BVH_COUNT_SHIFT). The boxes are decoded from
-// their bytes (shared/types.h: origin + q * step) and tested with intersectBox's formula,
+// their bytes (shared/types.h: base + plane(E, q)) and tested with intersectBox's formula,
 // four at a time; host/bvh/traverse.cpp decodes and tests them one by one, with the same
 // operations. The "_address" kernels pass the nodes' buffer as `at`, read once a traversal.
 #ifdef PENUMBRA_NODE_ADDRESS
@@ -147,9 +147,13 @@ uint intersectWideNode(uint node, vec3 origin, vec3 invDir, float tMax, out vec4
         refsB = texelFetch(nodeTexels, int(word + 3u));
     }
     ref = uvec4(planesB.zw, refsB.xy);
-    vec3 corner = uintBitsToFloat(frame.xyz);
-    // step = 2^(e - 127): the biased exponent e put in a float's exponent field.
-    vec3 step = uintBitsToFloat(((uvec3(frame.w) >> uvec3(0u, 8u, 16u)) & 0xffu) << 23u);
+    // A plane is base + plane(E, q) (shared/types.h): the float whose exponent field is E,
+    // the node's, and whose mantissa holds q in bits 8-15, built from the bits. Against
+    // corner + float(q) * step, that saves a conversion and a multiply per plane: a step of
+    // the "_address" kernels on lavapipe 25.0 takes 383 instructions instead of 410, and
+    // 1.01-1.04x on scenes of 30k-1M triangles ("Round 19").
+    vec3 base = uintBitsToFloat(frame.xyz);
+    uvec3 exponent = ((uvec3(frame.w) >> uvec3(0u, 8u, 16u)) & 0xffu) << 23u;
     // intersectBox (intersect.glsl) for the four boxes: the near planes chosen by the sign
     // of the direction (here the words of planes, before they are unpacked), the entry
     // clamped to 0, the exit widened by BOX_EXIT_SCALE.
@@ -157,12 +161,15 @@ uint intersectWideNode(uint node, vec3 origin, vec3 invDir, float tMax, out vec4
     uvec3 nearWords = mix(uvec3(planesA.xyz), uvec3(planesA.w, planesB.xy), negative);
     uvec3 farWords = mix(uvec3(planesA.w, planesB.xy), uvec3(planesA.xyz), negative);
     const uvec4 bytes = uvec4(0u, 8u, 16u, 24u);
-    vec4 nearX = (corner.x + vec4((uvec4(nearWords.x) >> bytes) & 0xffu) * step.x - origin.x) * invDir.x;
-    vec4 nearY = (corner.y + vec4((uvec4(nearWords.y) >> bytes) & 0xffu) * step.y - origin.y) * invDir.y;
-    vec4 nearZ = (corner.z + vec4((uvec4(nearWords.z) >> bytes) & 0xffu) * step.z - origin.z) * invDir.z;
-    vec4 farX = (corner.x + vec4((uvec4(farWords.x) >> bytes) & 0xffu) * step.x - origin.x) * invDir.x;
-    vec4 farY = (corner.y + vec4((uvec4(farWords.y) >> bytes) & 0xffu) * step.y - origin.y) * invDir.y;
-    vec4 farZ = (corner.z + vec4((uvec4(farWords.z) >> bytes) & 0xffu) * step.z - origin.z) * invDir.z;
+#define PENUMBRA_PLANES(words, axis) \
+    (base.axis + uintBitsToFloat(exponent.axis | (((uvec4(words.axis) >> bytes) & 0xffu) << 8u)) - origin.axis) * invDir.axis
+    vec4 nearX = PENUMBRA_PLANES(nearWords, x);
+    vec4 nearY = PENUMBRA_PLANES(nearWords, y);
+    vec4 nearZ = PENUMBRA_PLANES(nearWords, z);
+    vec4 farX = PENUMBRA_PLANES(farWords, x);
+    vec4 farY = PENUMBRA_PLANES(farWords, y);
+    vec4 farZ = PENUMBRA_PLANES(farWords, z);
+#undef PENUMBRA_PLANES
     vec4 tNear = maxOfNumbers(maxOfNumbers(nearX, nearY), maxOfNumbers(nearZ, vec4(0.0)));
     vec4 tFar = minOfNumbers(minOfNumbers(farX, farY), minOfNumbers(farZ, vec4(tMax))) * BOX_EXIT_SCALE;
     tEntry = tNear;

@@ -52,23 +52,27 @@ struct BvhNode {
 // nodes of up to four children (host/bvh/wide.cpp), each child's box quantized to one byte
 // per plane in the node's own frame, after Ylitie, Karras & Laine 2017 ("Efficient
 // Incoherent Ray Traversal on GPUs Through Compressed Wide BVHs", HPG), with 4 children
-// where they use 8. A child's box is
-//     lo = origin + q_lo * step,  hi = origin + q_hi * step    (per axis)
-// where step = 2^(e - 127) is a power of two (e = a biased float exponent, so the shader
-// builds step from the bits and q * step is exact) and the builder rounds q_lo down and
-// q_hi up until the float result contains the child's box: the decoded box is never smaller.
-// One traversal step reads one node, 64 bytes, and tests four boxes; the binary child pairs
-// it replaced needed 64 bytes for two (docs/PERFORMANCE.md, "Round 7").
+// where they use 8. A child's box is, per axis,
+//     lo = base + plane(E, q_lo),  hi = base + plane(E, q_hi),
+//     plane(E, q) = the float with exponent field E and q in mantissa bits 8-15
+//                 = 2^(E - 127) + q * 2^(E - 142),
+// one rounding, in the sum. The shader builds plane(E, q) from the bits, with no conversion
+// of q to a float and no multiply: the planes lie 2^(E - 142) apart, and base is the
+// smallest corner of the children's boxes less 2^(E - 127), rounded down
+// (docs/PERFORMANCE.md, "Round 19"). The builder rounds q_lo down and q_hi up until the float
+// result contains the child's box: the decoded box is never smaller. One traversal step
+// reads one node, 64 bytes, and tests four boxes; the binary child pairs it replaced needed
+// 64 bytes for two (docs/PERFORMANCE.md, "Round 7").
 //
-//   origin  the frame's corner (the smallest corner of the children's boxes)
-//   meta    bits 0-7, 8-15, 16-23: e of the x, y, z step; bits 24-27: which children exist
+//   base    the frame's base, per axis (above)
+//   meta    bits 0-7, 8-15, 16-23: E of the x, y, z planes; bits 24-27: which children exist
 //   loX..hiZ  one plane of every child: byte c (bits 8c to 8c + 7) belongs to child c
 //   child   where child c leads: offset | primCount << BVH_COUNT_SHIFT; primCount == 0:
 //           an interior child, offset = its WideNode; primCount > 0: a leaf, primitives
 //           [offset, offset + primCount)
 // Node 0 is the root. A child slot that does not exist has its meta bit clear.
 struct WideNode {
-    vec3 origin;
+    vec3 base;
     uint meta;
     uint loX, loY, loZ, hiX;
     uint hiY, hiZ, child0, child1;

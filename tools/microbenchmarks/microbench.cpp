@@ -187,6 +187,10 @@ struct StepTables {
 
 constexpr uint32_t kStepExponents = 119u | 119u << 8 | 119u << 16;  // 2^(119 - 127) = 2^-8
 constexpr float kStep = 1.0f / 256.0f;
+// The four-wide nodes' frame (shared/types.h): planes base + 2^(E - 127) + q * 2^(E - 142)
+// with E = 134 and base = -2^7 are q * 2^-8 exactly, the eight-wide nodes' planes.
+constexpr uint32_t kWideExponents = 134u | 134u << 8 | 134u << 16;
+constexpr float kWideBase = -128.0f;
 
 StepTables makeStepTables(uint32_t count4, uint32_t count8, uint32_t seed) {
     std::mt19937 rng(seed);
@@ -201,7 +205,8 @@ StepTables makeStepTables(uint32_t count4, uint32_t count8, uint32_t seed) {
     };
     t.wide4.assign(count4, gpu::WideNode{});
     for (gpu::WideNode& n : t.wide4) {
-        n.meta = kStepExponents | gpu::WIDE_ALL_CHILDREN << gpu::WIDE_CHILD_MASK_SHIFT;
+        n.meta = kWideExponents | gpu::WIDE_ALL_CHILDREN << gpu::WIDE_CHILD_MASK_SHIFT;
+        n.base = glm::vec3(kWideBase);
         uint32_t* loPlanes[3] = {&n.loX, &n.loY, &n.loZ};
         uint32_t* hiPlanes[3] = {&n.hiX, &n.hiY, &n.hiZ};
         uint32_t* refs[4] = {&n.child0, &n.child1, &n.child2, &n.child3};
@@ -503,10 +508,10 @@ int main(int argc, char** argv) {
                     addCase(table, "rays across lanes, 4-wide nodes of float planes (device address)", "step4",
                             raysLabel, "step_rays_float", steps, SSBO, t.wide4Float.data(), t.wide4Float.size() * 4,
                             NONE, p, double(invocations) * steps, invocations);
-                    // Every node's frame: origin 0, the exponents, all four children.
+                    // Every node's frame: its base, the exponents, all four children.
                     Push frame = p;
-                    frame.boxOrigin[0] = frame.boxOrigin[1] = frame.boxOrigin[2] = 0.0f;
-                    frame.threshold = kStepExponents | gpu::WIDE_ALL_CHILDREN << gpu::WIDE_CHILD_MASK_SHIFT;
+                    frame.boxOrigin[0] = frame.boxOrigin[1] = frame.boxOrigin[2] = kWideBase;
+                    frame.threshold = kWideExponents | gpu::WIDE_ALL_CHILDREN << gpu::WIDE_CHILD_MASK_SHIFT;
                     addCase(table, "rays across lanes, 4-wide nodes, frame not loaded (device address)", "step4",
                             raysLabel, "step_rays_no_frame", steps, SSBO, t.wide4.data(), bytes4, NONE, frame,
                             double(invocations) * steps, invocations);

@@ -102,17 +102,21 @@ uint wideStep(Words64 at, uint node, uint s, uint salt, vec3 origin, vec3 invDir
         uint64_t touched = at.v[8u * ahead.x] ^ at.v[8u * ahead.y] ^ at.v[8u * ahead.z] ^ at.v[8u * ahead.w];
         if (touched == 0xffffffffffffffffUL && pc.threshold == 1u) acc += 1.0;  // never: the table has no such word
 #endif
-        vec3 corner = uintBitsToFloat(frame.xyz);
-        vec3 step = stepOf(frame.w);
+        // Decoded as geometry/bvh.glsl decodes them (shared/types.h: base + plane(E, q)).
+        vec3 base = uintBitsToFloat(frame.xyz);
+        uvec3 exponent = ((uvec3(frame.w) >> uvec3(0u, 8u, 16u)) & 0xffu) << 23u;
         uvec3 nearWords = mix(uvec3(planesA.xyz), uvec3(planesA.w, planesB.xy), negative);
         uvec3 farWords = mix(uvec3(planesA.w, planesB.xy), uvec3(planesA.xyz), negative);
         const uvec4 bytes = uvec4(0u, 8u, 16u, 24u);
-        vec4 nearX = (corner.x + vec4((uvec4(nearWords.x) >> bytes) & 0xffu) * step.x - origin.x) * invDir.x;
-        vec4 nearY = (corner.y + vec4((uvec4(nearWords.y) >> bytes) & 0xffu) * step.y - origin.y) * invDir.y;
-        vec4 nearZ = (corner.z + vec4((uvec4(nearWords.z) >> bytes) & 0xffu) * step.z - origin.z) * invDir.z;
-        vec4 farX = (corner.x + vec4((uvec4(farWords.x) >> bytes) & 0xffu) * step.x - origin.x) * invDir.x;
-        vec4 farY = (corner.y + vec4((uvec4(farWords.y) >> bytes) & 0xffu) * step.y - origin.y) * invDir.y;
-        vec4 farZ = (corner.z + vec4((uvec4(farWords.z) >> bytes) & 0xffu) * step.z - origin.z) * invDir.z;
+#define PLANES(words, axis) \
+    (base.axis + uintBitsToFloat(exponent.axis | (((uvec4(words.axis) >> bytes) & 0xffu) << 8u)) - origin.axis) * invDir.axis
+        vec4 nearX = PLANES(nearWords, x);
+        vec4 nearY = PLANES(nearWords, y);
+        vec4 nearZ = PLANES(nearWords, z);
+        vec4 farX = PLANES(farWords, x);
+        vec4 farY = PLANES(farWords, y);
+        vec4 farZ = PLANES(farWords, z);
+#undef PLANES
         uint meta = frame.w;
 #endif
         vec4 tNear = maxOfNumbers(maxOfNumbers(nearX, nearY), maxOfNumbers(nearZ, vec4(0.0)));
