@@ -117,8 +117,8 @@ constexpr uint32_t kUnwrittenEntry = 0xffffffffu;
 // entries per invocation (bvh_trace.comp's "_address" variant: childStackDepth entries, as
 // the renderer gives them, unless `stackDepth` says otherwise; most of these scenes' rays
 // seldom fill the stack, so Bvh.StackDepthIsTheLongestPathsInteriorNodes checks the count
-// itself, with rays that do). With `stacks`, the stacks start as kUnwrittenEntry and are
-// read back into it after the run, stackDepth entries per invocation.
+// itself, with rays that do). With `stackEntries`, the stacks start as kUnwrittenEntry
+// and are read back into it after the run, `depth` entries per invocation.
 template <class Result, class Input>
 std::vector<Result> runSceneKernel(const char* name, const Bvh& bvh,
                                    const std::vector<gpu::TriangleNormals>& shadingNormals,

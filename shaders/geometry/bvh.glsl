@@ -119,7 +119,7 @@ uint intersectWideNode(NodeQuadsAt at, uint node, vec3 origin, vec3 invDir, floa
 #else
 uint intersectWideNode(uint node, vec3 origin, vec3 invDir, float tMax, out vec4 tEntry, out uvec4 ref) {
 #endif
-    uvec4 frame, planesA, planesB, refsB;  // origin, meta; loX, loY, loZ, hiX; hiY, hiZ, child 0, 1; child 2, 3
+    uvec4 frame, planesA, planesB, refsB;  // base, meta; loX, loY, loZ, hiX; hiY, hiZ, child 0, 1; child 2, 3
     uint word = WIDE_NODE_TEXELS * node;
     if (kNodeReads != NODE_READS_TEXELS) {
 #ifdef PENUMBRA_INT64_LOADS

@@ -10,7 +10,7 @@
 // - STEP_RAYS_FLOAT: that step on the same boxes stored as floats, 128 bytes a node (the
 //   planes of each axis and side for the four children, the references, the child mask):
 //   no decode, twice the bytes.
-// - STEP_RAYS_NO_FRAME: that step without loading the node's frame (origin, exponents,
+// - STEP_RAYS_NO_FRAME: that step without loading the node's frame (base, exponents,
 //   child mask: two of its seven 64-bit words), which the push constants give instead (every
 //   node of the table has the same): what a node whose frame came from its parent, and not
 //   from memory, would save at most.
