@@ -9,6 +9,7 @@
 #include "common/math.glsl"
 #include "common/specialization.glsl"
 #include "geometry/intersect.glsl"
+#include "geometry/wide_node.glsl"
 #include "geometry/ray_count.glsl"
 
 // The tree in four-wide nodes with quantized child boxes (shared/types.h, WideNode). The
@@ -147,29 +148,23 @@ uint intersectWideNode(uint node, vec3 origin, vec3 invDir, float tMax, out vec4
         refsB = texelFetch(nodeTexels, int(word + 3u));
     }
     ref = uvec4(planesB.zw, refsB.xy);
-    // A plane is base + plane(E, q) (shared/types.h): the float whose exponent field is E,
-    // the node's, and whose mantissa holds q in bits 8-15, built from the bits. Against
-    // corner + float(q) * step, that saves a conversion and a multiply per plane: a step of
-    // the "_address" kernels on lavapipe 25.0 takes 383 instructions instead of 410, and
-    // 1.01-1.04x on scenes of 30k-1M triangles ("Round 19").
+    // Planes built from their bits (wide_node.glsl) save a conversion and a multiply per
+    // plane against corner + float(q) * step: a step of the "_address" kernels on lavapipe
+    // 25.0 takes 383 instructions instead of 410, 1.01-1.04x on 30k-1M triangles ("Round 19").
     vec3 base = uintBitsToFloat(frame.xyz);
-    uvec3 exponent = ((uvec3(frame.w) >> uvec3(0u, 8u, 16u)) & 0xffu) << 23u;
+    uvec3 exponentBits = ((uvec3(frame.w) >> uvec3(0u, 8u, 16u)) & 0xffu) << 23u;
     // intersectBox (intersect.glsl) for the four boxes: the near planes chosen by the sign
     // of the direction (here the words of planes, before they are unpacked), the entry
     // clamped to 0, the exit widened by BOX_EXIT_SCALE.
     bvec3 negative = lessThan(invDir, vec3(0.0));
     uvec3 nearWords = mix(uvec3(planesA.xyz), uvec3(planesA.w, planesB.xy), negative);
     uvec3 farWords = mix(uvec3(planesA.w, planesB.xy), uvec3(planesA.xyz), negative);
-    const uvec4 bytes = uvec4(0u, 8u, 16u, 24u);
-#define PENUMBRA_PLANES(words, axis) \
-    (base.axis + uintBitsToFloat(exponent.axis | (((uvec4(words.axis) >> bytes) & 0xffu) << 8u)) - origin.axis) * invDir.axis
-    vec4 nearX = PENUMBRA_PLANES(nearWords, x);
-    vec4 nearY = PENUMBRA_PLANES(nearWords, y);
-    vec4 nearZ = PENUMBRA_PLANES(nearWords, z);
-    vec4 farX = PENUMBRA_PLANES(farWords, x);
-    vec4 farY = PENUMBRA_PLANES(farWords, y);
-    vec4 farZ = PENUMBRA_PLANES(farWords, z);
-#undef PENUMBRA_PLANES
+    vec4 nearX = wideChildPlaneDistances(nearWords.x, base.x, exponentBits.x, origin.x, invDir.x);
+    vec4 nearY = wideChildPlaneDistances(nearWords.y, base.y, exponentBits.y, origin.y, invDir.y);
+    vec4 nearZ = wideChildPlaneDistances(nearWords.z, base.z, exponentBits.z, origin.z, invDir.z);
+    vec4 farX = wideChildPlaneDistances(farWords.x, base.x, exponentBits.x, origin.x, invDir.x);
+    vec4 farY = wideChildPlaneDistances(farWords.y, base.y, exponentBits.y, origin.y, invDir.y);
+    vec4 farZ = wideChildPlaneDistances(farWords.z, base.z, exponentBits.z, origin.z, invDir.z);
     vec4 tNear = maxOfNumbers(maxOfNumbers(nearX, nearY), maxOfNumbers(nearZ, vec4(0.0)));
     vec4 tFar = minOfNumbers(minOfNumbers(farX, farY), minOfNumbers(farZ, vec4(tMax))) * BOX_EXIT_SCALE;
     tEntry = tNear;

@@ -45,6 +45,7 @@
 #include "common.glsl"
 #include "common/math.glsl"  // FLOAT_MAX
 #include "shared/types.h"     // the renderer's WideNode layout, BOX_EXIT_SCALE
+#include "geometry/wide_node.glsl"  // its planes' decode
 
 layout(buffer_reference, std430, buffer_reference_align = 8) readonly restrict buffer Words64 { uint64_t v[]; };
 
@@ -102,21 +103,17 @@ uint wideStep(Words64 at, uint node, uint s, uint salt, vec3 origin, vec3 invDir
         uint64_t touched = at.v[8u * ahead.x] ^ at.v[8u * ahead.y] ^ at.v[8u * ahead.z] ^ at.v[8u * ahead.w];
         if (touched == 0xffffffffffffffffUL && pc.threshold == 1u) acc += 1.0;  // never: the table has no such word
 #endif
-        // Decoded as geometry/bvh.glsl decodes them (shared/types.h: base + plane(E, q)).
+        // Decoded as geometry/bvh.glsl decodes them (wide_node.glsl).
         vec3 base = uintBitsToFloat(frame.xyz);
-        uvec3 exponent = ((uvec3(frame.w) >> uvec3(0u, 8u, 16u)) & 0xffu) << 23u;
+        uvec3 exponentBits = ((uvec3(frame.w) >> uvec3(0u, 8u, 16u)) & 0xffu) << 23u;
         uvec3 nearWords = mix(uvec3(planesA.xyz), uvec3(planesA.w, planesB.xy), negative);
         uvec3 farWords = mix(uvec3(planesA.w, planesB.xy), uvec3(planesA.xyz), negative);
-        const uvec4 bytes = uvec4(0u, 8u, 16u, 24u);
-#define PLANES(words, axis) \
-    (base.axis + uintBitsToFloat(exponent.axis | (((uvec4(words.axis) >> bytes) & 0xffu) << 8u)) - origin.axis) * invDir.axis
-        vec4 nearX = PLANES(nearWords, x);
-        vec4 nearY = PLANES(nearWords, y);
-        vec4 nearZ = PLANES(nearWords, z);
-        vec4 farX = PLANES(farWords, x);
-        vec4 farY = PLANES(farWords, y);
-        vec4 farZ = PLANES(farWords, z);
-#undef PLANES
+        vec4 nearX = wideChildPlaneDistances(nearWords.x, base.x, exponentBits.x, origin.x, invDir.x);
+        vec4 nearY = wideChildPlaneDistances(nearWords.y, base.y, exponentBits.y, origin.y, invDir.y);
+        vec4 nearZ = wideChildPlaneDistances(nearWords.z, base.z, exponentBits.z, origin.z, invDir.z);
+        vec4 farX = wideChildPlaneDistances(farWords.x, base.x, exponentBits.x, origin.x, invDir.x);
+        vec4 farY = wideChildPlaneDistances(farWords.y, base.y, exponentBits.y, origin.y, invDir.y);
+        vec4 farZ = wideChildPlaneDistances(farWords.z, base.z, exponentBits.z, origin.z, invDir.z);
         uint meta = frame.w;
 #endif
         vec4 tNear = maxOfNumbers(maxOfNumbers(nearX, nearY), maxOfNumbers(nearZ, vec4(0.0)));
