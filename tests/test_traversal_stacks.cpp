@@ -1,7 +1,7 @@
 // The "_address" kernels' traversal stacks (render/traversal_stacks.h): the buffer's size,
-// dispatches that stay within it, and that a band split into several dispatches renders
-// every pixel's samples once, the same image bit for bit as the kernels whose stack is a
-// local array.
+// dispatches that stay within it, and that a band split into several dispatches, or given
+// to a tile queue, renders every pixel's samples once, the same image bit for bit as the
+// kernels whose stack is a local array.
 #include <gtest/gtest.h>
 
 #include <vector>
@@ -31,14 +31,14 @@ TEST(TraversalStacks, HoldTheFilmUpToTheLimitAndAlwaysOneRow) {
 
 TEST(TraversalStacks, DispatchesFitAndAreAsLargeAsFits) {
     for (uint32_t columns : {1u, 5u, 64u})
-        for (uint32_t slices : {1u, 2u, 3u, 7u})
-            for (uint32_t invocations : {64u * columns, 64u * columns * 3u + 17u, 64u * columns * 40u}) {
-                SCOPED_TRACE(testing::Message() << columns << " columns, " << slices << " slices, " << invocations);
-                const uint32_t rows = tileRowsPerDispatch(columns, slices, invocations);
-                ASSERT_GE(rows, 1u);
-                EXPECT_LE(invocationsOf(interleavedDispatch(columns, rows, slices)), invocations);
-                EXPECT_GT(invocationsOf(interleavedDispatch(columns, rows + 1, slices)), invocations);
-            }
+        for (uint32_t invocations : {64u * columns, 64u * columns * 3u + 17u, 64u * columns * 40u}) {
+            SCOPED_TRACE(testing::Message() << columns << " columns, " << invocations);
+            const uint32_t rows = tileRowsPerDispatch(columns, invocations);
+            ASSERT_GE(rows, 1u);
+            EXPECT_LE(invocationsOf({columns, rows, 1}), invocations);
+            EXPECT_GT(invocationsOf({columns, rows + 1, 1}), invocations);
+        }
+    EXPECT_EQ(tileRowsPerDispatch(5, 1), 1u) << "never less than one row";
 }
 
 TEST(TraversalStacks, SplitBandsGiveTheSameImage) {
@@ -49,11 +49,11 @@ TEST(TraversalStacks, SplitBandsGiveTheSameImage) {
                                  {"center", {-0.9 + 0.045 * i, 0.1 + 0.05 * (i % 4), 0.03 * i - 0.6}},
                                  {"radius", 0.05 + 0.02 * (i % 5)}});
     const Scene scene = test::sceneFromJson(doc, "traversal-stacks");
-    auto render = [&](NodeReads reads, uint32_t slices, uint32_t stackInvocations) {
+    auto render = [&](NodeReads reads, uint32_t workers, uint32_t stackInvocations) {
         Renderer renderer(test::gpuContext(), scene);
         renderer.setInlineGeometry(InlineGeometry::Off);
         renderer.setNodeReads(reads);
-        renderer.setTileRowSlices(slices);
+        renderer.setWorkerThreads(workers);
         if (stackInvocations) renderer.setStackInvocations(stackInvocations);
         renderer.renderAll();
         return std::make_pair(renderer.accumulation().read<glm::vec4>(), renderer.readback(0.0));
@@ -64,12 +64,14 @@ TEST(TraversalStacks, SplitBandsGiveTheSameImage) {
     EXPECT_GT(shadowed, 0u) << "the spheres should shadow part of the floor";
     ASSERT_TRUE(test::gpuContext().info().shaderInt64 && test::gpuContext().info().bufferDeviceAddress)
         << "the test device should read nodes through their address";
-    // 0: the film's stacks, one dispatch per band; 1: one row of tiles (5 x 64 invocations),
-    // five dispatches; 700: two rows, three.
-    for (uint32_t slices : {1u, 3u})
+    // One workgroup per tile (1 worker) with stacks for 0: the film, one dispatch per band;
+    // 1: one row of tiles (5 x 64 invocations), five dispatches; 700: two rows, three. A tile
+    // queue (3 or 7 workers) is one dispatch of at most 3, 7 or, with stacks for one row, 5
+    // workgroups.
+    for (uint32_t workers : {1u, 3u, 7u})
         for (uint32_t stackInvocations : {0u, 1u, 700u}) {
-            SCOPED_TRACE(testing::Message() << slices << " slices, stacks for " << stackInvocations);
-            const auto [sums, image] = render(NodeReads::Address, slices, stackInvocations);
+            SCOPED_TRACE(testing::Message() << workers << " workers, stacks for " << stackInvocations);
+            const auto [sums, image] = render(NodeReads::Address, workers, stackInvocations);
             ASSERT_EQ(sums.size(), referenceSums.size());
             size_t wrongCount = 0, differing = 0;
             for (size_t i = 0; i < sums.size(); ++i) wrongCount += sums[i].w != 3.0f;  // twice, or never

@@ -84,4 +84,10 @@ private:
 // writes (successive accumulation passes) and to transfers (readback).
 void computeToComputeBarrier(VkCommandBuffer cmd);
 
+// Fills `size` bytes of `buffer` from `offset` with copies of `value` between dispatches:
+// after every earlier compute-shader access to them, before every later one (the tile
+// queue's counter, render/tile_queue.h).
+void fillBetweenDispatches(VkCommandBuffer cmd, const Buffer& buffer, VkDeviceSize offset, VkDeviceSize size,
+                           uint32_t value);
+
 }  // namespace penumbra::gpu

@@ -14,7 +14,7 @@
 #include "gpu/vk_check.h"
 #include "render/environment_map.h"
 #include "render/pass_bands.h"
-#include "render/tile_rows.h"
+#include "render/tile_queue.h"
 #include "render/traversal_stacks.h"
 #include "scene/enum_names.h"
 #include "scene/integrator_json.h"
@@ -23,6 +23,10 @@ namespace penumbra {
 namespace {
 
 constexpr uint32_t kTile = PassBands::kTile;  // local_size_x/y of the integrator kernels
+static_assert(kTile == TILE_SIZE);
+constexpr uint32_t kTileInvocations = kTile * kTile;
+// Where the tile queue's counter is in BINDING_COUNTERS: after the rays traced.
+constexpr VkDeviceSize kQueueCounterOffset = sizeof(uint32_t);
 
 // Tiles across `pixels` (the last one partly outside).
 uint32_t tilesFor(uint32_t pixels) { return (pixels + kTile - 1) / kTile; }
@@ -61,8 +65,8 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
       m_arrays(buildSceneArrays(scene, {}, EnvironmentTexels::LeftOut)),
       m_params(makeRenderParams(scene, m_arrays)),
       m_options(kernelOptions()),
-      m_tileRowSlices(
-          tileRowSlicesFor(context.info(), std::getenv("LP_NUM_THREADS"), std::thread::hardware_concurrency())),
+      m_workerThreads(
+          workerThreadsFor(context.info(), std::getenv("LP_NUM_THREADS"), std::thread::hardware_concurrency())),
       m_stackDepth(childStackDepth(m_arrays.bvh.wideNodes)),
       m_stackInvocations(stackInvocationsFor(tilesFor(m_params.width), tilesFor(m_params.height),
                                              stackInvocationLimit(m_stackDepth))) {
@@ -87,7 +91,9 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
     m_lights = Buffer::fromVector(context, m_arrays.lights, "lights", texels);
     m_lightTable = Buffer::fromVector(context, m_arrays.lightTable, "light selection table", texels);
     m_meshTable = Buffer::fromVector(context, m_arrays.meshTable, "mesh light table", texels);
-    m_rayCount = Buffer(context, sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    // The rays traced and the tile queue's next pixel (BINDING_COUNTERS), set by fills.
+    m_counters = Buffer(context, 2 * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, 0,
+                        VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, "counters");
     // Untextured scenes get 16-byte placeholders: the kernel never reads them (hasTextures()).
     const TextureArrays& textures = m_arrays.textures;
     m_materialTextures = Buffer::fromVector(context, textures.materialTextures, "material textures", texels);
@@ -144,7 +150,7 @@ std::unique_ptr<gpu::Kernel> Renderer::createKernel(const KernelOptions& options
     kernel->bind(BINDING_LIGHTS, m_lights);
     kernel->bind(BINDING_LIGHT_TABLE, m_lightTable);
     kernel->bind(BINDING_MESH_TABLE, m_meshTable);
-    kernel->bind(BINDING_RAY_COUNT, m_rayCount);
+    kernel->bind(BINDING_COUNTERS, m_counters);
     kernel->bind(BINDING_MATERIAL_TEXTURES, m_materialTextures);
     kernel->bind(BINDING_TEXTURE_TEXELS, m_textureTexels);
     kernel->bind(BINDING_UVS, m_uvs);
@@ -231,7 +237,9 @@ gpu::PassConstants Renderer::passConstants(uint32_t first, uint32_t firstRow, ui
             uint32_t(nodes >> 32),
             uint32_t(stacks),
             uint32_t(stacks >> 32),
-            m_stackDepth};
+            m_stackDepth,
+            0,
+            0};
 }
 
 void Renderer::compileKernel() const {
@@ -258,16 +266,25 @@ void Renderer::recordDispatches(VkCommandBuffer cmd, const gpu::Kernel& kernel, 
     const uint32_t tileColumns = tilesFor(columnCount), tileRows = tilesFor(rowCount);
     // allocateStacks made them for every kernel that reads nodes by address.
     const bool stacks = m_options.nodeReads == NODE_READS_ADDRESS;
-    const uint32_t step = stacks ? tileRowsPerDispatch(tileColumns, m_tileRowSlices, m_stackInvocations) : tileRows;
+    if (usesTileQueue(m_workerThreads)) {
+        gpu::PassConstants pass = passConstants(first, firstRow, rowCount, firstColumn, count);
+        pass.queueTiles = tileColumns * tileRows;
+        pass.tileColumns = tileColumns;
+        const uint32_t groups = tileQueueWorkgroups(pass.queueTiles, m_workerThreads,
+                                                    stacks ? m_stackInvocations / kTileInvocations : UINT32_MAX);
+        // The queue starts at the band's first pixel; the previous dispatch's atomics are done.
+        gpu::fillBetweenDispatches(cmd, m_counters, kQueueCounterOffset, sizeof(uint32_t), 0);
+        kernel.record(cmd, groups, 1, 1, &pass);
+        gpu::computeToComputeBarrier(cmd);
+        return;
+    }
+    const uint32_t step = stacks ? tileRowsPerDispatch(tileColumns, m_stackInvocations) : tileRows;
     for (uint32_t row = 0; row < tileRows; row += step) {
         const uint32_t rows = std::min(step, tileRows - row);
-        const DispatchShape groups = interleavedDispatch(tileColumns, rows, m_tileRowSlices);
-        if (stacks && invocationsOf(groups) > m_stackInvocations)
-            throw std::logic_error("recordDispatches: a dispatch has more invocations than the traversal stacks");
         // One dispatch adds all `count` samples (integrators/kernel_common.glsl, main).
         const gpu::PassConstants pass = passConstants(
             first, firstRow + row * kTile, std::min(rows * kTile, rowCount - row * kTile), firstColumn, count);
-        kernel.record(cmd, groups.x, groups.y, groups.z, &pass);
+        kernel.record(cmd, tileColumns, rows, 1, &pass);
         // These sums -> the next band / readback; these stacks -> the next dispatch's.
         gpu::computeToComputeBarrier(cmd);
     }
@@ -322,10 +339,10 @@ uint64_t Renderer::countRays(uint32_t passes) {
         throw std::runtime_error("countRays: a pass may trace more than 2^32 rays; use a smaller film");
     uint64_t total = 0;
     for (uint32_t i = 0; i < passes; ++i) {
-        m_rayCount.clear();
+        m_counters.clear();
         m_context.submitAndWait(
             [&](VkCommandBuffer cmd) { recordDispatches(cmd, *kernel, i, 1, 0, m_params.height, 0, m_params.width); });
-        total += m_rayCount.read<uint32_t>()[0];
+        total += m_counters.read<uint32_t>()[0];  // the rays traced
     }
     return total;
 }

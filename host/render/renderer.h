@@ -74,9 +74,10 @@ public:
     void setInlineGeometry(InlineGeometry mode);
     // Where the traversal reads nodes from (render/node_reads.h); Device unless set.
     void setNodeReads(NodeReads mode);
-    // How many z-slices the dispatches interleave tile rows over (render/tile_rows.h); what
-    // tileRowSlicesFor says for the device unless set (tests compare several, min 1).
-    void setTileRowSlices(uint32_t slices) { m_tileRowSlices = std::max<uint32_t>(slices, 1); }
+    // The worker threads the dispatches are shaped for (render/tile_queue.h: more than 1
+    // makes each dispatch a tile queue); what workerThreadsFor says for the device unless
+    // set (tests compare several, min 1).
+    void setWorkerThreads(uint32_t workers) { m_workerThreads = std::max<uint32_t>(workers, 1); }
     // How many invocations' traversal stacks the "_address" kernels' buffer holds, which
     // bounds their dispatches (render/traversal_stacks.h); stackInvocationsFor the film
     // unless set (tests set fewer, to split bands into several dispatches; never less than
@@ -126,9 +127,10 @@ private:
                                      uint32_t count) const;
     // Records `kernel` for samples [first, first + count) over the pixels of rows
     // [firstRow, firstRow + rowCount) and columns [firstColumn, firstColumn + columnCount)
-    // (checked by recordPasses), each dispatch followed by a barrier: one dispatch, or, for
-    // an "_address" kernel whose rows need more invocations than m_stacks holds, one per
-    // run of tile rows that fits (render/traversal_stacks.h).
+    // (checked by recordPasses), each dispatch followed by a barrier: one tile queue
+    // (render/tile_queue.h) where there are several worker threads; else one dispatch, or,
+    // for an "_address" kernel whose rows need more invocations than m_stacks holds, one
+    // per run of tile rows that fits (render/traversal_stacks.h).
     void recordDispatches(VkCommandBuffer cmd, const gpu::Kernel& kernel, uint32_t first, uint32_t count,
                           uint32_t firstRow, uint32_t rowCount, uint32_t firstColumn, uint32_t columnCount) const;
     // Allocates m_stacks for m_stackInvocations when the current kernel reads nodes through
@@ -145,12 +147,12 @@ private:
     InlineGeometry m_inlineGeometry = InlineGeometry::Rule;
     NodeReads m_nodeReads = NodeReads::Device;
     KernelOptions m_options;
-    uint32_t m_tileRowSlices = 1;     // the dispatches' tile-row interleave (render/tile_rows.h)
+    uint32_t m_workerThreads = 1;     // render/tile_queue.h
     uint32_t m_stackDepth = 1;        // traversal stack entries per invocation (childStackDepth)
     uint32_t m_stackInvocations = 0;  // invocations whose stacks m_stacks holds
     // Declaration order is teardown order in reverse: the kernel goes before the buffers.
     gpu::Buffer m_paramsBuffer, m_accum, m_nodes, m_primitives, m_normals, m_materials, m_lights, m_lightTable,
-        m_meshTable, m_rayCount;
+        m_meshTable, m_counters;
     gpu::Buffer m_stacks;  // the "_address" kernels' traversal stacks (render/traversal_stacks.h), else empty
     gpu::Buffer m_materialTextures, m_textureTexels, m_uvs;  // textured scenes (render/texture_arrays.h)
     gpu::Buffer m_environmentTexels, m_environmentTable;     // environment map (render/environment_map.h)

@@ -24,13 +24,9 @@ uint32_t stackInvocationsFor(uint32_t tileColumns, uint32_t tileRows, uint32_t l
     return uint32_t(std::max(row, std::min<uint64_t>(film, limit)));
 }
 
-uint32_t tileRowsPerDispatch(uint32_t tileColumns, uint32_t slices, uint32_t invocations) {
+uint32_t tileRowsPerDispatch(uint32_t tileColumns, uint32_t invocations) {
     const uint64_t row = std::max<uint64_t>(tileColumns, 1) * kTileInvocations;
-    uint32_t rows = uint32_t(std::max<uint64_t>(invocations / row, 1));
-    // The interleave pads the last slices' rows (interleavedDispatch): at most slices - 1
-    // rows more, so this gives back at most that many.
-    while (rows > 1 && invocationsOf(interleavedDispatch(tileColumns, rows, slices)) > invocations) --rows;
-    return rows;
+    return uint32_t(std::clamp<uint64_t>(invocations / row, 1, UINT32_MAX));
 }
 
 }  // namespace penumbra

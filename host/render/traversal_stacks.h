@@ -6,12 +6,13 @@
 // store through an address is one masked scatter (docs/PERFORMANCE.md, "Round 13").
 // The buffer holds the stacks of one dispatch, so its size bounds a dispatch's invocations:
 // a pass band that needs more is recorded as several dispatches of fewer tile rows, each
-// followed by a barrier, since the next one reuses the same entries.
+// followed by a barrier, since the next one reuses the same entries. A tile queue's few
+// workgroups (render/tile_queue.h) fit in one.
 #pragma once
 
 #include <cstdint>
 
-#include "render/tile_rows.h"
+#include "render/tile_queue.h"
 
 namespace penumbra {
 
@@ -32,9 +33,8 @@ uint64_t invocationsOf(const DispatchShape& shape);
 // the whole film up to kStackInvocations (`limit`), and never less than one row of tiles.
 uint32_t stackInvocationsFor(uint32_t tileColumns, uint32_t tileRows, uint32_t limit = kStackInvocations);
 
-// The most tile rows that one dispatch of `tileColumns` columns, interleaved over `slices`
-// (interleavedDispatch), covers within `invocations`; at least 1 (stackInvocationsFor
-// holds one row).
-uint32_t tileRowsPerDispatch(uint32_t tileColumns, uint32_t slices, uint32_t invocations);
+// The most tile rows that one dispatch of `tileColumns` columns, one workgroup per tile,
+// covers within `invocations`; at least 1 (stackInvocationsFor holds one row).
+uint32_t tileRowsPerDispatch(uint32_t tileColumns, uint32_t invocations);
 
 }  // namespace penumbra

@@ -9,12 +9,18 @@
 #include "common/rng.glsl"
 #include "geometry/ray_count.glsl"
 
-layout(local_size_x = 8, local_size_y = 8) in;
+layout(local_size_x = TILE_SIZE, local_size_y = TILE_SIZE) in;
 
 layout(std140, binding = BINDING_PARAMS) uniform Params { RenderParams params; };
 layout(std430, binding = BINDING_ACCUM) restrict buffer Accumulation { vec4 accum[]; };
 layout(push_constant) uniform Pass { PassConstants pass; };
-layout(std430, binding = BINDING_RAY_COUNT) restrict buffer RayCount { uint rayCount; };
+// The kernels' atomic counters: the rays traced, when counting, and the tile queue's next
+// pixel (main, below), which the host sets to 0 before each dispatch that uses it
+// (render/tile_queue.h).
+layout(std430, binding = BINDING_COUNTERS) restrict buffer Counters {
+    uint rayCount;
+    uint nextQueuedPixel;
+};
 
 #ifdef PENUMBRA_NODE_ADDRESS
 // Where the "_address" kernels read the BVH's nodes from, and where this invocation keeps
@@ -29,15 +35,22 @@ uint bvhStackInvocation() {
 }
 #endif
 
-// This invocation's pixel, or false when it lies outside the film / the pass's rows.
-// The dispatch's z interleaves tile rows (render/tile_rows.h): slice z of Z holds the rows
-// z, z + Z, z + 2Z, ..., so that each of a CPU device's threads, which take contiguous
-// ranges of workgroups, gets rows from all over the film.
-bool invocationPixel(out uvec2 pixel) {
-    uint tileRow = gl_WorkGroupID.y * gl_NumWorkGroups.z + gl_WorkGroupID.z;
-    uvec2 local = uvec2(gl_WorkGroupID.x, tileRow) * gl_WorkGroupSize.xy + gl_LocalInvocationID.xy;
+// Pixel `local` of the band (relative to its first row and column), or false when it lies
+// outside the film or the band's rows. The columns are bounded by the film alone: a band's
+// run of columns is whole tiles or ends at the film's edge (Renderer::recordPasses).
+bool bandPixel(uvec2 local, out uvec2 pixel) {
     pixel = uvec2(local.x + pass.firstColumn, local.y + pass.firstRow);
     return pixel.x < params.width && local.y < pass.rowCount && pixel.y < params.height;
+}
+
+// Pixel `index` of the band's tiles in queue order: tile by tile, tileColumns to a row, and
+// within a tile row by row, so that the eight lanes of a SIMD group, which take eight
+// numbers in a row, render a row of a tile together, as with one workgroup per tile
+// (llvmpipe runs gl_LocalInvocationID.x 0-7 of one y together).
+uvec2 queuedPixel(uint index) {
+    uint tile = index / uint(TILE_PIXELS), within = index % uint(TILE_PIXELS);
+    uint tileRow = tile / pass.tileColumns, tileColumn = tile % pass.tileColumns;
+    return uvec2(tileColumn, tileRow) * uint(TILE_SIZE) + uvec2(within % uint(TILE_SIZE), within / uint(TILE_SIZE));
 }
 
 // The random stream of (pixel, sample): absolute index sampleOffset + sampleIndex, drawn
@@ -59,15 +72,12 @@ void cameraRay(uvec2 pixel, vec2 jitter, out vec3 origin, out vec3 dir) {
 // One pixel sample's radiance estimate: each integrator kernel defines it.
 vec3 pixelSample(uvec2 pixel, uint sampleIndex);
 
-// Adds the pass's sampleCount samples of this invocation's pixel to its sums, in sample
-// order and in a register, so that the sums are the same, bit for bit, as with one
-// dispatch per sample, without a dispatch's fixed cost per sample (on lavapipe, waking
-// and waiting for its worker threads). A non-finite estimate (a pdf division gone wrong)
-// counts as zero: the sample is still counted, so the sum stays an average over all
-// samples. When counting, it also hands this invocation's ray tally to the ray-count buffer.
-void main() {
-    uvec2 pixel;
-    if (!invocationPixel(pixel)) return;
+// Adds the pass's sampleCount samples of `pixel` to its sums, in sample order and in a
+// register, so that the sums are the same, bit for bit, as with one dispatch per sample,
+// without a dispatch's fixed cost per sample (on lavapipe, waking and waiting for its worker
+// threads). A non-finite estimate (a pdf division gone wrong) counts as zero: the sample is
+// still counted, so the sum stays an average over all samples.
+void addPixelSamples(uvec2 pixel) {
     uint index = pixel.y * params.width + pixel.x;
     vec4 sum = accum[index];
     for (uint k = 0u; k < pass.sampleCount; ++k) {
@@ -76,6 +86,30 @@ void main() {
         sum += vec4(radiance, 1.0);
     }
     accum[index] = sum;
+}
+
+// Which pixels an invocation renders (render/tile_queue.h). With the tile queue
+// (pass.queueTiles > 0, on CPU devices with several worker threads) each invocation takes
+// the next pixel from the counter until the band's pixels run out, so that a worker thread
+// whose workgroups cost less, or that the operating system ran more, goes on with the rest
+// instead of waiting: lavapipe hands each thread a fixed range of a dispatch's workgroups.
+// A pixel's samples do not depend on who renders it, so the image is the same bit for bit.
+// Without it, workgroup (x, y) renders tile (x, y) of the band, one pixel per invocation.
+// When counting, the invocation then hands its ray tally to the counters.
+void main() {
+    bool queue = pass.queueTiles > 0u;
+    // At most 16384^2 pixels (the film's limit): the counter, which also counts each
+    // invocation's last, empty-handed take, stays far from wrapping.
+    uint pixels = queue ? pass.queueTiles * uint(TILE_PIXELS) : 1u;
+    uint index = queue ? atomicAdd(nextQueuedPixel, 1u) : 0u;
+    // One call of addPixelSamples for both ways, which the compiler inlines, so the kernel
+    // holds the integrator once: two calls took the driver twice as long to compile it.
+    while (index < pixels) {
+        uvec2 local = queue ? queuedPixel(index) : gl_WorkGroupID.xy * uint(TILE_SIZE) + gl_LocalInvocationID.xy;
+        uvec2 pixel;
+        if (bandPixel(local, pixel)) addPixelSamples(pixel);
+        index = queue ? atomicAdd(nextQueuedPixel, 1u) : pixels;
+    }
     if (kCountRays != 0u) atomicAdd(rayCount, raysTraced);
 }
 

@@ -28,7 +28,7 @@ using uint = std::uint32_t;
 #define BINDING_LIGHTS 6       // Light[] as a texel buffer (LIGHT_TEXELS texels each)
 #define BINDING_LIGHT_TABLE 7  // AliasEntry[] as a texel buffer: light selection (item = light index)
 #define BINDING_MESH_TABLE 8   // AliasEntry[] as a texel buffer: mesh-light triangles (item = primitive index)
-#define BINDING_RAY_COUNT 9    // uint: rays traced, when SPEC_COUNT_RAYS is set
+#define BINDING_COUNTERS 9     // uint[2]: rays traced (when SPEC_COUNT_RAYS is set), the tile queue's next pixel
 #define BINDING_PRIMITIVE_TEXELS 10   // the same Primitive[] as a texel buffer: traversal
 #define BINDING_MATERIAL_TEXTURES 11  // texel buffer: which fields of each material are textured
 #define BINDING_TEXTURE_TEXELS 12     // texel buffer: the texels of every texture
@@ -296,7 +296,7 @@ PENUMBRA_CONST uint SAMPLER_SOBOL = 1u;        // padded Owen-scrambled Sobol' (
 // types and materials (what it bought: docs/PERFORMANCE.md, "What each optimisation
 // bought"). host/render/kernel_options.cpp fills them; shaders/common/specialization.glsl
 // declares them.
-#define SPEC_COUNT_RAYS 0        // 1: count traced rays into BINDING_RAY_COUNT (benchmarks)
+#define SPEC_COUNT_RAYS 0        // 1: count traced rays into BINDING_COUNTERS (benchmarks)
 #define SPEC_STRATEGY 1          // STRATEGY_*
 #define SPEC_HEURISTIC 2         // HEURISTIC_*
 #define SPEC_LIGHT_SAMPLES 3     // N1
@@ -404,10 +404,16 @@ struct RenderParams {
     uint pad0, pad1, pad2, pad3, pad4;
 };
 
+// The render kernels work in tiles of TILE_SIZE x TILE_SIZE pixels, a workgroup's
+// invocations (PassBands::kTile on the host).
+#define TILE_SIZE 8
+#define TILE_PIXELS (TILE_SIZE * TILE_SIZE)
+
 // Per-dispatch constants: which sample indices it adds (sampleCount of them, from
 // sampleIndex on, in order), to which rows of pixels (the preview renders a band of rows
 // per frame to stay responsive), from which column on (render/pass_bands.h: a heavy row is
-// split into runs of tiles; the dispatch's width ends the run), and where the BVH's nodes
+// split into runs of tiles; the band's tiles end the run), how the invocations share the
+// band's pixels (queueTiles: render/tile_queue.h), and where the BVH's nodes
 // are for the kernels that read them through their device address (NODE_READS_ADDRESS; 0
 // for the others), and where those kernels keep their traversal stacks: stackDepth entries
 // per invocation, invocation i of the dispatch (x fastest, then y, then z) at entry
@@ -426,6 +432,11 @@ struct PassConstants {
     uint stackAddressLow;  // VkDeviceAddress of the traversal stacks' buffer, likewise
     uint stackAddressHigh;
     uint stackDepth;  // entries per invocation (at least 1)
+    // 0: workgroup (x, y) renders tile (x, y) of the band. Otherwise the band's tiles, this
+    // many, tileColumns to a row, which the invocations take pixel by pixel from the tile
+    // queue's counter (render/tile_queue.h), whatever workgroup they are in.
+    uint queueTiles;
+    uint tileColumns;
 };
 
 // ---- Preview tone map (shaders/preview/tonemap.comp) ------------------------------------
