@@ -272,6 +272,8 @@ void Renderer::recordDispatches(VkCommandBuffer cmd, const gpu::Kernel& kernel, 
         pass.tileColumns = tileColumns;
         const uint32_t groups = tileQueueWorkgroups(pass.queueTiles, m_workerThreads,
                                                     stacks ? m_stackInvocations / kTileInvocations : UINT32_MAX);
+        if (stacks && invocationsOf({groups, 1, 1}) > m_stackInvocations)
+            throw std::logic_error("recordDispatches: a tile queue has more invocations than the traversal stacks");
         // The queue starts at the band's first pixel; the previous dispatch's atomics are done.
         gpu::fillBetweenDispatches(cmd, m_counters, kQueueCounterOffset, sizeof(uint32_t), 0);
         kernel.record(cmd, groups, 1, 1, &pass);
@@ -281,6 +283,8 @@ void Renderer::recordDispatches(VkCommandBuffer cmd, const gpu::Kernel& kernel, 
     const uint32_t step = stacks ? tileRowsPerDispatch(tileColumns, m_stackInvocations) : tileRows;
     for (uint32_t row = 0; row < tileRows; row += step) {
         const uint32_t rows = std::min(step, tileRows - row);
+        if (stacks && invocationsOf({tileColumns, rows, 1}) > m_stackInvocations)
+            throw std::logic_error("recordDispatches: a dispatch has more invocations than the traversal stacks");
         // One dispatch adds all `count` samples (integrators/kernel_common.glsl, main).
         const gpu::PassConstants pass = passConstants(
             first, firstRow + row * kTile, std::min(rows * kTile, rowCount - row * kTile), firstColumn, count);

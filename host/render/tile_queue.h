@@ -4,14 +4,15 @@
 // num_threads). With one workgroup per tile, a thread whose range costs less, or that the
 // operating system ran for longer, finishes first and waits for the other: on the
 // 1M-triangle bench scene the render kept 1.43 of 2 cores busy with the tiles in order,
-// and 1.85 with the tile rows interleaved over the threads (docs/PERFORMANCE.md, "Round 11"
-// and "Round 20").
-// So on such a device a dispatch is a tile queue: a few workgroups, one or more per worker
-// thread, whose invocations each take the band's next pixel from an atomic counter until
-// none is left (integrators/kernel_common.glsl, main). The thread that would have waited
-// renders pixels from the other's share instead: 1.97-1.99 cores busy, 1.08-1.10x the
-// samples per wall-clock second on the million triangles, for the same CPU time. A pixel's samples do not depend on which invocation
-// renders it, so the image is the same bit for bit (TileQueue.EveryWorkerCountGivesTheSameImage).
+// and 1.82-1.88 with the tile rows interleaved over the threads (docs/PERFORMANCE.md,
+// "Round 11" and "Round 20").
+// So on such a device a dispatch is a tile queue: one workgroup per worker thread, whose
+// invocations each take the band's next pixel from an atomic counter until none is left
+// (integrators/kernel_common.glsl, main). The thread that would have waited renders pixels
+// from the other's share instead: 1.97-1.99 cores busy, 1.08-1.10x the samples per
+// wall-clock second on the million triangles, for the same CPU time. A pixel's samples do
+// not depend on which invocation renders it, so the image is the same bit for bit
+// (TileQueue.EveryWorkerCountGivesTheSameImage).
 // GPUs hand workgroups to cores as they become free, so there one workgroup renders one tile.
 #pragma once
 
