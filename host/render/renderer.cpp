@@ -24,7 +24,6 @@ namespace {
 
 constexpr uint32_t kTile = PassBands::kTile;  // local_size_x/y of the integrator kernels
 static_assert(kTile == TILE_SIZE);
-constexpr uint32_t kTileInvocations = kTile * kTile;
 // Where the tile queue's counter is in BINDING_COUNTERS: after the rays traced.
 constexpr VkDeviceSize kQueueCounterOffset = sizeof(uint32_t);
 
@@ -271,8 +270,8 @@ void Renderer::recordDispatches(VkCommandBuffer cmd, const gpu::Kernel& kernel, 
         pass.queueTiles = tileColumns * tileRows;
         pass.tileColumns = tileColumns;
         const uint32_t groups = tileQueueWorkgroups(pass.queueTiles, m_workerThreads,
-                                                    stacks ? m_stackInvocations / kTileInvocations : UINT32_MAX);
-        if (stacks && invocationsOf({groups, 1, 1}) > m_stackInvocations)
+                                                    stacks ? m_stackInvocations / TILE_PIXELS : UINT32_MAX);
+        if (stacks && invocationsOf(groups) > m_stackInvocations)
             throw std::logic_error("recordDispatches: a tile queue has more invocations than the traversal stacks");
         // The queue starts at the band's first pixel; the previous dispatch's atomics are done.
         gpu::fillBetweenDispatches(cmd, m_counters, kQueueCounterOffset, sizeof(uint32_t), 0);
@@ -283,7 +282,7 @@ void Renderer::recordDispatches(VkCommandBuffer cmd, const gpu::Kernel& kernel, 
     const uint32_t step = stacks ? tileRowsPerDispatch(tileColumns, m_stackInvocations) : tileRows;
     for (uint32_t row = 0; row < tileRows; row += step) {
         const uint32_t rows = std::min(step, tileRows - row);
-        if (stacks && invocationsOf({tileColumns, rows, 1}) > m_stackInvocations)
+        if (stacks && invocationsOf(uint64_t(tileColumns) * rows) > m_stackInvocations)
             throw std::logic_error("recordDispatches: a dispatch has more invocations than the traversal stacks");
         // One dispatch adds all `count` samples (integrators/kernel_common.glsl, main).
         const gpu::PassConstants pass = passConstants(

@@ -8,8 +8,8 @@ namespace penumbra {
 
 uint32_t workerThreadsFor(const gpu::DeviceInfo& device, const char* lpNumThreads, unsigned hardwareThreads) {
     if (device.driverName != "llvmpipe") return 1;
-    // A bound on what is believed: a workgroup more than lavapipe has threads only finds the
-    // queue empty, one fewer leaves a thread idle.
+    // Counting too many threads costs little (a workgroup more than lavapipe has threads
+    // finds the queue empty), too few leaves a thread idle; 64 bounds what is believed.
     constexpr unsigned long kMaxThreads = 64;
     if (lpNumThreads && *lpNumThreads) {
         char* end = nullptr;

@@ -22,11 +22,6 @@
 
 namespace penumbra {
 
-// The workgroup counts of one dispatch.
-struct DispatchShape {
-    uint32_t x = 1, y = 1, z = 1;
-};
-
 // lavapipe's worker threads on `device`: LP_NUM_THREADS where `lpNumThreads` (its value, or
 // null) is a number from 0 to 64 (0: the submitting thread alone, counted as 1), else
 // `hardwareThreads` (what lavapipe starts by default, one per CPU); 1 for every other

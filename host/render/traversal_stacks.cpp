@@ -3,15 +3,11 @@
 
 #include <algorithm>
 
-#include "render/pass_bands.h"
+#include "shared/types.h"
 
 namespace penumbra {
 
-namespace {
-constexpr uint64_t kTileInvocations = uint64_t(PassBands::kTile) * PassBands::kTile;
-}
-
-uint64_t invocationsOf(const DispatchShape& shape) { return uint64_t(shape.x) * shape.y * shape.z * kTileInvocations; }
+uint64_t invocationsOf(uint64_t workgroups) { return workgroups * TILE_PIXELS; }
 
 uint32_t stackInvocationLimit(uint32_t entries) {
     const uint64_t fit = kStackBytes / (std::max<uint64_t>(entries, 1) * sizeof(uint32_t));
@@ -19,13 +15,13 @@ uint32_t stackInvocationLimit(uint32_t entries) {
 }
 
 uint32_t stackInvocationsFor(uint32_t tileColumns, uint32_t tileRows, uint32_t limit) {
-    const uint64_t row = std::max<uint64_t>(tileColumns, 1) * kTileInvocations;
+    const uint64_t row = invocationsOf(std::max<uint32_t>(tileColumns, 1));
     const uint64_t film = row * std::max<uint32_t>(tileRows, 1);
     return uint32_t(std::max(row, std::min<uint64_t>(film, limit)));
 }
 
 uint32_t tileRowsPerDispatch(uint32_t tileColumns, uint32_t invocations) {
-    const uint64_t row = std::max<uint64_t>(tileColumns, 1) * kTileInvocations;
+    const uint64_t row = invocationsOf(std::max<uint32_t>(tileColumns, 1));
     return uint32_t(std::clamp<uint64_t>(invocations / row, 1, UINT32_MAX));
 }
 

@@ -12,7 +12,6 @@
 
 #include <cstdint>
 
-#include "render/tile_queue.h"
 
 namespace penumbra {
 
@@ -26,8 +25,8 @@ inline constexpr uint64_t kStackBytes = uint64_t(64) << 20;
 // the builder makes (3 x BVH_MAX_DEPTH entries).
 uint32_t stackInvocationLimit(uint32_t entries);
 
-// Invocations of a dispatch of `shape` (workgroups of 8 x 8).
-uint64_t invocationsOf(const DispatchShape& shape);
+// Invocations of a dispatch of `workgroups` workgroups (of TILE_SIZE x TILE_SIZE).
+uint64_t invocationsOf(uint64_t workgroups);
 
 // The invocations the stacks' buffer holds for a film of `tileColumns` x `tileRows` tiles:
 // the whole film up to kStackInvocations (`limit`), and never less than one row of tiles.
