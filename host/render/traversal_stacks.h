@@ -12,7 +12,6 @@
 
 #include <cstdint>
 
-
 namespace penumbra {
 
 // Invocations whose stacks the buffer holds where a film has more: 2^18 (a 512 x 512 film),
