@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <numeric>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -117,29 +118,37 @@ json heavyScene() {
 TEST(PassBands, EveryPixelGetsEverySampleOnceInOrder) {
     std::mt19937 rng(11);
     std::uniform_real_distribution<double> seconds(0.0, 0.6);
-    for (auto [width, height, spp] :
-         {std::tuple{21u, 10u, 5u}, {8u, 3u, 4u}, {5u, 7u, 3u}, {64u, 9u, 2u}, {1u, 1u, 6u}}) {
-        std::vector<uint32_t> next(size_t(width) * height, 0);  // the sample index each pixel expects
-        PassBands bands(width, height, spp);
-        int submissions = 0;
-        while (!bands.finished()) {
-            ASSERT_LT(++submissions, 100000);
-            const PassBand band = bands.next(0.25);
-            // Runs of columns are whole tiles or end at the edge (a dispatch covers tiles).
-            ASSERT_EQ(band.firstColumn % PassBands::kTile, 0u);
-            ASSERT_TRUE(band.columnCount % PassBands::kTile == 0 || band.firstColumn + band.columnCount == width);
-            ASSERT_LE(band.firstRow + band.rowCount, height);
-            ASSERT_LE(band.firstColumn + band.columnCount, width);
-            ASSERT_GE(band.pixelSamples(), 1u);
-            for (uint32_t s = band.firstSample; s < band.firstSample + band.count; ++s)
-                for (uint32_t y = band.firstRow; y < band.firstRow + band.rowCount; ++y)
-                    for (uint32_t x = band.firstColumn; x < band.firstColumn + band.columnCount; ++x)
-                        ASSERT_EQ(next[size_t(y) * width + x]++, s) << "pixel " << x << "," << y;
-            bands.measured(seconds(rng) * double(band.pixelSamples()) / 64.0);
-            for (uint32_t v : next) EXPECT_GE(v, bands.samplesDone());
+    for (uint32_t maxBands : {1u, PassBands::kMaxBandsPerSubmission})
+        for (auto [width, height, spp] :
+             {std::tuple{21u, 10u, 5u}, {8u, 3u, 4u}, {5u, 7u, 3u}, {64u, 9u, 2u}, {1u, 1u, 6u}}) {
+            std::vector<uint32_t> next(size_t(width) * height, 0);  // the sample index each pixel expects
+            PassBands bands(width, height, spp, 0, PassBands::kTile, maxBands);
+            int submissions = 0;
+            while (!bands.finished()) {
+                ASSERT_LT(++submissions, 100000);
+                const std::vector<PassBand> plan = bands.next(0.25);
+                ASSERT_GE(plan.size(), 1u);
+                ASSERT_LE(plan.size(), maxBands);
+                std::vector<double> times;
+                for (const PassBand& band : plan) {
+                    // Runs of columns are whole tiles or end at the edge (a dispatch covers tiles).
+                    ASSERT_EQ(band.firstColumn % PassBands::kTile, 0u);
+                    ASSERT_TRUE(band.columnCount % PassBands::kTile == 0 ||
+                                band.firstColumn + band.columnCount == width);
+                    ASSERT_LE(band.firstRow + band.rowCount, height);
+                    ASSERT_LE(band.firstColumn + band.columnCount, width);
+                    ASSERT_GE(band.pixelSamples(), 1u);
+                    for (uint32_t s = band.firstSample; s < band.firstSample + band.count; ++s)
+                        for (uint32_t y = band.firstRow; y < band.firstRow + band.rowCount; ++y)
+                            for (uint32_t x = band.firstColumn; x < band.firstColumn + band.columnCount; ++x)
+                                ASSERT_EQ(next[size_t(y) * width + x]++, s) << "pixel " << x << "," << y;
+                    times.push_back(seconds(rng) * double(band.pixelSamples()) / 64.0);
+                }
+                bands.measured(times);
+                for (uint32_t v : next) EXPECT_GE(v, bands.samplesDone());
+            }
+            for (uint32_t v : next) EXPECT_EQ(v, spp);
         }
-        for (uint32_t v : next) EXPECT_EQ(v, spp);
-    }
 }
 
 TEST(PassBands, ASplitPassVisitsTheFilmSpreadOut) {
@@ -148,26 +157,82 @@ TEST(PassBands, ASplitPassVisitsTheFilmSpreadOut) {
     PassBands bands(16, 64, 1);
     std::vector<uint32_t> rows;
     for (int i = 0; i < 4; ++i) {
-        rows.push_back(bands.next(0.25).firstRow);
-        bands.measured(1e-3);
+        const std::vector<PassBand> plan = bands.next(0.25);
+        ASSERT_EQ(plan.size(), 1u);  // each the size of the growing budget, within one strip
+        rows.push_back(plan[0].firstRow);
+        bands.measured({1e-3});
     }
     EXPECT_EQ(rows, (std::vector<uint32_t>{0, 32, 16, 48}));
 }
 
+TEST(PassBands, ASubmissionHoldsTheStripsItsBudgetCovers) {
+    // A first budget of three strips' pixel samples (8 rows of 16) less a row: one
+    // submission holds the first three strips of the spread order (the third strip's last
+    // row comes along rather than be left for a band of its own), the next (twice the
+    // pixel samples) the five left, and each band's time is its strip's cost.
+    PassBands bands(16, 64, 2, 0, 3 * 8 * 16 - 16);
+    auto firstRows = [](const std::vector<PassBand>& plan) {
+        std::vector<uint32_t> rows;
+        for (const PassBand& b : plan) {
+            EXPECT_EQ(b.rowCount, 8u);
+            EXPECT_EQ(b.columnCount, 16u);
+            rows.push_back(b.firstRow);
+        }
+        return rows;
+    };
+    // The strip at row 32 costs 8x the others per pixel sample; a fixed 1e-4 s per band.
+    auto timesOf = [](const std::vector<PassBand>& plan) {
+        std::vector<double> times;
+        for (const PassBand& b : plan)
+            times.push_back(1e-4 + double(b.pixelSamples()) * (b.firstRow == 32 ? 8e-5 : 1e-5));
+        return times;
+    };
+    std::vector<PassBand> plan = bands.next(0.25);
+    EXPECT_EQ(firstRows(plan), (std::vector<uint32_t>{0, 32, 16}));
+    bands.measured(timesOf(plan));
+    plan = bands.next(0.25);
+    EXPECT_EQ(firstRows(plan), (std::vector<uint32_t>{48, 8, 40, 24, 56}));
+    bands.measured(timesOf(plan));
+    // The second pass is sized by the costliest strip (row 32), whatever its share of the
+    // submission's time: 0.25 s / 8e-5 s = 3125 pixel samples at most, and sweeps follow,
+    // since a row of the costliest strip takes 1.3 ms.
+    plan = bands.next(0.25);
+    ASSERT_EQ(plan.size(), 1u);
+    EXPECT_EQ(plan[0].firstSample, 1u);
+    EXPECT_EQ(plan[0].columnCount, 16u);
+    EXPECT_LE(double(plan[0].pixelSamples()) * 8e-5, 0.25);
+    // A budget that leaves less than a row after a strip ends the submission there, rather
+    // than add a run of a few tiles (strips of 8 rows of 64 pixels).
+    PassBands rows(64, 64, 1, 0, 8 * 64 + 40);
+    plan = rows.next(0.25);
+    ASSERT_EQ(plan.size(), 1u);
+    EXPECT_EQ(plan[0].rowCount, 8u);
+    // Without timestamps each submission holds one band.
+    PassBands single(16, 64, 2, 0, 3 * 8 * 16, 1);
+    EXPECT_EQ(single.next(0.25).size(), 1u);
+    EXPECT_THROW(single.measured({1e-3, 1e-3}), std::logic_error);
+}
+
 namespace {
 
-// Simulated device times: per pixel sample, `cost(row)`; returns the longest band's time.
+// Simulated device times: per pixel sample, `cost(row)`; returns the longest submission's
+// time.
 double simulate(uint32_t width, uint32_t height, uint32_t spp, const std::function<double(uint32_t)>& cost,
                 int* submissions = nullptr) {
     PassBands bands(width, height, spp);
     double longest = 0.0;
     int n = 0;
     while (!bands.finished()) {
-        const PassBand band = bands.next(0.25);
-        double seconds = 0.0;
-        for (uint32_t y = band.firstRow; y < band.firstRow + band.rowCount; ++y)
-            seconds += cost(y) * band.columnCount * band.count;
-        bands.measured(seconds);
+        const std::vector<PassBand> plan = bands.next(0.25);
+        std::vector<double> times;
+        for (const PassBand& band : plan) {
+            double seconds = 0.0;
+            for (uint32_t y = band.firstRow; y < band.firstRow + band.rowCount; ++y)
+                seconds += cost(y) * band.columnCount * band.count;
+            times.push_back(seconds);
+        }
+        bands.measured(times);
+        const double seconds = std::accumulate(times.begin(), times.end(), 0.0);
         if (n++ > 0) longest = std::max(longest, seconds);  // the first band: one tile, unknown cost
     }
     if (submissions) *submissions = n;
@@ -197,9 +262,13 @@ TEST(PassBands, AfterTheFirstPassSweepsGiveEachPixelAsManySamplesAsFit) {
         PassBands bands(width, height, spp);
         std::vector<PassBand> sweeps;
         while (!bands.finished()) {
-            const PassBand band = bands.next(0.25);
-            if (band.firstSample > 0) sweeps.push_back(band);
-            bands.measured(cost * double(band.pixelSamples()));
+            const std::vector<PassBand> plan = bands.next(0.25);
+            std::vector<double> times;
+            for (const PassBand& band : plan) {
+                if (band.firstSample > 0) sweeps.push_back(band);
+                times.push_back(cost * double(band.pixelSamples()));
+            }
+            bands.measured(times);
         }
         return sweeps;
     };

@@ -12,8 +12,10 @@
 // --write-mesh N FILE writes that sphere's mesh as JSON, for tools/make_bench_scenes.py.
 // --low-spp breaks down where a render of 1, 2, 4 and 8 spp at half the film size (the
 // time-to-error comparison of tools/bench-mitsuba) spends its time: Renderer::renderAll as
-// `penumbra render` times it, its submissions, the same passes in one submission, and an
-// empty submission (the fixed cost of one).
+// `penumbra render` times it, its submissions, the same passes in one submission (one
+// dispatch adding every sample), an empty submission (the fixed cost of one), and one
+// submission of one dispatch per pass or per eighth of a pass (the first pass's strips,
+// render/pass_bands.h): what separate dispatches cost.
 // --samples-per-dispatch renders each scene's spp (rounded up to a power of two, at least
 // 16) in one submission of dispatches that add K = 1, 2, 4, ... spp samples to each pixel,
 // alternating over --runs rounds, and prints the medians of samples per CPU second and
@@ -227,12 +229,13 @@ void lowSppBreakdown(const gpu::Context& context, Scene scene, int runs) {
     scene.film.width = std::max(1u, scene.film.width / 2);
     scene.film.height = std::max(1u, scene.film.height / 2);
     std::printf("%s at %ux%u: seconds, median of %d\n", scene.name.c_str(), scene.film.width, scene.film.height, runs);
-    std::printf("%5s %12s %12s %14s %14s\n", "spp", "renderAll", "submissions", "one_submission", "empty_submit");
+    std::printf("%5s %12s %12s %14s %14s %14s %14s\n", "spp", "renderAll", "submissions", "one_submission",
+                "empty_submit", "pass_dispatch", "strip_dispatch");
     for (uint32_t spp : {1u, 2u, 4u, 8u}) {
         scene.sampler.spp = spp;
         Renderer renderer(context, scene);
         renderer.compileKernel();
-        std::vector<double> all, one, empty;
+        std::vector<double> all, one, empty, strips, passes;
         int submissions = 0;
         for (int r = 0; r < runs; ++r) {
             renderer.reset();
@@ -248,8 +251,24 @@ void lowSppBreakdown(const gpu::Context& context, Scene scene, int runs) {
             t0 = Clock::now();
             context.submitAndWait([](VkCommandBuffer) {});
             empty.push_back(secondsSince(t0));
+            renderer.reset();
+            t0 = Clock::now();
+            context.submitAndWait([&](VkCommandBuffer cmd) {
+                for (uint32_t s = 0; s < spp; ++s) renderer.recordPasses(cmd, s, 1, 0, scene.film.height);
+            });
+            passes.push_back(secondsSince(t0));
+            renderer.reset();
+            t0 = Clock::now();
+            const uint32_t h = scene.film.height;
+            context.submitAndWait([&](VkCommandBuffer cmd) {
+                for (uint32_t s = 0; s < spp; ++s)
+                    for (uint32_t k = 0; k < 8; ++k)
+                        renderer.recordPasses(cmd, s, 1, h * k / 8, h * (k + 1) / 8 - h * k / 8);
+            });
+            strips.push_back(secondsSince(t0));
         }
-        std::printf("%5u %12.4f %12d %14.4f %14.4f\n", spp, median(all), submissions, median(one), median(empty));
+        std::printf("%5u %12.4f %12d %14.4f %14.4f %14.4f %14.4f\n", spp, median(all), submissions, median(one),
+                    median(empty), median(passes), median(strips));
         std::fflush(stdout);
     }
     // The fixed costs apart from the work: 32 bands of one 8-pixel tile, each in its own

@@ -1,10 +1,14 @@
-// Device time of a recorded stretch of commands, from two timestamp queries: what
+// Device time of recorded stretches of commands, from timestamp queries: what
 // Renderer::renderAll sizes its submissions by, since wall time also holds the fixed cost
 // of each submission (on lavapipe on a loaded machine, tens of milliseconds of thread
-// hand-offs) that does not grow with the work.
+// hand-offs) that does not grow with the work. One submission may time several stretches
+// back to back (the bands it holds): a timestamp before the first and one after each.
 #pragma once
 
 #include <vulkan/vulkan.h>
+
+#include <cstdint>
+#include <vector>
 
 #include "gpu/context.h"
 
@@ -12,21 +16,28 @@ namespace penumbra::gpu {
 
 class GpuTimer {
 public:
-    explicit GpuTimer(const Context& context);
+    // Up to `maxIntervals` stretches per submission.
+    explicit GpuTimer(const Context& context, uint32_t maxIntervals = 1);
     ~GpuTimer();
     GpuTimer(const GpuTimer&) = delete;
     GpuTimer& operator=(const GpuTimer&) = delete;
 
-    // False when the queue has no timestamps; then seconds() is always negative.
+    // False when the queue has no timestamps; then seconds() gives negative times.
     bool supported() const { return m_pool != VK_NULL_HANDLE; }
-    // Record around the commands to time (start before, stop after them).
-    void start(VkCommandBuffer cmd) const;
-    void stop(VkCommandBuffer cmd) const;
-    // After the submission has completed: the seconds between start and stop, or -1.
-    double seconds() const;
+    uint32_t maxIntervals() const { return m_maxIntervals; }
+    // Record before the first stretch of `intervals` (at most maxIntervals()).
+    void start(VkCommandBuffer cmd, uint32_t intervals = 1) const;
+    // Record after stretch `interval` (0, 1, ... in order): it ends there and the next begins.
+    void stop(VkCommandBuffer cmd, uint32_t interval = 0) const;
+    // After the submission has completed: the seconds of each of the `intervals` stretches,
+    // or -1 for each when there are no timestamps.
+    std::vector<double> seconds(uint32_t intervals) const;
+    // The same for one stretch.
+    double seconds() const { return seconds(1)[0]; }
 
 private:
     const Context& m_context;
+    uint32_t m_maxIntervals;
     VkQueryPool m_pool = VK_NULL_HANDLE;
     uint64_t m_mask = 0;  // the queue's valid timestamp bits
 };

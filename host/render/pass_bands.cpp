@@ -7,12 +7,14 @@
 
 namespace penumbra {
 
-PassBands::PassBands(uint32_t width, uint32_t height, uint32_t spp, uint64_t maxPixelSamples, uint64_t firstBandPixels)
+PassBands::PassBands(uint32_t width, uint32_t height, uint32_t spp, uint64_t maxPixelSamples, uint64_t firstBandPixels,
+                     uint32_t maxBands)
     : m_width(width),
       m_height(height),
       m_spp(spp),
       m_maxPixelSamples(maxPixelSamples),
-      m_firstBandPixels(std::max<uint64_t>(firstBandPixels, kTile)) {
+      m_firstBandPixels(std::max<uint64_t>(firstBandPixels, kTile)),
+      m_maxBands(std::clamp<uint32_t>(maxBands, 1, kMaxBandsPerSubmission)) {
     if (width == 0 || height == 0) throw std::invalid_argument("pass bands: the film has no pixels");
     const uint32_t count = std::min<uint32_t>(8, height);
     for (uint32_t i = 0; i < count; ++i) {
@@ -26,32 +28,68 @@ PassBands::PassBands(uint32_t width, uint32_t height, uint32_t spp, uint64_t max
         if (i < count) m_order.push_back(i);
 }
 
-PassBand PassBands::next(double target) {
+std::vector<PassBand> PassBands::next(double target) {
     if (finished()) throw std::logic_error("pass bands: the render is finished");
+    m_handed.clear();
     const bool passStart =
         std::all_of(m_strips.begin(), m_strips.end(), [](const Strip& s) { return s.row == 0 && s.column == 0; });
     // Sweeps of row bands, once every strip is measured and a row of one sample takes at
-    // most half the target (pass_bands.h).
+    // most half the target (pass_bands.h): one band per submission.
     const bool sweepsFit = passStart && allMeasured() && maxCost() * m_width <= target / 2 &&
                            (m_maxPixelSamples == 0 || m_maxPixelSamples >= m_width);
-    if (m_sweepCount > 0 || sweepsFit) return nextSweepBand(target);
-    // Sized by the costliest strip's last measured cost per pixel sample, growing at most x2
-    // per band: a part of the film costlier than any measured takes at most twice the last
-    // band's pixels.
-    double pixels = double(m_firstBandPixels);
-    if (m_last.pixelSamples() > 0) pixels = 2.0 * double(m_last.pixelSamples());
-    if (maxCost() > 0.0) pixels = std::min(pixels, target / maxCost());
-    pixels = std::max(pixels, double(kTile));
-    if (m_maxPixelSamples > 0) pixels = std::min(pixels, double(m_maxPixelSamples));
-    const uint64_t budget = uint64_t(std::min(pixels, 1e15));
+    if (m_sweepCount > 0 || sweepsFit) {
+        m_handed.push_back({nextSweepBand(target), -1});
+    } else {
+        // The submission's pixel samples: sized by the costliest strip's last measured cost
+        // per pixel sample, growing at most x2 per submission, so that a part of the film
+        // costlier than any measured takes at most twice the last submission's pixels.
+        double pixels = double(m_firstBandPixels);
+        if (m_lastPixels > 0) pixels = 2.0 * double(m_lastPixels);
+        if (maxCost() > 0.0) pixels = std::min(pixels, target / maxCost());
+        pixels = std::max(pixels, double(kTile));
+        if (m_maxPixelSamples > 0) pixels = std::min(pixels, double(m_maxPixelSamples));
+        uint64_t budget = uint64_t(std::min(pixels, 1e15));
+        // Bands of this pass's strips in the spread order until the budget is spent; a
+        // submission ends with its pass, since sweeps wait for the pass's measurements.
+        // After its first band, a submission takes only whole rows: a band has a fixed
+        // cost (a dispatch's, about 0.04-0.1 ms on lavapipe), which a run of a few tiles
+        // would pay for little work.
+        const uint32_t sample = m_sample;
+        do {
+            const PassBand band = nextStripBand(budget);
+            budget -= std::min(budget, band.pixelSamples());
+        } while (m_sample == sample && budget >= m_width && m_handed.size() < m_maxBands && nextStripStartsARow());
+    }
+    std::vector<PassBand> bands;
+    m_lastPixels = 0;
+    for (const Handed& h : m_handed) {
+        bands.push_back(h.band);
+        m_lastPixels += h.band.pixelSamples();
+    }
+    m_pixelSamplesDone += m_lastPixels;
+    return bands;
+}
 
+bool PassBands::nextStripStartsARow() const {
+    for (size_t i = 0; i < m_order.size(); ++i) {
+        const Strip& s = m_strips[m_order[(m_nextStrip + i) % m_order.size()]];
+        if (!s.done()) return s.column == 0;
+    }
+    return false;
+}
+
+PassBand PassBands::nextStripBand(uint64_t budget) {
     // The next strip with work left in this pass, in the spread order.
     while (m_strips[m_order[m_nextStrip % m_order.size()]].done()) ++m_nextStrip;
-    m_lastStrip = int(m_order[m_nextStrip++ % m_order.size()]);
-    Strip& s = m_strips[size_t(m_lastStrip)];
+    const int strip = int(m_order[m_nextStrip++ % m_order.size()]);
+    Strip& s = m_strips[size_t(strip)];
     PassBand band{m_sample, 1, s.firstRow + s.row, 1, s.column, 0};
     if (s.column == 0 && budget >= m_width) {
-        band.rowCount = uint32_t(std::min<uint64_t>(budget / m_width, s.rows - s.row));
+        // The strip's rest too where the budget would leave at most a quarter of it: a
+        // band of a row or two later would cost a dispatch for little work.
+        const uint32_t rest = s.rows - s.row;
+        band.rowCount = uint32_t(std::min<uint64_t>(budget / m_width, rest));
+        if (4 * (rest - band.rowCount) <= rest) band.rowCount = rest;
         band.columnCount = m_width;
         s.row += band.rowCount;
     } else {
@@ -63,9 +101,7 @@ PassBand PassBands::next(double target) {
             ++s.row;
         }
     }
-    m_last = band;
-    m_lastInSweep = false;
-    m_pixelSamplesDone += band.pixelSamples();
+    m_handed.push_back({band, strip});
     if (std::all_of(m_strips.begin(), m_strips.end(), [](const Strip& t) { return t.done(); })) {
         ++m_sample;
         for (Strip& t : m_strips) t.row = t.column = 0;
@@ -87,19 +123,16 @@ PassBand PassBands::nextSweepBand(double target) {
         m_sweepRow = 0;
     }
     // As many rows as fit in the target at the costliest strip's cost, and at most twice the
-    // pixel samples of the last band or of one pass, whichever is more: the growth that
-    // whole passes had (two passes after a split one, then twice the last band).
+    // pixel samples of the last submission or of one pass, whichever is more: the growth
+    // that whole passes had (two passes after a split one, then twice the last band).
     const double rowSamples = double(m_width) * m_sweepCount;  // pixel samples of one row of the sweep
     const double pass = double(m_width) * m_height;
     double rows = rowSeconds > 0.0 ? target / (rowSeconds * m_sweepCount) : double(m_height);
-    rows = std::min(rows, 2.0 * std::max(double(m_last.pixelSamples()), pass) / rowSamples);
+    rows = std::min(rows, 2.0 * std::max(double(m_lastPixels), pass) / rowSamples);
     if (m_maxPixelSamples > 0) rows = std::min(rows, double(m_maxPixelSamples) / rowSamples);
     rows = std::clamp(rows, 1.0, double(m_height - m_sweepRow));
     PassBand band{m_sample, m_sweepCount, m_sweepRow, uint32_t(rows), 0, m_width};
-    m_last = band;
-    m_lastInSweep = true;
     m_sweepRow += band.rowCount;
-    m_pixelSamplesDone += band.pixelSamples();
     if (m_sweepRow == m_height) {
         m_sample += m_sweepCount;
         m_sweepCount = 0;
@@ -118,21 +151,31 @@ double PassBands::maxCost() const {
     return cost;
 }
 
-void PassBands::measured(double seconds) {
-    const uint64_t pixels = m_last.pixelSamples();
-    if (pixels == 0) return;
-    seconds = std::max(seconds, 0.0);
-    m_fixedSeconds = m_fixedSeconds < 0.0 ? seconds : std::min(m_fixedSeconds, seconds);
-    const double cost = std::max(seconds - m_fixedSeconds, 0.0) / double(pixels);
-    if (!m_lastInSweep) {
-        m_strips[size_t(m_lastStrip)].cost = cost;
-        return;
+void PassBands::measured(const std::vector<double>& seconds) {
+    if (seconds.size() != m_handed.size())
+        throw std::logic_error("pass bands: one time per band of the last submission expected");
+    // The shortest band bounds each band's fixed part (pass_bands.h); all of this
+    // submission's bands count before any cost is computed.
+    for (size_t i = 0; i < seconds.size(); ++i) {
+        if (m_handed[i].band.pixelSamples() == 0) continue;
+        const double t = std::max(seconds[i], 0.0);
+        m_fixedSeconds = m_fixedSeconds < 0.0 ? t : std::min(m_fixedSeconds, t);
     }
-    // A sweep's band spans strips of different costs: its mean may only raise theirs, so
-    // that a costly strip's estimate is never lowered by the cheap rows beside it.
-    const uint32_t end = m_last.firstRow + m_last.rowCount;
-    for (Strip& t : m_strips)
-        if (t.firstRow < end && m_last.firstRow < t.firstRow + t.rows) t.cost = std::max(t.cost, cost);
+    for (size_t i = 0; i < seconds.size(); ++i) {
+        const PassBand& band = m_handed[i].band;
+        const uint64_t pixels = band.pixelSamples();
+        if (pixels == 0) continue;
+        const double cost = std::max(std::max(seconds[i], 0.0) - m_fixedSeconds, 0.0) / double(pixels);
+        if (m_handed[i].strip >= 0) {
+            m_strips[size_t(m_handed[i].strip)].cost = cost;
+            continue;
+        }
+        // A sweep's band spans strips of different costs: its mean may only raise theirs, so
+        // that a costly strip's estimate is never lowered by the cheap rows beside it.
+        const uint32_t end = band.firstRow + band.rowCount;
+        for (Strip& t : m_strips)
+            if (t.firstRow < end && band.firstRow < t.firstRow + t.rows) t.cost = std::max(t.cost, cost);
+    }
 }
 
 }  // namespace penumbra

@@ -1,16 +1,18 @@
 // Splitting a render into GPU submissions of bounded time, so that a stop (Ctrl-C, Slurm)
 // is honoured within a fraction of a second whatever the settings. The film is cut into
-// up to 8 horizontal strips, visited in a spread-out order (0, 4, 2, 6, 1, 5, 3, 7); each
-// submission renders one band of one strip (rows, or a run of 8-pixel tiles of one row),
-// sized by the costliest strip's cost per pixel sample and at most twice the previous
-// band, or sweeps of row bands (below) once every strip is measured. A band's
-// time has a fixed part (on lavapipe under load, tens of milliseconds per dispatch) that
-// is taken out before costs are computed, bounded by the shortest band seen. Costs differ
-// across the image (sky is far cheaper than a glossy floor under 65536 light samples): the
-// spread order measures every part of the film within the first few submissions, and
-// sizing by the costliest keeps a budget learnt on cheap pixels from being spent on
-// costly ones. Every pixel still receives sample indices 0..spp-1 exactly once and in
-// order, so the sums (and the image) are bit-identical to whole passes.
+// up to 8 horizontal strips, visited in a spread-out order (0, 4, 2, 6, 1, 5, 3, 7). During
+// the first pass a submission holds bands of the strips in that order (rows, or a run of
+// 8-pixel tiles of one row), as many pixel samples in all as the costliest strip's cost per
+// pixel sample lets fit in the time, and at most twice the previous submission's; once every
+// strip is measured, it holds a band of a sweep of row bands (below). Each band is timed on
+// its own (gpu/gpu_timer.h), so a submission measures every strip it touched. A band's time
+// has a fixed part (on lavapipe under load, tens of milliseconds per dispatch) that is taken
+// out before costs are computed, bounded by the shortest band seen. Costs differ across the
+// image (sky is far cheaper than a glossy floor under 65536 light samples): the spread order
+// measures every part of the film within the first few submissions, and sizing by the
+// costliest keeps a budget learnt on cheap pixels from being spent on costly ones. Every
+// pixel still receives sample indices 0..spp-1 exactly once and in order, so the sums (and
+// the image) are bit-identical to whole passes.
 //
 // Once the first pass has measured every strip, and a row of the film takes at most half
 // the target, the rest is rendered in sweeps of row bands from top to bottom: each sweep
@@ -24,6 +26,12 @@
 // bench scene and 1.24x on the Cornell box, 4 samples 1.17-1.25x and 1.17x (penumbra_bench
 // --samples-per-dispatch; docs/PERFORMANCE.md, "Round 16"). Whole passes over the film
 // are the sweeps whose one band holds every row.
+//
+// Why several bands per submission: on lavapipe a submission has a fixed cost of about
+// 0.2-0.3 ms (the hand-offs between the host, the queue's thread and the worker threads),
+// against about 0.04 ms for a dispatch within one submission (`penumbra_bench --low-spp`).
+// One submission per strip made the first pass at least eight submissions, a fifth to a
+// half of a render of 1-8 spp at 256 x 160 (docs/PERFORMANCE.md, "Round 21").
 #pragma once
 
 #include <cstddef>
@@ -51,17 +59,22 @@ public:
     // multiple of it (or reaches the film's right edge), since a dispatch covers whole tiles.
     static constexpr uint32_t kTile = 8;
     static constexpr uint32_t kMaxPassesPerBand = 1024;
+    // The most bands one submission holds (the timestamps a GpuTimer needs for it).
+    static constexpr uint32_t kMaxBandsPerSubmission = 16;
 
     // `maxPixelSamples` > 0 caps every band (tests use it to force small bands).
     // `firstBandPixels`: the pixel samples of the first band, before anything is measured
     // (Renderer derives it from the rays a pixel sample traces; a tile by default).
+    // `maxBands`: the most bands a submission holds, at most kMaxBandsPerSubmission (1 where
+    // bands cannot be timed apart, i.e. without timestamps).
     PassBands(uint32_t width, uint32_t height, uint32_t spp, uint64_t maxPixelSamples = 0,
-              uint64_t firstBandPixels = kTile);
+              uint64_t firstBandPixels = kTile, uint32_t maxBands = kMaxBandsPerSubmission);
 
-    // The next band, meant to take about `targetSeconds`. Advances the schedule.
-    PassBand next(double targetSeconds);
-    // The time the band from the last next() took.
-    void measured(double seconds);
+    // The bands of the next submission, in order, meant to take about `targetSeconds` in
+    // all; never empty. `maxPixelSamples` caps their sum. Advances the schedule.
+    std::vector<PassBand> next(double targetSeconds);
+    // The time each band from the last next() took, in the same order.
+    void measured(const std::vector<double>& seconds);
 
     bool finished() const { return m_sample >= m_spp; }
     // Sample indices every pixel has.
@@ -83,18 +96,28 @@ private:
     double maxCost() const;
     // The next band of the current sweep (see above), starting one if none is under way.
     PassBand nextSweepBand(double target);
+    // The next band of the current pass, of at most `budget` pixel samples (and at least a
+    // tile), from the next strip in the spread order with work left.
+    PassBand nextStripBand(uint64_t budget);
+    // Whether nextStripBand's strip is at the start of a row.
+    bool nextStripStartsARow() const;
+    // A band handed out, and which strip it is of (-1: a sweep's).
+    struct Handed {
+        PassBand band;
+        int strip = -1;
+    };
 
     uint32_t m_width, m_height, m_spp;
     uint64_t m_maxPixelSamples;
     uint64_t m_firstBandPixels;
     uint32_t m_sample = 0;
     std::vector<Strip> m_strips;
-    std::vector<uint32_t> m_order;    // strip visiting order
-    size_t m_nextStrip = 0;           // position in m_order
-    double m_fixedSeconds = -1.0;     // the shortest band so far: a bound on each band's fixed cost
-    PassBand m_last;                  // the last band handed out (none: no pixel samples)
-    bool m_lastInSweep = false;       // it was a sweep's, not one strip's
-    int m_lastStrip = -1;             // the strip of the last band, when not a sweep's
+    std::vector<uint32_t> m_order;  // strip visiting order
+    size_t m_nextStrip = 0;         // position in m_order
+    double m_fixedSeconds = -1.0;   // the shortest band so far: a bound on each band's fixed cost
+    uint32_t m_maxBands;
+    std::vector<Handed> m_handed;     // the bands of the last submission handed out
+    uint64_t m_lastPixels = 0;        // their pixel samples; 0: none handed out yet
     uint32_t m_sweepCount = 0;        // samples per pixel of the current sweep; 0: none under way
     uint32_t m_sweepRow = 0;          // the current sweep's next row
     uint64_t m_pixelSamplesDone = 0;  // of every band handed out

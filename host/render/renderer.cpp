@@ -190,10 +190,10 @@ void Renderer::updateKernel() {
 void Renderer::retarget(const Scene& scene) {
     const Scene& old = m_scene;
     if (scene.film.width != old.film.width || scene.film.height != old.film.height ||
-        scene.integrator.lightSelection != old.integrator.lightSelection ||
-        scene.shapes.size() != old.shapes.size() || scene.materials.size() != old.materials.size() ||
-        scene.lights.size() != old.lights.size())
-        throw std::logic_error("Renderer::retarget: " + scene.path + " does not share the uploaded scene of " + old.path);
+        scene.integrator.lightSelection != old.integrator.lightSelection || scene.shapes.size() != old.shapes.size() ||
+        scene.materials.size() != old.materials.size() || scene.lights.size() != old.lights.size())
+        throw std::logic_error("Renderer::retarget: " + scene.path + " does not share the uploaded scene of " +
+                               old.path);
     const bool sameType = scene.integrator.type == old.integrator.type;
     m_scene = scene;
     uploadParams();
@@ -310,19 +310,27 @@ void Renderer::renderAll(const std::function<void(const RenderProgress&)>& progr
     constexpr double kSlowestRaysPerSecond = 2e5;
     const double raysPerPixelSample = 1.0 + 2.0 * double(m_options.lightAndBsdfSamples());
     const auto firstBandPixels = uint64_t(pacing.targetSeconds * kSlowestRaysPerSecond / raysPerPixelSample);
-    PassBands bands(m_params.width, m_params.height, total, pacing.maxPixelSamples, firstBandPixels);
-    const gpu::GpuTimer timer(m_context);
+    const gpu::GpuTimer timer(m_context, PassBands::kMaxBandsPerSubmission);
+    // Several bands per submission only where each can be timed (pass_bands.h).
+    PassBands bands(m_params.width, m_params.height, total, pacing.maxPixelSamples, firstBandPixels,
+                    timer.supported() ? PassBands::kMaxBandsPerSubmission : 1);
     while (!bands.finished()) {
         if (cancel && cancel->load()) throw std::runtime_error("render interrupted");
-        const PassBand b = bands.next(pacing.targetSeconds);
+        const std::vector<PassBand> plan = bands.next(pacing.targetSeconds);
         const auto t0 = Clock::now();
         m_context.submitAndWait([&](VkCommandBuffer cmd) {
-            timer.start(cmd);
-            recordPasses(cmd, b.firstSample, b.count, b.firstRow, b.rowCount, b.firstColumn, b.columnCount);
-            timer.stop(cmd);
+            timer.start(cmd, uint32_t(plan.size()));
+            for (size_t i = 0; i < plan.size(); ++i) {
+                const PassBand& b = plan[i];
+                recordPasses(cmd, b.firstSample, b.count, b.firstRow, b.rowCount, b.firstColumn, b.columnCount);
+                timer.stop(cmd, uint32_t(i));
+            }
         });
-        const double device = timer.seconds();
-        bands.measured(device >= 0.0 ? device : std::chrono::duration<double>(Clock::now() - t0).count());
+        std::vector<double> device = timer.seconds(uint32_t(plan.size()));
+        // Without timestamps, the wall time for each band: an overestimate, never an under-.
+        if (std::any_of(device.begin(), device.end(), [](double t) { return t < 0.0; }))
+            device.assign(plan.size(), std::chrono::duration<double>(Clock::now() - t0).count());
+        bands.measured(device);
         if (progress)
             progress({.samplesDone = bands.samplesDone(),
                       .samplesTotal = total,
