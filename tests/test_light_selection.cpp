@@ -1,7 +1,8 @@
-// Light selection without rendering: selectLight (shaders/lights/lights.glsl) draws each light
-// of the full table, the delta-only and the continuous-only sub-tables with the probability
-// SCENE_FORMAT.md defines (uniform, or proportional to power), chi-square tested over 2^20
-// GPU draws each; Light::selectionProb and RenderParams' deltaScale / continuousScale agree
+// Light selection without rendering: selectLightReusing (shaders/lights/lights.glsl) draws
+// each light of the full table, the delta-only and the continuous-only sub-tables with the
+// probability SCENE_FORMAT.md defines (uniform, or proportional to power), and leaves a number
+// uniform on [0,1) whatever the light (which the light's sample uses), chi-square tested
+// jointly over 2^20 GPU draws each; Light::selectionProb and RenderParams' deltaScale / continuousScale agree
 // with the sub-tables; the mesh-light triangle table draws by area. On the CPU, the alias
 // tables of host/render/alias_table.cpp reproduce their weights exactly when enumerated.
 //
@@ -107,27 +108,42 @@ bool isDelta(const gpu::Light& l) { return l.type == gpu::LIGHT_POINT || l.type 
 
 // Draws from one table on the GPU (`table`: LIGHT_TEST_TABLE_LIGHTS or _MESH) and tests them
 // against `pmf` (per item: light or primitive index; items not in the table have 0):
-// counts, and the pmf the sampler returns with each draw.
+// counts, and the pmf the sampler returns with each draw. For the lights, the cells are
+// (light, which of kRestBins equal parts of [0,1) the number left of the draw falls in),
+// each of probability pmf / kRestBins: the light drawn and that number are independent, and
+// the number uniform.
 void checkTable(test::LightKernel& kernel, const std::string& name, uint32_t offset, uint32_t count,
                 const std::vector<double>& pmf, uint32_t seed, uint32_t table = gpu::LIGHT_TEST_TABLE_LIGHTS) {
+    constexpr size_t kRestBins = 8;
+    const size_t bins = table == gpu::LIGHT_TEST_TABLE_LIGHTS ? kRestBins : 1;
     const auto draws = kernel.select(table, offset, count, seed, kDraws);
-    std::vector<double> counts(pmf.size(), 0.0);
-    size_t badPmf = 0, outside = 0;
+    std::vector<double> counts(pmf.size() * bins, 0.0);
+    size_t badPmf = 0, outside = 0, badRest = 0;
     for (const auto& d : draws) {
         if (d.hitPrimitive >= pmf.size() || pmf[d.hitPrimitive] == 0.0) {
             ++outside;
             continue;
         }
-        counts[d.hitPrimitive] += 1.0;
+        size_t bin = 0;
+        if (bins > 1) {
+            if (!(d.tracedT >= 0.0f && d.tracedT < 1.0f)) {
+                ++badRest;
+                continue;
+            }
+            bin = size_t(double(d.tracedT) * double(bins));
+        }
+        counts[d.hitPrimitive * bins + bin] += 1.0;
         // The float pmf of the table: the exact value to float rounding (a few 1e-8).
         if (std::abs(d.tracedPdf - pmf[d.hitPrimitive]) > 1e-6 * pmf[d.hitPrimitive]) ++badPmf;
     }
     EXPECT_EQ(outside, 0u) << name << ": drew lights that are not in the table or have probability 0";
-    EXPECT_EQ(badPmf, 0u) << name << ": selectLight returned a pmf that is not the light's";
+    EXPECT_EQ(badPmf, 0u) << name << ": the draw returned a pmf that is not the light's";
+    EXPECT_EQ(badRest, 0u) << name << ": the number left of a draw is outside [0,1)";
     // Only the lights in the table are outcomes (zero-probability cells hold nothing anyway).
     std::vector<double> c, p;
     for (size_t i = 0; i < pmf.size(); ++i)
-        if (pmf[i] > 0.0) c.push_back(counts[i]), p.push_back(pmf[i]);
+        if (pmf[i] > 0.0)
+            for (size_t b = 0; b < bins; ++b) c.push_back(counts[i * bins + b]), p.push_back(pmf[i] / double(bins));
     const auto r = test::chi2TestDiscrete(c, p, 0, {kAlpha, kChi2Tests, "chi2_selection_" + name});
     EXPECT_TRUE(r.passed) << name << ": " << r.message;
     EXPECT_NEAR(r.pdfIntegral, 1.0, 1e-12) << name;

@@ -44,4 +44,23 @@ bool bsdfSample(Material m, vec3 n, vec3 wo, vec2 u, float lobe, out vec3 wi, ou
     return value.pdf > 0.0;
 }
 
+// The probability that bsdfSample takes its first lobe, i.e. of lobe < it: Phong's glossy
+// lobe, pbr's specular lobe; 1 for the diffuse BRDF's only lobe.
+float bsdfFirstLobeProbability(Material m, float cosO) {
+    if (materialIs(m, MATERIAL_PHONG)) return phongGlossyProbability(m);
+    if (materialIs(m, MATERIAL_PBR)) return pbrSpecularProbability(m, cosO);
+    return 1.0;
+}
+
+// bsdfSample from two numbers instead of three: u.x picks the lobe and is then stretched
+// back onto [0,1) within the lobe's share (sample reuse, sampling/warp.glsl,
+// remapAfterChoice; the PBR book's BSDF::Sample_f, 3rd ed. section 14.1.6). Each lobe's
+// directions are distributed as bsdfSample's, and a stratified pair stratifies the lobe
+// choices and each lobe's directions together, where a third number would not.
+bool bsdfSampleReusing(Material m, vec3 n, vec3 wo, vec2 u, out vec3 wi, out BsdfValue value) {
+    float lobe = u.x;
+    u.x = remapAfterChoice(u.x, bsdfFirstLobeProbability(m, dot(wo, n)));
+    return bsdfSample(m, n, wo, u, lobe, wi, value);
+}
+
 #endif

@@ -39,7 +39,9 @@ float bitsToUnit(uint bits) { return float(bits >> 8) * (1.0 / 16777216.0); }
 // to a sample index, so that slot holds a fixed tag.
 const uint SOBOL_SEED_TAG = 0x50b01u;
 
-// The next dimension pair, uniform on [0, 1)^2.
+// The next dimension pair as two 32-bit fractions (rand2Bits: for draws that need more
+// than a float's 24 bits, such as a choice whose rest is used again, lights/alias.glsl), or
+// uniform on [0, 1)^2 (rand2).
 // Independent: a hash of (pixel, sample index, seed, dimension); pairs and samples are
 // independent.
 // Sobol: point `sampleIndex` of a 2D Owen-scrambled Sobol' sequence of its own for every
@@ -49,7 +51,7 @@ const uint SOBOL_SEED_TAG = 0x50b01u;
 // in every pair, and pixels and pairs are decorrelated by their independent seeds.
 // The render kernels pass the specialization constant kSampler, which compiles the other
 // sampler out; the sampler tests pass it per dispatch.
-vec2 rand2(inout Rng rng) {
+uvec2 rand2Bits(inout Rng rng) {
     uvec2 bits;
     if (rng.samplerType == SAMPLER_SOBOL) {
         uvec3 seeds = pcg4d(uvec4(rng.pixel, rng.seed, rng.dimension, SOBOL_SEED_TAG)).xyz;
@@ -58,6 +60,11 @@ vec2 rand2(inout Rng rng) {
         bits = pcg4d(uvec4(rng.pixel, rng.sampleIndex, rng.seed, rng.dimension)).xy;
     }
     rng.dimension += 1u;
+    return bits;
+}
+
+vec2 rand2(inout Rng rng) {
+    uvec2 bits = rand2Bits(rng);
     return vec2(bitsToUnit(bits.x), bitsToUnit(bits.y));
 }
 

@@ -68,12 +68,25 @@ const uint WEIGHT_NONE = 0u;     // its own density alone
 const uint WEIGHT_MIS = 1u;      // MIS weight against the other technique's samples (nLight, nBsdf)
 const uint WEIGHT_MIXTURE = 2u;  // the mixture density 0.5 p_light + 0.5 p_f (lecture, "Sample from Average PDF")
 
-// One sample of light `index` drawn with probability `pmf` from a selection table,
-// weighted against N2 BRDF samples (WEIGHT_MIS) or by the mixture density. quadSolidAnglePdf
-// receives the sample's LightSample.quadSolidAnglePdf when the light was sampled.
-vec3 lightSampleEstimate(Shading s, uint index, float pmf, uint weighting, float nLight, float nBsdf,
-                         inout Rng rng, inout float quadSolidAnglePdf) {
-    vec3 u = vec3(rand2(rng), rand1(rng));
+// A light from the selection table [offset, offset + count), `pmf` its probability, and
+// the three numbers that sample it. The choice and the first number share a number of one
+// pair (lights.glsl, selectLightReusing): where the sampler stratifies that pair, the
+// lights each pixel's samples go to and the points on each light are stratified together,
+// as Mitsuba's emitter sampling and pbrt-v4's light samplers reuse the selection number.
+uint drawLight(uint offset, uint count, inout Rng rng, out float pmf, out vec3 u) {
+    uvec2 bits = rand2Bits(rng);
+    float rest;
+    uint index = selectLightReusing(offset, count, bits.x, pmf, rest);
+    u = vec3(rest, bitsToUnit(bits.y), rand1(rng));
+    return index;
+}
+
+// One sample, from the numbers u, of light `index` drawn with probability `pmf` from a
+// selection table (drawLight), weighted against N2 BRDF samples (WEIGHT_MIS) or by the
+// mixture density. quadSolidAnglePdf receives the sample's LightSample.quadSolidAnglePdf
+// when the light was sampled.
+vec3 lightSampleEstimate(Shading s, uint index, float pmf, vec3 u, uint weighting, float nLight, float nBsdf,
+                         inout float quadSolidAnglePdf) {
     if (!(pmf > 0.0)) return vec3(0.0);
     LightSample ls;
     bool sampled = sampleLight(index, s.origin, s.ns, u, lightModes(), ls);
@@ -124,11 +137,9 @@ vec3 incidentEmission(Shading s, vec3 wi, float selectionScale, KnownQuadDensity
 // One BRDF sample, weighted against N1 light samples from the full table (WEIGHT_MIS) or
 // by the mixture density with the continuous-light table (WEIGHT_MIXTURE).
 vec3 bsdfSampleEstimate(Shading s, uint weighting, float nLight, float nBsdf, KnownQuadDensity quad, inout Rng rng) {
-    vec2 u = rand2(rng);
-    float lobe = rand1(rng);
     vec3 wi;
     BsdfValue b;
-    if (!bsdfSample(s.m, s.ns, s.wo, u, lobe, wi, b)) return vec3(0.0);
+    if (!bsdfSampleReusing(s.m, s.ns, s.wo, rand2(rng), wi, b)) return vec3(0.0);
     vec3 fc = cosineWeighted(s, wi, b.f);
     if (fc == vec3(0.0)) return vec3(0.0);
     float pBsdf = b.pdf;
@@ -148,9 +159,10 @@ vec3 bsdfSampleEstimate(Shading s, uint weighting, float nLight, float nBsdf, Kn
 vec3 deltaLightEstimate(Shading s, inout Rng rng) {
     if (params.deltaCount == 0u) return vec3(0.0);
     float pmf;
-    uint index = selectLight(params.deltaTableOffset, params.deltaCount, rand1(rng), pmf);
+    vec3 u;
+    uint index = drawLight(params.deltaTableOffset, params.deltaCount, rng, pmf, u);
     float unused;
-    return lightSampleEstimate(s, index, pmf, WEIGHT_NONE, 0.0, 0.0, rng, unused);
+    return lightSampleEstimate(s, index, pmf, u, WEIGHT_NONE, 0.0, 0.0, unused);
 }
 
 vec3 reflectedRadiance(Shading s, inout Rng rng) {
@@ -166,9 +178,9 @@ vec3 reflectedRadiance(Shading s, inout Rng rng) {
         uint weighting = kStrategy == STRATEGY_MIS ? WEIGHT_MIS : WEIGHT_NONE;
         for (uint i = 0u; i < n1; ++i) {
             float pmf;
-            uint index = selectLight(0u, params.lightCount, rand1(rng), pmf);
-            L += lightSampleEstimate(s, index, pmf, weighting, float(n1), float(n2), rng, quadSolidAnglePdf) /
-                 float(n1);
+            vec3 u;
+            uint index = drawLight(0u, params.lightCount, rng, pmf, u);
+            L += lightSampleEstimate(s, index, pmf, u, weighting, float(n1), float(n2), quadSolidAnglePdf) / float(n1);
         }
     }
     if (kStrategy == STRATEGY_BSDF || kStrategy == STRATEGY_MIS) {
@@ -187,9 +199,10 @@ vec3 reflectedRadiance(Shading s, inout Rng rng) {
             if (rand1(rng) < 0.5) {
                 if (params.continuousCount > 0u) {
                     float pmf;
-                    uint index = selectLight(params.continuousTableOffset, params.continuousCount, rand1(rng), pmf);
+                    vec3 u;
+                    uint index = drawLight(params.continuousTableOffset, params.continuousCount, rng, pmf, u);
                     float unused;
-                    L += lightSampleEstimate(s, index, pmf, WEIGHT_MIXTURE, 0.0, 0.0, rng, unused) / float(n);
+                    L += lightSampleEstimate(s, index, pmf, u, WEIGHT_MIXTURE, 0.0, 0.0, unused) / float(n);
                 }
             } else {
                 L += bsdfSampleEstimate(s, WEIGHT_MIXTURE, 0.0, 0.0, unknownQuadDensity(), rng) / float(n);

@@ -5,6 +5,8 @@
 
 #include "shared/types.h"
 #include "lights/light_data.glsl"
+#include "common/rng.glsl"
+#include "sampling/warp.glsl"
 
 // Walker's alias method over lightTable/meshTable entries [offset, offset + count) with one
 // uniform number: its integer part picks the slot, its fraction flips the slot's coin.
@@ -20,6 +22,20 @@ AliasEntry sampleAlias(uint offset, uint count, float u, bool mesh) {
     uint slot = min(uint(scaled), count - 1u);
     float coin = scaled - float(slot);
     AliasEntry e = aliasEntry(offset + slot, mesh);
+    if (coin >= e.probability) e = aliasEntry(offset + e.alias, mesh);
+    return e;
+}
+
+// The same draw from a 32-bit fraction, which also returns what is left of it: uniform on
+// [0,1) given the entry drawn (sampling/warp.glsl, remapAfterChoice). The slot is the
+// integer part of bits * count in 64 bits, so the coin keeps min(24, 32 - log2(count))
+// random bits, where a float u * count would keep 24 - log2(count).
+AliasEntry sampleAliasReusing(uint offset, uint count, uint bits, bool mesh, out float rest) {
+    uint slot, fraction;
+    umulExtended(bits, count, slot, fraction);
+    float coin = bitsToUnit(fraction);
+    AliasEntry e = aliasEntry(offset + slot, mesh);
+    rest = remapAfterChoice(coin, e.probability);
     if (coin >= e.probability) e = aliasEntry(offset + e.alias, mesh);
     return e;
 }

@@ -21,10 +21,12 @@
 #include "lights/quad.glsl"
 #include "lights/mesh.glsl"
 
-// Picks a light from the selection (sub-)table at [offset, offset + count); pmf is its
-// probability within that table.
-uint selectLight(uint offset, uint count, float u, out float pmf) {
-    AliasEntry e = sampleAlias(offset, count, u, false);
+// Picks a light from the selection (sub-)table at [offset, offset + count) with a 32-bit
+// fraction; pmf is its probability within that table. `rest` is what is left of the
+// fraction, uniform on [0,1) given the light chosen (alias.glsl, sampleAliasReusing), for
+// that light's sample.
+uint selectLightReusing(uint offset, uint count, uint bits, out float pmf, out float rest) {
+    AliasEntry e = sampleAliasReusing(offset, count, bits, false, rest);
     pmf = e.pmf;
     return e.item;
 }

@@ -15,6 +15,19 @@
 
 // ---- Helpers ---------------------------------------------------------------------------
 
+// The largest float below 1.
+const float ONE_MINUS_EPSILON = 0.99999994;
+
+// Sample reuse (PBR book 3rd ed., section 14.1.6, BSDF::Sample_f; pbrt-v4's
+// AliasTable::Sample): a uniform u in [0,1) that chose between two options, the first for
+// u < p, stretched back onto [0,1) within the chosen option's share. Given either choice
+// the result is uniform again, so it can drive that option's sample in place of a fresh
+// number, and where u is stratified the choices and the samples of each option are
+// stratified together.
+float remapAfterChoice(float u, float p) {
+    return min(u < p ? u / p : (u - p) / (1.0 - p), ONE_MINUS_EPSILON);
+}
+
 // 1 - cos(theta) of a unit vector about +z, without the cancellation of 1 - v.z near the
 // pole: for z > 0, 1 - z = (x^2 + y^2) / (1 + z). Needed to tell whether a direction lies
 // in a cone whose 1 - cos(thetaMax) is ~1e-5, below the float spacing of z near 1.

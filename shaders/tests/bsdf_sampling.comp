@@ -24,11 +24,11 @@ void main() {
     r.b = vec4(0.0);
     if (push.mode == BSDF_TEST_MODE_SAMPLE) {
         Rng rng = makeRng(0u, i, push.seed);
-        vec2 u = rand2(rng);  // the integrator's order (direct.comp, bsdfSampleEstimate)
-        float lobe = rand1(rng);
         vec3 wi;
         BsdfValue value;
-        if (bsdfSample(m, push.n, push.wo, u, lobe, wi, value)) {
+        // As the integrator draws (direct.comp, bsdfSampleEstimate): one pair, whose first
+        // number also picks the lobe.
+        if (bsdfSampleReusing(m, push.n, push.wo, rand2(rng), wi, value)) {
             r.a = vec4(wi, value.pdf);
             r.b.x = bsdfPdf(m, push.n, push.wo, wi);
             r.b.yzw = value.f - bsdfEval(m, push.n, push.wo, wi);

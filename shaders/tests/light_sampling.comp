@@ -65,7 +65,7 @@ void main() {
     r.flags = 0u;
     if (push.mode == LIGHT_TEST_MODE_SAMPLE) {
         Rng rng = makeRng(0u, i, push.seed);
-        vec3 u = vec3(rand2(rng), rand1(rng));  // the integrator's order (direct.comp)
+        vec3 u = vec3(rand2(rng), rand1(rng));  // three uniform numbers, as drawLight gives (direct.comp)
         LightSample ls;
         if (sampleLight(push.light, push.x, push.n, u,
                         testModes(), ls)) {
@@ -88,13 +88,14 @@ void main() {
         r.flags = hitLight ? LIGHT_TEST_HIT_LIGHT : 0u;
     } else {
         Rng rng = makeRng(0u, i, push.seed);
-        float u = rand1(rng);
         float pmf;
         uint item;
         if (push.table == LIGHT_TEST_TABLE_LIGHTS) {
-            item = selectLight(push.tableOffset, push.tableCount, u, pmf);
+            float rest;
+            item = selectLightReusing(push.tableOffset, push.tableCount, rand2Bits(rng).x, pmf, rest);
+            r.tracedT = rest;
         } else {
-            AliasEntry e = sampleAlias(push.tableOffset, push.tableCount, u, true);
+            AliasEntry e = sampleAlias(push.tableOffset, push.tableCount, rand1(rng), true);
             item = e.item;
             pmf = e.pmf;
         }
