@@ -24,16 +24,13 @@ public:
 
     // False when the queue has no timestamps; then seconds() gives negative times.
     bool supported() const { return m_pool != VK_NULL_HANDLE; }
-    uint32_t maxIntervals() const { return m_maxIntervals; }
-    // Record before the first stretch of `intervals` (at most maxIntervals()).
+    // Record before the first stretch of `intervals` (at most the constructor's maxIntervals).
     void start(VkCommandBuffer cmd, uint32_t intervals = 1) const;
     // Record after stretch `interval` (0, 1, ... in order): it ends there and the next begins.
     void stop(VkCommandBuffer cmd, uint32_t interval = 0) const;
     // After the submission has completed: the seconds of each of the `intervals` stretches,
     // or -1 for each when there are no timestamps.
     std::vector<double> seconds(uint32_t intervals) const;
-    // The same for one stretch.
-    double seconds() const { return seconds(1)[0]; }
 
 private:
     const Context& m_context;
