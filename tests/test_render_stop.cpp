@@ -151,6 +151,25 @@ TEST(PassBands, EveryPixelGetsEverySampleOnceInOrder) {
         }
 }
 
+TEST(PassBands, ACapOnPixelSamplesBoundsEverySubmission) {
+    // Strips of 8 rows of 16 pixels; a cap of 7 rows' pixel samples, among others, must not
+    // be exceeded by a band that takes the rest of its strip.
+    for (uint64_t cap : {8u, 24u, 112u, 200u}) {
+        PassBands bands(16, 64, 3, cap, cap);
+        while (!bands.finished()) {
+            const std::vector<PassBand> plan = bands.next(0.25);
+            uint64_t pixelSamples = 0;
+            std::vector<double> times;
+            for (const PassBand& b : plan) {
+                pixelSamples += b.pixelSamples();
+                times.push_back(1e-9 * double(b.pixelSamples()));
+            }
+            ASSERT_LE(pixelSamples, cap);
+            bands.measured(times);
+        }
+    }
+}
+
 TEST(PassBands, ASplitPassVisitsTheFilmSpreadOut) {
     // Strips of 8 rows, first bands at rows 0, 32, 16, 48: the first submissions sample
     // the whole height of the film.

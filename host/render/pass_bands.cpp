@@ -85,11 +85,12 @@ PassBand PassBands::nextStripBand(uint64_t budget) {
     Strip& s = m_strips[size_t(strip)];
     PassBand band{m_sample, 1, s.firstRow + s.row, 1, s.column, 0};
     if (s.column == 0 && budget >= m_width) {
-        // The strip's rest too where the budget would leave at most a quarter of it: a
-        // band of a row or two later would cost a dispatch for little work.
+        // The strip's rest too where the budget would leave at most a quarter of it (a
+        // band of a row or two later would cost a dispatch for little work), unless a cap
+        // on the pixel samples bounds the submission.
         const uint32_t rest = s.rows - s.row;
         band.rowCount = uint32_t(std::min<uint64_t>(budget / m_width, rest));
-        if (4 * (rest - band.rowCount) <= rest) band.rowCount = rest;
+        if (m_maxPixelSamples == 0 && 4 * (rest - band.rowCount) <= rest) band.rowCount = rest;
         band.columnCount = m_width;
         s.row += band.rowCount;
     } else {

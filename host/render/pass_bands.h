@@ -62,8 +62,9 @@ public:
     // The most bands one submission holds (the timestamps a GpuTimer needs for it).
     static constexpr uint32_t kMaxBandsPerSubmission = 16;
 
-    // `maxPixelSamples` > 0 caps every band (tests use it to force small bands).
-    // `firstBandPixels`: the pixel samples of the first band, before anything is measured
+    // `maxPixelSamples` > 0 caps every submission's pixel samples (tests use it to force small
+    // bands).
+    // `firstBandPixels`: the pixel samples of the first submission, before anything is measured
     // (Renderer derives it from the rays a pixel sample traces; a tile by default).
     // `maxBands`: the most bands a submission holds, at most kMaxBandsPerSubmission (1 where
     // bands cannot be timed apart, i.e. without timestamps).
