@@ -1,4 +1,4 @@
-// Light selection without rendering: selectLightReusing (shaders/lights/lights.glsl) draws
+// Light selection without rendering: selectLight (shaders/lights/lights.glsl) draws
 // each light of the full table, the delta-only and the continuous-only sub-tables with the
 // probability SCENE_FORMAT.md defines (uniform, or proportional to power), and leaves a number
 // uniform on [0,1) whatever the light (which the light's sample uses), chi-square tested

@@ -30,6 +30,8 @@ PassBands::PassBands(uint32_t width, uint32_t height, uint32_t spp, uint64_t max
 
 std::vector<PassBand> PassBands::next(double target) {
     if (finished()) throw std::logic_error("pass bands: the render is finished");
+    uint64_t lastPixels = 0;  // of the last submission; 0 before the first
+    for (const Handed& h : m_handed) lastPixels += h.band.pixelSamples();
     m_handed.clear();
     const bool passStart =
         std::all_of(m_strips.begin(), m_strips.end(), [](const Strip& s) { return s.row == 0 && s.column == 0; });
@@ -38,13 +40,13 @@ std::vector<PassBand> PassBands::next(double target) {
     const bool sweepsFit = passStart && allMeasured() && maxCost() * m_width <= target / 2 &&
                            (m_maxPixelSamples == 0 || m_maxPixelSamples >= m_width);
     if (m_sweepCount > 0 || sweepsFit) {
-        m_handed.push_back({nextSweepBand(target), -1});
+        m_handed.push_back({nextSweepBand(target, lastPixels), -1});
     } else {
         // The submission's pixel samples: sized by the costliest strip's last measured cost
         // per pixel sample, growing at most x2 per submission, so that a part of the film
         // costlier than any measured takes at most twice the last submission's pixels.
         double pixels = double(m_firstBandPixels);
-        if (m_lastPixels > 0) pixels = 2.0 * double(m_lastPixels);
+        if (lastPixels > 0) pixels = 2.0 * double(lastPixels);
         if (maxCost() > 0.0) pixels = std::min(pixels, target / maxCost());
         pixels = std::max(pixels, double(kTile));
         if (m_maxPixelSamples > 0) pixels = std::min(pixels, double(m_maxPixelSamples));
@@ -61,12 +63,10 @@ std::vector<PassBand> PassBands::next(double target) {
         } while (m_sample == sample && budget >= m_width && m_handed.size() < m_maxBands && nextStripStartsARow());
     }
     std::vector<PassBand> bands;
-    m_lastPixels = 0;
     for (const Handed& h : m_handed) {
         bands.push_back(h.band);
-        m_lastPixels += h.band.pixelSamples();
+        m_pixelSamplesDone += h.band.pixelSamples();
     }
-    m_pixelSamplesDone += m_lastPixels;
     return bands;
 }
 
@@ -111,7 +111,7 @@ PassBand PassBands::nextStripBand(uint64_t budget) {
     return band;
 }
 
-PassBand PassBands::nextSweepBand(double target) {
+PassBand PassBands::nextSweepBand(double target, uint64_t lastPixels) {
     const double rowSeconds = std::max(maxCost(), 0.0) * m_width;  // the costliest row, one sample
     if (m_sweepCount == 0) {
         // As many samples as one row takes within the target (and as fit in the cap on a
@@ -129,7 +129,7 @@ PassBand PassBands::nextSweepBand(double target) {
     const double rowSamples = double(m_width) * m_sweepCount;  // pixel samples of one row of the sweep
     const double pass = double(m_width) * m_height;
     double rows = rowSeconds > 0.0 ? target / (rowSeconds * m_sweepCount) : double(m_height);
-    rows = std::min(rows, 2.0 * std::max(double(m_lastPixels), pass) / rowSamples);
+    rows = std::min(rows, 2.0 * std::max(double(lastPixels), pass) / rowSamples);
     if (m_maxPixelSamples > 0) rows = std::min(rows, double(m_maxPixelSamples) / rowSamples);
     rows = std::clamp(rows, 1.0, double(m_height - m_sweepRow));
     PassBand band{m_sample, m_sweepCount, m_sweepRow, uint32_t(rows), 0, m_width};

@@ -30,8 +30,9 @@
 // Why several bands per submission: on lavapipe a submission has a fixed cost of about
 // 0.2-0.3 ms (the hand-offs between the host, the queue's thread and the worker threads),
 // against about 0.04 ms for a dispatch within one submission (`penumbra_bench --low-spp`).
-// One submission per strip made the first pass at least eight submissions, a fifth to a
-// half of a render of 1-8 spp at 256 x 160 (docs/PERFORMANCE.md, "Round 21").
+// One submission per strip made the first pass at least eight submissions: at 256 x 160 on
+// 2 cores, renders of 1-8 spp took 1.2-1.9x as long as the same passes in one submission
+// (docs/PERFORMANCE.md, "Round 21").
 #pragma once
 
 #include <cstddef>
@@ -95,8 +96,9 @@ private:
     bool allMeasured() const;
     // The costliest strip's cost, or < 0 if none is known.
     double maxCost() const;
-    // The next band of the current sweep (see above), starting one if none is under way.
-    PassBand nextSweepBand(double target);
+    // The next band of the current sweep (see above), starting one if none is under way;
+    // `lastPixels`: the pixel samples of the last submission.
+    PassBand nextSweepBand(double target, uint64_t lastPixels);
     // The next band of the current pass, of at most `budget` pixel samples (and at least a
     // tile), from the next strip in the spread order with work left.
     PassBand nextStripBand(uint64_t budget);
@@ -113,12 +115,11 @@ private:
     uint64_t m_firstBandPixels;
     uint32_t m_sample = 0;
     std::vector<Strip> m_strips;
-    std::vector<uint32_t> m_order;  // strip visiting order
-    size_t m_nextStrip = 0;         // position in m_order
-    double m_fixedSeconds = -1.0;   // the shortest band so far: a bound on each band's fixed cost
-    uint32_t m_maxBands;
+    std::vector<uint32_t> m_order;    // strip visiting order
+    size_t m_nextStrip = 0;           // position in m_order
+    double m_fixedSeconds = -1.0;     // the shortest band so far: a bound on each band's fixed cost
+    uint32_t m_maxBands;              // per submission
     std::vector<Handed> m_handed;     // the bands of the last submission handed out
-    uint64_t m_lastPixels = 0;        // their pixel samples; 0: none handed out yet
     uint32_t m_sweepCount = 0;        // samples per pixel of the current sweep; 0: none under way
     uint32_t m_sweepRow = 0;          // the current sweep's next row
     uint64_t m_pixelSamplesDone = 0;  // of every band handed out

@@ -29,38 +29,23 @@ BsdfValue bsdfEvalPdf(Material m, vec3 n, vec3 wo, vec3 wi) {
 vec3 bsdfEval(Material m, vec3 n, vec3 wo, vec3 wi) { return bsdfEvalPdf(m, n, wo, wi).f; }
 float bsdfPdf(Material m, vec3 n, vec3 wo, vec3 wi) { return bsdfEvalPdf(m, n, wo, wi).pdf; }
 
-// Draws wi; `lobe` in [0,1) picks the lobe, `u` drives the direction. Returns false when
-// the sample falls below the surface (an estimate of zero, not a retry). value =
+// Draws wi from the pair u. In a BRDF of two lobes u.x also picks the lobe and is then
+// stretched back onto [0,1) within the lobe's share (sample reuse, sampling/warp.glsl,
+// remapAfterChoice; the PBR book's BSDF::Sample_f, 3rd ed. section 14.1.6): each lobe's
+// directions are distributed as with a number of their own, and a stratified pair
+// stratifies the lobe choices and each lobe's directions together. Returns false when the
+// sample falls below the surface (an estimate of zero, not a retry). value =
 // bsdfEvalPdf(wi): f and the pdf of the returned direction.
-bool bsdfSample(Material m, vec3 n, vec3 wo, vec2 u, float lobe, out vec3 wi, out BsdfValue value) {
+bool bsdfSample(Material m, vec3 n, vec3 wo, vec2 u, out vec3 wi, out BsdfValue value) {
     value = BsdfValue(vec3(0.0), 0.0);
     wi = n;
     float cosO = dot(wo, n);
     if (cosO <= 0.0) return false;
-    if (materialIs(m, MATERIAL_PHONG)) wi = phongSample(m, n, wo, u, lobe);
-    else if (materialIs(m, MATERIAL_PBR)) wi = pbrSample(m, n, wo, u, lobe, cosO);
+    if (materialIs(m, MATERIAL_PHONG)) wi = phongSample(m, n, wo, u);
+    else if (materialIs(m, MATERIAL_PBR)) wi = pbrSample(m, n, wo, u, cosO);
     else wi = diffuseSample(n, u);
     value = bsdfEvalPdf(m, n, wo, wi);
     return value.pdf > 0.0;
-}
-
-// The probability that bsdfSample takes its first lobe, i.e. of lobe < it: Phong's glossy
-// lobe, pbr's specular lobe; 1 for the diffuse BRDF's only lobe.
-float bsdfFirstLobeProbability(Material m, float cosO) {
-    if (materialIs(m, MATERIAL_PHONG)) return phongGlossyProbability(m);
-    if (materialIs(m, MATERIAL_PBR)) return pbrSpecularProbability(m, cosO);
-    return 1.0;
-}
-
-// bsdfSample from two numbers instead of three: u.x picks the lobe and is then stretched
-// back onto [0,1) within the lobe's share (sample reuse, sampling/warp.glsl,
-// remapAfterChoice; the PBR book's BSDF::Sample_f, 3rd ed. section 14.1.6). Each lobe's
-// directions are distributed as bsdfSample's, and a stratified pair stratifies the lobe
-// choices and each lobe's directions together, where a third number would not.
-bool bsdfSampleReusing(Material m, vec3 n, vec3 wo, vec2 u, out vec3 wi, out BsdfValue value) {
-    float lobe = u.x;
-    u.x = remapAfterChoice(u.x, bsdfFirstLobeProbability(m, dot(wo, n)));
-    return bsdfSample(m, n, wo, u, lobe, wi, value);
 }
 
 #endif

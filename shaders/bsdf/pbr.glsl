@@ -9,6 +9,7 @@
 
 #include "shared/types.h"
 #include "common/math.glsl"
+#include "sampling/warp.glsl"
 #include "bsdf/bsdf_value.glsl"
 #include "bsdf/diffuse.glsl"
 
@@ -119,9 +120,13 @@ vec3 sampleGgxVndf(vec3 v, float alpha, vec2 u) {
 }
 
 // The direction only; bsdf/bsdf.glsl evaluates the mixture pdf at it. A specular sample
-// reflected below the surface is declined there (pdf 0).
-vec3 pbrSample(Material m, vec3 n, vec3 wo, vec2 u, float lobe, float cosO) {
-    if (lobe < pbrSpecularProbability(m, cosO)) {
+// reflected below the surface is declined there (pdf 0). u.x picks the lobe and is reused
+// for its direction (bsdfSample).
+vec3 pbrSample(Material m, vec3 n, vec3 wo, vec2 u, float cosO) {
+    float specular = pbrSpecularProbability(m, cosO);
+    bool chooseSpecular = u.x < specular;
+    u.x = remapAfterChoice(u.x, specular);
+    if (chooseSpecular) {
         vec3 v = frameToLocal(wo, n);
         vec3 h = sampleGgxVndf(v, pbrAlpha(m), u);
         return frameToWorld(2.0 * dot(v, h) * h - v, n);

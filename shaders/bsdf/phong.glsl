@@ -35,9 +35,13 @@ BsdfValue phongEvalPdf(Material m, vec3 n, vec3 wo, vec3 wi, float cosThetaI) {
     return BsdfValue(f, pdf);
 }
 
-// The direction only; bsdf/bsdf.glsl evaluates the mixture pdf at it.
-vec3 phongSample(Material m, vec3 n, vec3 wo, vec2 u, float lobe) {
-    if (lobe < phongGlossyProbability(m)) return frameToWorld(squareToPhongLobe(u, m.exponent), mirrorDirection(wo, n));
+// The direction only; bsdf/bsdf.glsl evaluates the mixture pdf at it. u.x picks the lobe
+// and is reused for its direction (bsdfSample).
+vec3 phongSample(Material m, vec3 n, vec3 wo, vec2 u) {
+    float glossy = phongGlossyProbability(m);
+    bool chooseGlossy = u.x < glossy;
+    u.x = remapAfterChoice(u.x, glossy);
+    if (chooseGlossy) return frameToWorld(squareToPhongLobe(u, m.exponent), mirrorDirection(wo, n));
     return diffuseSample(n, u);
 }
 

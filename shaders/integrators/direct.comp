@@ -70,13 +70,13 @@ const uint WEIGHT_MIXTURE = 2u;  // the mixture density 0.5 p_light + 0.5 p_f (l
 
 // A light from the selection table [offset, offset + count), `pmf` its probability, and
 // the three numbers that sample it. The choice and the first number share a number of one
-// pair (lights.glsl, selectLightReusing): where the sampler stratifies that pair, the
+// pair (lights.glsl, selectLight): where the sampler stratifies that pair, the
 // lights each pixel's samples go to and the points on each light are stratified together,
 // as Mitsuba's emitter sampling and pbrt-v4's light samplers reuse the selection number.
 uint drawLight(uint offset, uint count, inout Rng rng, out float pmf, out vec3 u) {
     uvec2 bits = rand2Bits(rng);
     float rest;
-    uint index = selectLightReusing(offset, count, bits.x, pmf, rest);
+    uint index = selectLight(offset, count, bits.x, pmf, rest);
     u = vec3(rest, bitsToUnit(bits.y), rand1(rng));
     return index;
 }
@@ -139,7 +139,7 @@ vec3 incidentEmission(Shading s, vec3 wi, float selectionScale, KnownQuadDensity
 vec3 bsdfSampleEstimate(Shading s, uint weighting, float nLight, float nBsdf, KnownQuadDensity quad, inout Rng rng) {
     vec3 wi;
     BsdfValue b;
-    if (!bsdfSampleReusing(s.m, s.ns, s.wo, rand2(rng), wi, b)) return vec3(0.0);
+    if (!bsdfSample(s.m, s.ns, s.wo, rand2(rng), wi, b)) return vec3(0.0);
     vec3 fc = cosineWeighted(s, wi, b.f);
     if (fc == vec3(0.0)) return vec3(0.0);
     float pBsdf = b.pdf;

@@ -17,20 +17,12 @@ AliasEntry aliasEntry(uint index, bool mesh) {
     return loadLightAlias(index);
 }
 
-AliasEntry sampleAlias(uint offset, uint count, float u, bool mesh) {
-    float scaled = u * float(count);
-    uint slot = min(uint(scaled), count - 1u);
-    float coin = scaled - float(slot);
-    AliasEntry e = aliasEntry(offset + slot, mesh);
-    if (coin >= e.probability) e = aliasEntry(offset + e.alias, mesh);
-    return e;
-}
-
-// The same draw from a 32-bit fraction, which also returns what is left of it: uniform on
-// [0,1) given the entry drawn (sampling/warp.glsl, remapAfterChoice). The slot is the
-// integer part of bits * count in 64 bits, so the coin keeps min(24, 32 - log2(count))
-// random bits, where a float u * count would keep 24 - log2(count).
-AliasEntry sampleAliasReusing(uint offset, uint count, uint bits, bool mesh, out float rest) {
+// The draw from a 32-bit fraction, which also returns what is left of it: uniform on [0,1)
+// given the entry drawn (sampling/warp.glsl, remapAfterChoice), for the sample that
+// follows (lights.glsl, selectLight). The slot is the integer part of bits * count in 64
+// bits, so the coin keeps min(24, 32 - log2(count)) random bits, where a float u * count
+// would keep 24 - log2(count).
+AliasEntry sampleAlias(uint offset, uint count, uint bits, bool mesh, out float rest) {
     uint slot, fraction;
     umulExtended(bits, count, slot, fraction);
     float coin = bitsToUnit(fraction);
@@ -38,6 +30,13 @@ AliasEntry sampleAliasReusing(uint offset, uint count, uint bits, bool mesh, out
     rest = remapAfterChoice(coin, e.probability);
     if (coin >= e.probability) e = aliasEntry(offset + e.alias, mesh);
     return e;
+}
+
+// The same draw from a uniform float in [0,1) (a mesh light's triangle): its 24 bits are the
+// fraction's top bits, exactly.
+AliasEntry sampleAlias(uint offset, uint count, float u, bool mesh) {
+    float unused;
+    return sampleAlias(offset, count, uint(u * 4294967296.0), mesh, unused);
 }
 
 #endif

@@ -23,10 +23,10 @@
 
 // Picks a light from the selection (sub-)table at [offset, offset + count) with a 32-bit
 // fraction; pmf is its probability within that table. `rest` is what is left of the
-// fraction, uniform on [0,1) given the light chosen (alias.glsl, sampleAliasReusing), for
-// that light's sample.
-uint selectLightReusing(uint offset, uint count, uint bits, out float pmf, out float rest) {
-    AliasEntry e = sampleAliasReusing(offset, count, bits, false, rest);
+// fraction, uniform on [0,1) given the light chosen (alias.glsl, sampleAlias), for that
+// light's sample.
+uint selectLight(uint offset, uint count, uint bits, out float pmf, out float rest) {
+    AliasEntry e = sampleAlias(offset, count, bits, false, rest);
     pmf = e.pmf;
     return e.item;
 }

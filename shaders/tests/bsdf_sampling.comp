@@ -28,7 +28,7 @@ void main() {
         BsdfValue value;
         // As the integrator draws (direct.comp, bsdfSampleEstimate): one pair, whose first
         // number also picks the lobe.
-        if (bsdfSampleReusing(m, push.n, push.wo, rand2(rng), wi, value)) {
+        if (bsdfSample(m, push.n, push.wo, rand2(rng), wi, value)) {
             r.a = vec4(wi, value.pdf);
             r.b.x = bsdfPdf(m, push.n, push.wo, wi);
             r.b.yzw = value.f - bsdfEval(m, push.n, push.wo, wi);

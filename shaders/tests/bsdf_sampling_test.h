@@ -9,9 +9,8 @@
 namespace penumbra::gpu {
 #endif
 
-// SAMPLE: invocation i draws bsdfSampleReusing(material, n, wo, u) (bsdfSample with the
-//   lobe picked by u.x) with u from the stateless rng (pixel 0, sample index i, seed), as the
-//   integrator does:
+// SAMPLE: invocation i draws bsdfSample(material, n, wo, u) with u from the stateless rng
+//   (pixel 0, sample index i, seed), as the integrator does:
 //   out.a = (wi, returned pdf), zero when it returned false; out.b.x = bsdfPdf(wi);
 //   out.b.yzw = the returned f minus bsdfEval(wi).
 // PDF:  out.a.x = bsdfPdf(material, n, wo, in.a.xyz).

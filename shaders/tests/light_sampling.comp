@@ -92,7 +92,7 @@ void main() {
         uint item;
         if (push.table == LIGHT_TEST_TABLE_LIGHTS) {
             float rest;
-            item = selectLightReusing(push.tableOffset, push.tableCount, rand2Bits(rng).x, pmf, rest);
+            item = selectLight(push.tableOffset, push.tableCount, rand2Bits(rng).x, pmf, rest);
             r.tracedT = rest;
         } else {
             AliasEntry e = sampleAlias(push.tableOffset, push.tableCount, rand1(rng), true);

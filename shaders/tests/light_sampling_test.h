@@ -22,13 +22,13 @@ namespace penumbra::gpu {
 // PDF: record i holds the pdf of wi = directions[i].xyz as the integrator sees it: the
 //   first hit along wi must be the light (else 0), lightPdf there; the environment directly.
 // SELECT: invocation i draws one entry of a selection table (light table through
-//   selectLightReusing, with the number left of the draw in tracedT, or the mesh-triangle
+//   selectLight, with the number left of the draw in tracedT, or the mesh-triangle
 //   table through sampleAlias) with u_i.
 PENUMBRA_CONST uint LIGHT_TEST_MODE_SAMPLE = 0u;
 PENUMBRA_CONST uint LIGHT_TEST_MODE_PDF = 1u;
 PENUMBRA_CONST uint LIGHT_TEST_MODE_SELECT = 2u;
 
-PENUMBRA_CONST uint LIGHT_TEST_TABLE_LIGHTS = 0u;  // lightTable[] via selectLightReusing
+PENUMBRA_CONST uint LIGHT_TEST_TABLE_LIGHTS = 0u;  // lightTable[] via selectLight
 PENUMBRA_CONST uint LIGHT_TEST_TABLE_MESH = 1u;    // meshTable[] via sampleAlias
 
 // LightTestRecord::flags
