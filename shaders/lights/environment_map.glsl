@@ -6,6 +6,7 @@
 #define PENUMBRA_LIGHTS_ENVIRONMENT_MAP_GLSL
 
 #include "common/math.glsl"
+#include "sampling/warp.glsl"
 #include "lights/light_sample.glsl"
 #include "lights/light_data.glsl"
 
@@ -66,15 +67,10 @@ bool sampleEnvironmentMap(Light light, vec3 u, inout LightSample ls) {
     uint w = environmentMapWidth(light), h = environmentMapHeight(light);
     float coin;
     AliasEntry e = loadEnvironmentAlias(environmentAliasSlot(u.xy, w * h, coin));
-    float within;
-    if (coin < e.probability) {
-        within = coin / e.probability;
-    } else {
-        within = (coin - e.probability) / (1.0 - e.probability);
-        e = loadEnvironmentAlias(e.alias);
-    }
+    float within = remapAfterChoice(coin, e.probability);  // sampling/warp.glsl
+    if (coin >= e.probability) e = loadEnvironmentAlias(e.alias);
     uint col = e.item % w, row = e.item / w;
-    float phi = TWO_PI * (float(col) + min(within, 0.99999994)) / float(w);
+    float phi = TWO_PI * (float(col) + within) / float(w);
     // 1 - cos theta, from the row's top edge 2 sin^2(theta_row / 2) down u.z of the row's span.
     float halfTop = 0.5 * PI * float(row) / float(h);
     float oneMinusCos = 2.0 * sin(halfTop) * sin(halfTop) + u.z * environmentRowCosineSpan(row, h);
