@@ -44,9 +44,13 @@ LightKernel::LightKernel(const SceneArrays& arrays)
       m_environmentTexels(
           gpu::Buffer::fromVector(m_ctx, arrays.environmentTexels, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT)),
       m_environmentTable(
-          gpu::Buffer::fromVector(m_ctx, arrays.environmentTable, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT)) {}
+          gpu::Buffer::fromVector(m_ctx, arrays.environmentTable, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT)),
+      m_besideFirst(arrays.bvh.besideFirst()),
+      m_besideCount(arrays.bvh.besideCount) {}
 
 std::vector<gpu::LightTestRecord> LightKernel::run(gpu::LightTestPush push, const gpu::Buffer& in) {
+    push.besideFirst = m_besideFirst;
+    push.besideCount = m_besideCount;
     gpu::Buffer out(m_ctx, VkDeviceSize(push.count) * sizeof(gpu::LightTestRecord),
                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     // This scene's buffers at the render kernels' bindings (another LightKernel may have

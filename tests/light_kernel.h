@@ -49,6 +49,7 @@ private:
     float m_minElevationSine = gpu::SPHERICAL_MIN_ELEVATION_SINE;
     gpu::Buffer m_dummy, m_nodes, m_primitives, m_normals, m_lights, m_lightTable, m_meshTable, m_environmentTexels,
         m_environmentTable;
+    uint32_t m_besideFirst, m_besideCount;  // the primitives beside the BVH's tree (Bvh::besideCount)
 };
 
 }  // namespace penumbra::test

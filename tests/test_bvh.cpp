@@ -113,11 +113,11 @@ constexpr uint32_t kUnwrittenEntry = 0xffffffffu;
 
 // Runs the test kernel `name` over the scene's buffers: one invocation per input (binding
 // 0, 64 per workgroup), each writing one Result (binding 1). The push constants are the
-// input count, the node buffer's device address and the traversal stacks' address and
+// input count, the node buffer's device address, the traversal stacks' address and
 // entries per invocation (bvh_trace.comp's "_address" variant: childStackDepth entries, as
 // the renderer gives them, unless `stackDepth` says otherwise; most of these scenes' rays
 // seldom fill the stack, so Bvh.StackDepthIsTheLongestPathsInteriorNodes checks the count
-// itself, with rays that do). With `stackEntries`, the stacks start as kUnwrittenEntry
+// itself, with rays that do), and the primitives beside the tree. With `stackEntries`, the stacks start as kUnwrittenEntry
 // and are read back into it after the run, `depth` entries per invocation.
 template <class Result, class Input>
 std::vector<Result> runSceneKernel(const char* name, const Bvh& bvh,
@@ -133,9 +133,14 @@ std::vector<Result> runSceneKernel(const char* name, const Bvh& bvh,
     gpu::Buffer stacks = gpu::Buffer::fromVector(ctx,
                                                  std::vector<uint32_t>(size_t(groups) * 64 * depth, kUnwrittenEntry),
                                                  VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | gpu::deviceAddressUsage(ctx));
-    const uint32_t push[6] = {
-        uint32_t(inputs.size()),    uint32_t(scene.nodes.address()),  uint32_t(scene.nodes.address() >> 32),
-        uint32_t(stacks.address()), uint32_t(stacks.address() >> 32), depth};
+    const uint32_t push[8] = {uint32_t(inputs.size()),
+                              uint32_t(scene.nodes.address()),
+                              uint32_t(scene.nodes.address() >> 32),
+                              uint32_t(stacks.address()),
+                              uint32_t(stacks.address() >> 32),
+                              depth,
+                              bvh.besideFirst(),
+                              bvh.besideCount};
     gpu::Kernel kernel(ctx, name, sceneBindings(), sizeof(push), specialization);
     kernel.bind(0, inputBuffer);
     kernel.bind(1, results);
@@ -392,7 +397,60 @@ TEST(Bvh, GpuTraversalMatchesCpuBruteForce) {
         expectGpuMatchesCpuBruteForce(scene, bvh, rays, specialization, "bvh_gpu_" + reads);
 }
 
-// (b') The same with every primitive inline (shaders/geometry/inline_geometry.glsl): the
+// (b') Primitives beside the tree (Bvh::besideCount): a floor whose box has most of the
+// scene box's area and a sphere light by itself go beside it; a light of two triangles and
+// the small shapes stay in it. Every query tests the two before the tree, on the CPU and on
+// the GPU in every way it reads nodes; a kernel or a CPU traversal that skipped them misses
+// the floor.
+TEST(Bvh, PrimitivesBesideTheTreeMatchBruteForce) {
+    Random rng(4711);
+    auto scene = randomScene(rng, 400, 30, 30);  // in [-10, 10]^3 and a little beyond
+    const uint32_t floorIndex = uint32_t(scene.size());
+    scene.push_back(quad(vec3(-12, -11, -12), vec3(0, 0, 24), vec3(24, 0, 0)));
+    const uint32_t lampIndex = uint32_t(scene.size());
+    scene.push_back(sphere(vec3(0, 11, 0), 0.5f));
+    scene.back().light = 0;
+    for (int k = 0; k < 2; ++k) {  // one light of two triangles: its shadow rays end on either
+        scene.push_back(triangle(vec3(3, 11, 3), vec3(4, 11, 3 + k), vec3(3 + k, 11, 4)));
+        scene.back().light = 1;
+    }
+    Bvh bvh = buildBvh(scene);
+    ASSERT_EQ(bvh.besideCount, 2u);
+    EXPECT_EQ(bvh.besideFirst(), scene.size() - 2);
+    EXPECT_EQ(bvh.originalIndex[bvh.besideFirst()], floorIndex);
+    EXPECT_EQ(bvh.originalIndex[bvh.besideFirst() + 1], lampIndex);
+    for (uint32_t i = 0; i < bvh.besideFirst(); ++i) EXPECT_NE(bvh.originalIndex[i], floorIndex);
+    // The floor widens the scene's bounds beyond the tree's.
+    EXPECT_EQ(bvhBounds(bvh).lo.y, -11.0f);
+    EXPECT_GT(bvh.nodes.front().boundsMin.y, -11.0f);
+    // The rule's limits: the largest box first, none where none may go, none in a scene of
+    // fewer than BvhOptions::besideFrom primitives.
+    BvhOptions one;
+    one.maxBeside = 1;
+    const Bvh onlyFloor = buildBvh(scene, one);
+    ASSERT_EQ(onlyFloor.besideCount, 1u);
+    EXPECT_EQ(onlyFloor.originalIndex.back(), floorIndex);
+    BvhOptions none;
+    none.maxBeside = 0;
+    EXPECT_EQ(buildBvh(scene, none).besideCount, 0u);
+    std::vector<gpu::Primitive> small(scene.end() - 40, scene.end());
+    EXPECT_EQ(buildBvh(small).besideCount, 0u);
+
+    auto rays = randomRays(rng, 1u << 15, 14.0f, &scene);
+    mixRayLengths(rng, bvh, rays, 20.0f);
+    uint32_t besideHits = 0;
+    for (const TraceRay& ray : rays) {
+        auto reference = intersectBruteForce(scene, vec3(ray.originTMax), vec3(ray.dir), ray.originTMax.w);
+        besideHits += reference && (reference->primitive == floorIndex || reference->primitive == lampIndex);
+    }
+    EXPECT_GT(besideHits, rays.size() / 20) << "the floor should be the nearest hit of a fair share of rays";
+    CpuComparison cpu = compareCpu(scene, bvh, rays);
+    EXPECT_EQ(cpu.failures, 0u) << "first failing ray: " << cpu.firstFailure;
+    for (const auto& [specialization, reads] : everyNodeReads())
+        expectGpuMatchesCpuBruteForce(scene, bvh, rays, specialization, "bvh_beside_" + reads);
+}
+
+// (b'') The same with every primitive inline (shaders/geometry/inline_geometry.glsl): the
 // kernel tests the specialization constants in their slots instead of traversing, and
 // must find what the CPU finds (the leaf-order index each slot names). Both layouts the
 // host makes: 48 random primitives (as many as the kernel declares) come as runs of eight
@@ -853,7 +911,9 @@ void expectWellFormed(const Bvh& bvh, size_t primitiveCount, uint32_t maxLeafSiz
         }
     }
     EXPECT_EQ(visited, bvh.nodes.size()) << "every node is reachable exactly once";
-    EXPECT_TRUE(std::all_of(covered.begin(), covered.end(), [](uint32_t c) { return c == 1; }));
+    // Every primitive in exactly one leaf, except those beside the tree, in none.
+    for (uint32_t i = 0; i < primitiveCount; ++i)
+        ASSERT_EQ(covered[i], i < bvh.besideFirst() ? 1u : 0u) << "primitive " << i << " of " << primitiveCount;
 }
 }  // namespace
 

@@ -146,6 +146,35 @@ TEST(InlineGeometry, SameSamplesGiveTheSameImageAsTheBvh) {
     }
 }
 
+// Primitives beside the BVH's tree (bvh/bvh.h, Bvh::besideCount), in a render: the room with
+// 50 more spheres (70 primitives, past the inline rule and BvhOptions::besideFrom) puts four
+// of its walls beside the tree, and the render, which the kernel gets from RenderParams,
+// is the render with every primitive in the tree, to rounding.
+TEST(InlineGeometry, PrimitivesBesideTheTreeGiveTheSameImage) {
+    for (const std::string strategy : {"mis", "ao"}) {
+        SCOPED_TRACE(strategy);
+        json doc = mixedRoom(strategy == "ao" ? "mis" : strategy, 50);
+        if (strategy == "ao") doc["integrator"] = {{"type", "ao"}};
+        Scene scene = test::sceneFromJson(doc, "beside-" + strategy);
+        BvhOptions nothingBeside;
+        nothingBeside.maxBeside = 0;
+        Renderer beside(test::gpuContext(), scene), inTree(test::gpuContext(), scene, nullptr, nothingBeside);
+        ASSERT_EQ(beside.arrays().bvh.besideCount, 4u);
+        ASSERT_EQ(inTree.arrays().bvh.besideCount, 0u);
+        beside.renderAll();
+        inTree.renderAll();
+        const Image a = beside.readback(0.0), b = inTree.readback(0.0);
+        ASSERT_EQ(a.rgb.size(), b.rgb.size());
+        int differing = 0, lit = 0;
+        for (size_t i = 0; i < a.rgb.size(); ++i) {
+            differing += std::abs(double(a.rgb[i]) - double(b.rgb[i])) > 1e-4 * (1.0 + std::abs(double(b.rgb[i])));
+            lit += b.rgb[i] > 0.0f;
+        }
+        EXPECT_GT(lit, int(a.rgb.size()) * 9 / 10) << "the room should be lit almost everywhere";
+        EXPECT_EQ(differing, 0);
+    }
+}
+
 // Also for each kernel capacity (integrators/ao_inline16, 32 and 48): 8, 20 and 48 primitives.
 TEST(InlineGeometry, AmbientOcclusionSameSamplesSameImage) {
     std::vector<uint32_t> capacities;

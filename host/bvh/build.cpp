@@ -220,6 +220,59 @@ void primitiveBounds(const gpu::Primitive& primitive, glm::vec3& lo, glm::vec3& 
     }
 }
 
+namespace {
+
+// The input indices of the primitives that go beside the tree (Bvh::besideCount), in input
+// order: those whose box has at least kBesideAreaShare of the scene box's area, then lights
+// of one primitive, each kind largest box first, at most options.maxBeside of them.
+std::vector<uint32_t> besideTheTree(const std::vector<gpu::Primitive>& primitives, const BvhOptions& options) {
+    if (options.maxBeside == 0 || primitives.size() < std::max<size_t>(options.besideFrom, 1)) return {};
+    // Areas in double: a float's product of two extents overflows from about 1.8e19 on.
+    const auto areaOf = [](const Aabb& box) {
+        const glm::dvec3 d = glm::dvec3(box.hi) - glm::dvec3(box.lo);
+        return d.x < 0.0 || d.y < 0.0 || d.z < 0.0 ? 0.0 : 2.0 * (d.x * d.y + d.y * d.z + d.z * d.x);
+    };
+    std::vector<double> area(primitives.size());
+    std::vector<uint32_t> lightOfEach;  // the light of each emitting primitive, sorted
+    Aabb scene;
+    for (size_t i = 0; i < primitives.size(); ++i) {
+        Aabb box;
+        primitiveBounds(primitives[i], box.lo, box.hi);
+        area[i] = areaOf(box);
+        scene.grow(box);
+        if (primitives[i].light != gpu::NO_LIGHT) lightOfEach.push_back(primitives[i].light);
+    }
+    std::sort(lightOfEach.begin(), lightOfEach.end());
+    const auto alone = [&](uint32_t light) {
+        const auto [first, last] = std::equal_range(lightOfEach.begin(), lightOfEach.end(), light);
+        return last - first == 1;
+    };
+    const double large = double(kBesideAreaShare) * areaOf(scene);
+    struct Candidate {
+        bool large;
+        double area;
+        uint32_t index;
+    };
+    std::vector<Candidate> candidates;
+    for (uint32_t i = 0; i < primitives.size(); ++i) {
+        const bool isLarge = area[i] > 0.0 && area[i] >= large;
+        const bool loneLight = primitives[i].light != gpu::NO_LIGHT && alone(primitives[i].light);
+        if (isLarge || loneLight) candidates.push_back({isLarge, area[i], i});
+    }
+    std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
+        if (a.large != b.large) return a.large;
+        if (a.area != b.area) return a.area > b.area;
+        return a.index < b.index;
+    });
+    std::vector<uint32_t> beside;
+    for (size_t k = 0; k < candidates.size() && k < options.maxBeside && beside.size() + 1 < primitives.size(); ++k)
+        beside.push_back(candidates[k].index);
+    std::sort(beside.begin(), beside.end());
+    return beside;
+}
+
+}  // namespace
+
 float nodeArea(const gpu::BvhNode& node) {
     Aabb box{node.boundsMin, node.boundsMax};
     return box.area();
@@ -237,10 +290,32 @@ Bvh buildBvh(std::vector<gpu::Primitive> primitives, const BvhOptions& options) 
         bvh.wideNodes = makeWideNodes(bvh.nodes);
         return bvh;
     }
-    Builder builder(primitives, options);
+    // The tree is built over the primitives not beside it; treeIndex maps its input order
+    // back to ours (identity when none is beside).
+    const std::vector<uint32_t> beside = besideTheTree(primitives, options);
+    std::vector<gpu::Primitive> treePrimitives;
+    std::vector<uint32_t> treeIndex;
+    if (!beside.empty()) {
+        treePrimitives.reserve(primitives.size() - beside.size());
+        treeIndex.reserve(primitives.size() - beside.size());
+        size_t next = 0;  // into beside, which is sorted
+        for (uint32_t i = 0; i < primitives.size(); ++i) {
+            if (next < beside.size() && beside[next] == i) {
+                ++next;
+                continue;
+            }
+            treePrimitives.push_back(primitives[i]);
+            treeIndex.push_back(i);
+        }
+    }
+    Builder builder(beside.empty() ? primitives : treePrimitives, options);
     bvh.nodes = builder.build();
     bvh.wideNodes = makeWideNodes(bvh.nodes);
     bvh.originalIndex = builder.order();
+    if (!beside.empty())
+        for (uint32_t& i : bvh.originalIndex) i = treeIndex[i];
+    bvh.besideCount = uint32_t(beside.size());
+    bvh.originalIndex.insert(bvh.originalIndex.end(), beside.begin(), beside.end());
     bvh.primitives.reserve(primitives.size());
     for (uint32_t i : bvh.originalIndex) bvh.primitives.push_back(primitives[i]);
 
@@ -254,6 +329,17 @@ Bvh buildBvh(std::vector<gpu::Primitive> primitives, const BvhOptions& options) 
     }
     bvh.sahCost = float(cost);
     return bvh;
+}
+
+Aabb bvhBounds(const Bvh& bvh) {
+    Aabb box;
+    if (bvh.besideFirst() > 0) box.grow(Aabb{bvh.nodes.front().boundsMin, bvh.nodes.front().boundsMax});
+    for (size_t i = bvh.besideFirst(); i < bvh.primitives.size(); ++i) {
+        Aabb b;
+        primitiveBounds(bvh.primitives[i], b.lo, b.hi);
+        box.grow(b);
+    }
+    return box;
 }
 
 uint32_t bvhDepth(const Bvh& bvh) {

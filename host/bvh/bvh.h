@@ -1,8 +1,10 @@
-// Bounding volume hierarchy over all primitives (triangles, spheres, quads in one tree):
-// binned SAH build, depth-first flattening for the GPU (shaders/geometry/bvh.glsl), and a
-// CPU traversal of the same flat nodes used by tests and tools.
+// Bounding volume hierarchy over the primitives (triangles, spheres, quads in one tree, and
+// a few large ones or lone lights beside it: Bvh::besideCount): binned SAH build,
+// depth-first flattening for the GPU (shaders/geometry/bvh.glsl), and a CPU traversal of the
+// same flat nodes used by tests and tools.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <optional>
@@ -40,7 +42,18 @@ struct BvhOptions {
     // SAH bins per axis at nodes of at least that many primitives; smaller nodes get one per
     // primitive, at least 16 (docs/PERFORMANCE.md, Round 15: 64 against 16).
     uint32_t binCount = 64;
+    // Primitives beside the tree (Bvh::besideCount): at most maxBeside, and only in scenes of
+    // at least besideFrom primitives, where the tree is deep enough for them to cost it
+    // rounds (smaller scenes go inline or into a shallow tree: render/inline_geometry.h).
+    uint32_t maxBeside = 4;
+    size_t besideFrom = 64;
 };
+
+// A primitive goes beside the tree when its box has at least this share of the surface area
+// of the scene's box (most rays enter its box, so the tree saves them nothing), or when it
+// is a light by itself (its light's shadow rays all end on it). docs/PERFORMANCE.md,
+// "Round 22".
+constexpr float kBesideAreaShare = 0.25f;
 
 struct Bvh {
     std::vector<gpu::BvhNode> nodes;          // binary, depth-first; nodes[0] is the root
@@ -48,12 +61,24 @@ struct Bvh {
     std::vector<gpu::Primitive> primitives;   // reordered so every leaf is a contiguous range
     std::vector<uint32_t> originalIndex;      // primitives[i] was input primitive originalIndex[i]
     float sahCost = 0.0f;                     // SAH cost of the tree (traversal 1, intersection 1)
+    // The last besideCount primitives are in no leaf: every query tests them, in order,
+    // before it walks the tree (shaders/geometry/bvh.glsl and traverse.cpp). A floor that
+    // fills the scene's box sat in a leaf beside the root that most rays still tested, one
+    // round of the traversal loop each, and took a level of the tree from the rest; beside
+    // it, it is one primitive test (BvhOptions, kBesideAreaShare: which go there).
+    uint32_t besideCount = 0;
+    uint32_t besideFirst() const { return uint32_t(primitives.size()) - besideCount; }
 };
 
 // Builds the tree; `primitives` may be empty (one empty leaf that nothing hits). Leaves hold
 // at most min(maxLeafSize, BVH_MAX_LEAF_SIZE) primitives; more than BVH_MAX_PRIMITIVES
-// primitives throw std::length_error.
+// primitives throw std::length_error. The primitives that BvhOptions and kBesideAreaShare
+// put beside the tree follow the leaves' (Bvh::besideCount).
 Bvh buildBvh(std::vector<gpu::Primitive> primitives, const BvhOptions& options = {});
+
+// The box of all of the BVH's primitives, the tree's and those beside it; empty (inverted)
+// when there are none.
+Aabb bvhBounds(const Bvh& bvh);
 
 struct CpuHit {
     float t = 0.0f;

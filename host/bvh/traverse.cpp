@@ -86,7 +86,26 @@ bool traverse(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax, bool 
     if (glm::any(glm::isnan(origin)) || glm::any(glm::isinf(origin)) || glm::any(glm::isnan(dir)) ||
         glm::any(glm::isinf(dir)))
         return false;
-    if (bvh.wideNodes.empty()) return false;
+    // The primitives beside the tree first (Bvh::besideCount), in order, as bvh.glsl tests
+    // them; one round of their own for the lane replay (every lane runs it).
+    if (bvh.besideCount > 0) {
+        const uint32_t primitivesBefore = work.primitives;
+        bool found = false;
+        for (uint32_t i = bvh.besideFirst(); i < bvh.primitives.size() && !found; ++i) {
+            float t;
+            glm::vec2 uv;
+            ++work.primitives;
+            if (intersectPrimitive(bvh.primitives[i], origin, dir, hit.t, t, uv)) {
+                hit.t = t;
+                hit.primitive = i;
+                hit.uv = uv;
+                found = anyHit;
+            }
+        }
+        if (work.rounds) work.rounds->push_back(work.primitives - primitivesBefore);
+        if (found) return true;
+    }
+    if (bvh.wideNodes.empty()) return hit.primitive != gpu::NO_HIT;
     glm::vec3 invDir = rayInverseDirection(dir);
     // Children: up to WIDE_NODE_ARITY - 1 references per level; nodes: one entry per level.
     uint32_t stack[(WIDE_NODE_ARITY - 1) * BVH_MAX_DEPTH];

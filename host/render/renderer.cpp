@@ -57,11 +57,12 @@ std::vector<VkDescriptorType> renderBindings() {
     return types;
 }
 
-Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelCache* kernels)
+Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelCache* kernels,
+                   const BvhOptions& bvhOptions)
     : m_context(context),
       m_kernels(kernels),
       m_scene(scene),
-      m_arrays(buildSceneArrays(scene, {}, EnvironmentTexels::LeftOut)),
+      m_arrays(buildSceneArrays(scene, bvhOptions, EnvironmentTexels::LeftOut)),
       m_params(makeRenderParams(scene, m_arrays)),
       m_options(kernelOptions()),
       m_workerThreads(

@@ -47,7 +47,9 @@ class Renderer {
 public:
     // `kernels`, if given, supplies the integrator's pipeline, so that Renderers for several
     // scenes in one process (penumbra batch) compile each integrator once.
-    Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelCache* kernels = nullptr);
+    // `bvhOptions` shape the scene's BVH (tests and benchmarks compare).
+    Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelCache* kernels = nullptr,
+             const BvhOptions& bvhOptions = {});
 
     // Makes `scene` the next render while keeping everything uploaded: only RenderParams
     // (camera, sampler, integrator options) are re-uploaded, the kernel is switched if the

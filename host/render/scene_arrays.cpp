@@ -79,6 +79,8 @@ gpu::RenderParams makeRenderParams(const Scene& scene, const SceneArrays& arrays
     p.deltaScale = arrays.deltaScale;
     p.continuousScale = arrays.continuousScale;
     p.environmentLight = arrays.environmentLight;
+    p.besideFirst = arrays.bvh.besideFirst();
+    p.besideCount = arrays.bvh.besideCount;
     return p;
 }
 
@@ -147,15 +149,16 @@ void buildBvhAndMeshTables(ShapePrimitives shapes, const BvhOptions& bvhOptions,
     finishAreaLights(leafIndex, shapes.meshLights, out);
 }
 
-// Bounding sphere of the geometry (for the power of lights at infinity).
+// Bounding sphere of the geometry (for the power of lights at infinity): the tree's and what
+// is beside it.
 void setBounds(SceneArrays& out) {
-    const gpu::BvhNode& root = out.bvh.nodes.front();
     if (out.bvh.primitives.empty()) {
         out.boundsCenter = glm::vec3(0.0f);
         out.boundsRadius = 1.0f;
     } else {
-        out.boundsCenter = 0.5f * (root.boundsMin + root.boundsMax);
-        out.boundsRadius = std::max(0.5f * glm::length(root.boundsMax - root.boundsMin), 1e-6f);
+        const Aabb box = bvhBounds(out.bvh);
+        out.boundsCenter = 0.5f * (box.lo + box.hi);
+        out.boundsRadius = std::max(0.5f * glm::length(box.hi - box.lo), 1e-6f);
     }
 }
 

@@ -22,6 +22,9 @@ layout(std430, binding = BINDING_COUNTERS) restrict buffer Counters {
     uint nextQueuedPixel;
 };
 
+// The primitives the BVH's traversal tests before the tree (geometry/bvh.glsl).
+uvec2 bvhBesideRange() { return uvec2(params.besideFirst, params.besideCount); }
+
 #ifdef PENUMBRA_NODE_ADDRESS
 // Where the "_address" kernels read the BVH's nodes from, and where this invocation keeps
 // its traversal stack (geometry/bvh.glsl): entry i * stackDepth for invocation i of the

@@ -401,7 +401,11 @@ struct RenderParams {
     float deltaScale;       // 1 / (sum of selectionProb over delta lights), 0 if none
     float continuousScale;  // 1 / (sum of selectionProb over continuous lights), 0 if none
     uint environmentLight;  // index of the (single, merged) environment light, or NO_LIGHT
-    uint pad0, pad1, pad2, pad3, pad4;
+    // primitives[besideFirst, besideFirst + besideCount): tested before the BVH by every
+    // query, in no leaf of it (host/bvh/bvh.h, Bvh::besideCount).
+    uint besideFirst;
+    uint besideCount;
+    uint pad2, pad3, pad4;
 };
 
 // The render kernels work in tiles of TILE_SIZE x TILE_SIZE pixels, a workgroup's

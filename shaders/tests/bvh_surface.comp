@@ -28,7 +28,15 @@ struct SurfaceResult {
 
 layout(std430, binding = 0) readonly restrict buffer Cases { SurfaceCase cases[]; };
 layout(std430, binding = 1) writeonly restrict buffer Results { SurfaceResult results[]; };
-layout(push_constant) uniform Push { uint caseCount; };
+// tests/test_bvh.cpp pushes bvh_trace.comp's constants to both: the primitives beside the
+// tree are its last two.
+layout(push_constant) uniform Push {
+    uint caseCount;
+    layout(offset = 24) uint besideFirst;
+    uint besideCount;
+};
+
+uvec2 bvhBesideRange() { return uvec2(besideFirst, besideCount); }
 
 void main() {
     uint i = gl_GlobalInvocationID.x;

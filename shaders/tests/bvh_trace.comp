@@ -23,10 +23,13 @@ struct TraceResult {
 layout(std430, binding = 0) readonly restrict buffer Rays { TraceRay rays[]; };
 layout(std430, binding = 1) writeonly restrict buffer Results { TraceResult results[]; };
 // The node buffer's and the traversal stacks' device addresses are read by the "_address"
-// variant only: stackDepth entries per ray.
+// variant only: stackDepth entries per ray. The primitives beside the tree: besideFirst on.
 layout(push_constant) uniform Push {
-    uint rayCount, nodeAddressLow, nodeAddressHigh, stackAddressLow, stackAddressHigh, stackDepth;
+    uint rayCount, nodeAddressLow, nodeAddressHigh, stackAddressLow, stackAddressHigh, stackDepth, besideFirst,
+        besideCount;
 };
+
+uvec2 bvhBesideRange() { return uvec2(besideFirst, besideCount); }
 
 #ifdef PENUMBRA_NODE_ADDRESS
 uvec2 bvhNodeAddress() { return uvec2(nodeAddressLow, nodeAddressHigh); }

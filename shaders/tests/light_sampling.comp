@@ -19,6 +19,8 @@ layout(std430, binding = LIGHT_TEST_BINDING_IN) readonly restrict buffer Directi
 layout(std430, binding = LIGHT_TEST_BINDING_OUT) writeonly restrict buffer Records { LightTestRecord records[]; };
 layout(push_constant) uniform PushBlock { LightTestPush push; };
 
+uvec2 bvhBesideRange() { return uvec2(push.besideFirst, push.besideCount); }
+
 LightSamplingModes testModes() {
     return LightSamplingModes(push.sphereSampling, push.quadSampling, push.triangleSampling, push.minSolidAngle,
                               push.minElevationSine);

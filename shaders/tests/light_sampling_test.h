@@ -54,7 +54,8 @@ struct LightTestPush {
     uint triangleSampling;  // TRIANGLE_* (0: area)
     float minSolidAngle;     // the fallback bounds of LightSamplingModes
     float minElevationSine;
-    uint pad0, pad1;
+    uint besideFirst;  // the primitives beside the BVH's tree (geometry/bvh.glsl; set by LightKernel::run)
+    uint besideCount;
 };
 
 // 48 bytes per invocation.
