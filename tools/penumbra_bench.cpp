@@ -27,7 +27,7 @@
 // EmitterFirst; default rule), so that one build measures both paths on any scene.
 // --node-reads device|texels|storage|storage32|address: where the traversal reads BVH nodes from
 // (render/node_reads.h; default device, the driver's choice), likewise.
-// --lanes prints, per scene, the node steps and primitive tests of camera and AO rays, and
+// --lanes prints, per scene, the node steps and primitive tests of camera, AO and shadow rays, and
 // the share of a SIMD group's lane iterations that do work for them, for the kernel's loop
 // and another, and for other groupings of the rays (laneUse below).
 // --brdf-ray-fates prints, per scene, what the emitter-first rule sees (the fractions of
@@ -363,6 +363,67 @@ std::vector<const LaneRays*> groupOf(const std::vector<LaneRays>& lanes) {
     return group;
 }
 
+// Camera rays through the pixel centres and shadow rays, from each camera hit, a segment to a
+// uniform point on the scene's first quad or sphere light (where the surface faces it), in
+// the tree as built and in one with no primitive beside it (bvh/bvh.h, Bvh::besideCount).
+// Rows of eight pixels.
+void laneUseBesideTheTree(const std::string& name, const Scene& scene, const SceneArrays& arrays,
+                          const gpu::RenderParams& p) {
+    const Shape* light = nullptr;
+    for (const Shape& shape : scene.shapes)
+        if (!light && shape.isEmitter() && (shape.type == ShapeType::Quad || shape.type == ShapeType::Sphere))
+            light = &shape;
+    if (!light) return;
+    BvhOptions nothingBeside;
+    nothingBeside.maxBeside = 0;
+    const SceneArrays inTree = buildSceneArrays(scene, nothingBeside);
+    std::mt19937 rng(2);
+    std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
+    LaneUse asBuilt, allInTree, cameraInTree;
+    uint32_t blocked = 0;
+    for (uint32_t y = 0; y < p.height; ++y)
+        for (uint32_t x0 = 0; x0 < p.width; x0 += 8) {
+            std::vector<LaneRays> built(std::min(8u, p.width - x0)), tree(built.size()), camera(built.size());
+            for (uint32_t i = 0; i < built.size(); ++i) {
+                const glm::vec2 film((x0 + i + 0.5f) / p.width, (y + 0.5f) / p.height);
+                TraversalWork cameraWork;
+                cameraWork.rounds = &camera[i].rounds;
+                ++camera[i].rays;
+                probeCameraRay(inTree.bvh, p, film, &cameraWork);
+                const auto hit = probeCameraRay(arrays.bvh, p, film);
+                if (!hit) continue;
+                glm::vec3 target;
+                if (light->type == ShapeType::Quad) {
+                    target = light->origin + uniform(rng) * light->edgeU + uniform(rng) * light->edgeV;
+                } else {
+                    const float z = 2.0f * uniform(rng) - 1.0f, phi = 6.2831853f * uniform(rng);
+                    const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
+                    target = light->center + light->radius * glm::vec3(r * std::cos(phi), r * std::sin(phi), z);
+                }
+                const glm::vec3 toLight = target - hit->rayOrigin;
+                const float distance = glm::length(toLight);
+                if (!(distance > 0.0f) || glm::dot(toLight, hit->normal) <= 0.0f) continue;
+                // Short of the light, as integrators/direct.comp's visible() stops.
+                const float tMax = distance * (1.0f - 1e-4f);
+                for (auto [lanes, bvh] : {std::pair{&built, &arrays.bvh}, std::pair{&tree, &inTree.bvh}}) {
+                    TraversalWork work;
+                    work.rounds = &(*lanes)[i].rounds;
+                    ++(*lanes)[i].rays;
+                    const bool occluded = intersectAny(*bvh, hit->rayOrigin, toLight / distance, tMax, &work);
+                    blocked += occluded && bvh == &arrays.bvh;
+                }
+            }
+            cameraInTree.addGroup(groupOf(camera));
+            if (!groupOf(built).empty()) asBuilt.addGroup(groupOf(built));
+            if (!groupOf(tree).empty()) allInTree.addGroup(groupOf(tree));
+        }
+    printLaneUse(name, "camera, in tree", cameraInTree);
+    printLaneUse(name, "shadow", asBuilt);
+    printLaneUse(name, "shadow, in tree", allInTree);
+    std::printf("%-28s %-16s %9u of %.0f shadow rays blocked; %u primitives beside the tree\n", name.c_str(), "",
+                blocked, asBuilt.rays, arrays.bvh.besideCount);
+}
+
 void laneUse(const std::string& name) {
     Scene scene = benchScene(name);
     SceneArrays arrays = buildSceneArrays(scene);
@@ -410,6 +471,7 @@ void laneUse(const std::string& name) {
     printLaneUse(name, "camera", camera);
     printLaneUse(name, "ao", ao);
     printLaneUse(name, "ao, regrouped", regrouped);
+    laneUseBesideTheTree(name, scene, arrays, p);
 
     // Blocks of 4 x 2 pixels.
     LaneUse blockCamera, blockAo;
