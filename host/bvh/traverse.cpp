@@ -51,11 +51,10 @@ uint32_t testWideNode(const gpu::WideNode& wide, glm::vec3 origin, glm::vec3 inv
     return hits;
 }
 
-// The primitives of leaf `leaf` tested against the ray (testLeaf of bvh.glsl); true when
+// Primitives [first, end) tested against the ray (testPrimitives of bvh.glsl); true when
 // `anyHit` and one is hit.
-bool testLeaf(const Bvh& bvh, uint32_t leaf, glm::vec3 origin, glm::vec3 dir, bool anyHit, CpuHit& hit,
-              TraversalWork& work) {
-    uint32_t first = leaf & gpu::BVH_OFFSET_MASK, end = first + (leaf >> BVH_COUNT_SHIFT);
+bool testPrimitives(const Bvh& bvh, uint32_t first, uint32_t end, glm::vec3 origin, glm::vec3 dir, bool anyHit,
+                    CpuHit& hit, TraversalWork& work) {
     for (uint32_t i = first; i < end; ++i) {
         float t;
         glm::vec2 uv;
@@ -68,6 +67,13 @@ bool testLeaf(const Bvh& bvh, uint32_t leaf, glm::vec3 origin, glm::vec3 dir, bo
         }
     }
     return false;
+}
+
+// The primitives of leaf `leaf` (testLeaf of bvh.glsl).
+bool testLeaf(const Bvh& bvh, uint32_t leaf, glm::vec3 origin, glm::vec3 dir, bool anyHit, CpuHit& hit,
+              TraversalWork& work) {
+    const uint32_t first = leaf & gpu::BVH_OFFSET_MASK;
+    return testPrimitives(bvh, first, first + (leaf >> BVH_COUNT_SHIFT), origin, dir, anyHit, hit, work);
 }
 
 // The loop behind both queries, step for step the `traverse` of shaders/geometry/bvh.glsl,
@@ -90,18 +96,8 @@ bool traverse(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMax, bool 
     // them; one round of their own for the lane replay (every lane runs it).
     if (bvh.besideCount > 0) {
         const uint32_t primitivesBefore = work.primitives;
-        bool found = false;
-        for (uint32_t i = bvh.besideFirst(); i < bvh.primitives.size() && !found; ++i) {
-            float t;
-            glm::vec2 uv;
-            ++work.primitives;
-            if (intersectPrimitive(bvh.primitives[i], origin, dir, hit.t, t, uv)) {
-                hit.t = t;
-                hit.primitive = i;
-                hit.uv = uv;
-                found = anyHit;
-            }
-        }
+        const bool found =
+            testPrimitives(bvh, bvh.besideFirst(), uint32_t(bvh.primitives.size()), origin, dir, anyHit, hit, work);
         if (work.rounds) work.rounds->push_back(work.primitives - primitivesBefore);
         if (found) return true;
     }

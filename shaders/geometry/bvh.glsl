@@ -194,10 +194,9 @@ uint nearestChild(uint hits, vec4 tEntry) {
     return nearest;
 }
 
-// The primitives of leaf `leaf` (offset | count << BVH_COUNT_SHIFT) tested against the ray,
-// `hit` kept as the closest found; true when `anyHit` and one is hit, so the query ends.
-bool testLeaf(uint leaf, vec3 origin, vec3 dir, bool anyHit, inout Hit hit) {
-    uint first = leaf & BVH_OFFSET_MASK, end = first + (leaf >> BVH_COUNT_SHIFT);
+// Primitives [first, end) tested against the ray, `hit` kept as the closest found; true when
+// `anyHit` and one is hit, so the query ends.
+bool testPrimitives(uint first, uint end, vec3 origin, vec3 dir, bool anyHit, inout Hit hit) {
     for (uint i = first; i < end; ++i) {
         float t;
         vec2 uv;
@@ -209,6 +208,12 @@ bool testLeaf(uint leaf, vec3 origin, vec3 dir, bool anyHit, inout Hit hit) {
         }
     }
     return false;
+}
+
+// The primitives of leaf `leaf` (offset | count << BVH_COUNT_SHIFT).
+bool testLeaf(uint leaf, vec3 origin, vec3 dir, bool anyHit, inout Hit hit) {
+    uint first = leaf & BVH_OFFSET_MASK;
+    return testPrimitives(first, first + (leaf >> BVH_COUNT_SHIFT), origin, dir, anyHit, hit);
 }
 
 // Orders two children by key (entry distance), carrying their references: one
@@ -260,19 +265,10 @@ bool traverse(vec3 origin, vec3 dir, float tMax, bool anyHit, uint ignore, out H
     // The primitives beside the tree, in order, before it (host/bvh/bvh.h says which and
     // why): a large floor is then one test here, not a round of the loop below for most rays
     // and a level of the tree for the rest, 1.08x on a million triangles ("Round 22"). A
-    // uniform loop, usually of none; the tests are the leaves' (testLeaf), so traceAnyIgnoring's
+    // uniform loop, usually of none; the tests are the leaves', so traceAnyIgnoring's
     // reasoning holds here too.
     uvec2 beside = bvhBesideRange();
-    for (uint i = beside.x; i < beside.x + beside.y; ++i) {
-        float t;
-        vec2 uv;
-        if (intersectPrimitive(loadPrimitive(i), origin, dir, hit.t, t, uv)) {
-            hit.t = t;
-            hit.primitive = i;
-            hit.uv = uv;
-            if (anyHit) return true;
-        }
-    }
+    if (testPrimitives(beside.x, beside.x + beside.y, origin, dir, anyHit, hit)) return true;
     vec3 invDir = rayInverseDirection(dir);
     int sp = 0;
 #ifdef PENUMBRA_NODE_ADDRESS
