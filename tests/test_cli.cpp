@@ -192,7 +192,7 @@ struct FirstDevice {
 };
 FirstDevice firstDevice() {
     // The SIMD width penumbra asks llvmpipe for is in its device name ("512 bits").
-    gpu::chooseLlvmpipeVectorWidth(false);
+    const gpu::LlvmpipeWidthChoice width(false);
     VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
     app.apiVersion = VK_API_VERSION_1_1;
     VkInstanceCreateInfo info{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
