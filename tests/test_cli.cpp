@@ -11,7 +11,6 @@
 #include <vulkan/vulkan.h>
 #include <nlohmann/json.hpp>
 
-#include "gpu/llvmpipe_width.h"
 #include "gpu_fixture.h"
 #include "image/image.h"
 #include "render_helpers.h"
@@ -191,8 +190,6 @@ struct FirstDevice {
     std::string name, driverName, driver;
 };
 FirstDevice firstDevice() {
-    // The SIMD width penumbra asks llvmpipe for is in its device name ("512 bits").
-    const gpu::LlvmpipeWidthChoice width(false);
     VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
     app.apiVersion = VK_API_VERSION_1_1;
     VkInstanceCreateInfo info{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};

@@ -4,7 +4,6 @@
 #include <cstdlib>
 #include <string>
 
-#include "gpu/llvmpipe_width.h"
 #include "gpu/vk_check.h"
 
 namespace penumbra::gpu {
@@ -148,7 +147,6 @@ int automaticChoice(const std::vector<VkPhysicalDevice>& devices, VkSurfaceKHR s
 }  // namespace
 
 std::vector<DeviceInfo> Context::listDevices(int* chosen) {
-    const LlvmpipeWidthChoice width(false);  // as a render would have it
     VkInstance instance = createInstance({});
     std::vector<DeviceInfo> result;
     try {
@@ -176,8 +174,6 @@ Context::Context(const ContextOptions& options) {
             if (!done) context->release();
         }
     } guard{this};
-    // Before the driver loads, which reads it then, until the device exists.
-    const LlvmpipeWidthChoice width(bool(options.createSurface));
     m_instance = createInstance(options.instanceExtensions);
     if (options.createSurface) m_surface = options.createSurface(m_instance);
     auto devices = physicalDevices(m_instance);
