@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
-#include <numeric>
 #include <stdexcept>
 #include <string>
 
@@ -38,18 +37,15 @@ struct Task {
 
 class Builder {
 public:
-    Builder(const std::vector<gpu::Primitive>& primitives, const BvhOptions& options)
+    // The tree over the primitives of input indices `subset` (each once), whose bounds are
+    // bounds[i] (primitiveBounds, for every input primitive).
+    Builder(std::vector<Aabb> bounds, std::vector<uint32_t> subset, const BvhOptions& options)
         : m_maxLeaf(std::clamp(options.maxLeafSize, 1u, gpu::BVH_MAX_LEAF_SIZE)),
-          m_binCount(std::clamp(options.binCount, 2u, 256u)) {
-        size_t n = primitives.size();
-        m_bounds.resize(n);
-        m_centroids.resize(n);
-        for (size_t i = 0; i < n; ++i) {
-            primitiveBounds(primitives[i], m_bounds[i].lo, m_bounds[i].hi);
-            m_centroids[i] = 0.5f * (m_bounds[i].lo + m_bounds[i].hi);
-        }
-        m_index.resize(n);
-        std::iota(m_index.begin(), m_index.end(), 0u);
+          m_binCount(std::clamp(options.binCount, 2u, 256u)),
+          m_bounds(std::move(bounds)),
+          m_index(std::move(subset)) {
+        m_centroids.resize(m_bounds.size());
+        for (size_t i = 0; i < m_bounds.size(); ++i) m_centroids[i] = 0.5f * (m_bounds[i].lo + m_bounds[i].hi);
     }
 
     // Builds depth-first with an explicit stack: the left child is pushed last, so it is
@@ -225,7 +221,8 @@ namespace {
 // The input indices of the primitives that go beside the tree (Bvh::besideCount), in input
 // order: those whose box has at least kBesideAreaShare of the scene box's area, then lights
 // of one primitive, each kind largest box first, at most options.maxBeside of them.
-std::vector<uint32_t> besideTheTree(const std::vector<gpu::Primitive>& primitives, const BvhOptions& options) {
+std::vector<uint32_t> besideTheTree(const std::vector<gpu::Primitive>& primitives, const std::vector<Aabb>& bounds,
+                                    const BvhOptions& options) {
     if (options.maxBeside == 0 || primitives.size() < std::max<size_t>(options.besideFrom, 1)) return {};
     // Areas in double: a float's product of two extents overflows from about 1.8e19 on.
     const auto areaOf = [](const Aabb& box) {
@@ -236,10 +233,8 @@ std::vector<uint32_t> besideTheTree(const std::vector<gpu::Primitive>& primitive
     std::vector<uint32_t> lightOfEach;  // the light of each emitting primitive, sorted
     Aabb scene;
     for (size_t i = 0; i < primitives.size(); ++i) {
-        Aabb box;
-        primitiveBounds(primitives[i], box.lo, box.hi);
-        area[i] = areaOf(box);
-        scene.grow(box);
+        area[i] = areaOf(bounds[i]);
+        scene.grow(bounds[i]);
         if (primitives[i].light != gpu::NO_LIGHT) lightOfEach.push_back(primitives[i].light);
     }
     std::sort(lightOfEach.begin(), lightOfEach.end());
@@ -290,30 +285,20 @@ Bvh buildBvh(std::vector<gpu::Primitive> primitives, const BvhOptions& options) 
         bvh.wideNodes = makeWideNodes(bvh.nodes);
         return bvh;
     }
-    // The tree is built over the primitives not beside it; treeIndex maps its input order
-    // back to ours (identity when none is beside).
-    const std::vector<uint32_t> beside = besideTheTree(primitives, options);
-    std::vector<gpu::Primitive> treePrimitives;
-    std::vector<uint32_t> treeIndex;
-    if (!beside.empty()) {
-        treePrimitives.reserve(primitives.size() - beside.size());
-        treeIndex.reserve(primitives.size() - beside.size());
-        size_t next = 0;  // into beside, which is sorted
-        for (uint32_t i = 0; i < primitives.size(); ++i) {
-            if (next < beside.size() && beside[next] == i) {
-                ++next;
-                continue;
-            }
-            treePrimitives.push_back(primitives[i]);
-            treeIndex.push_back(i);
-        }
+    // The tree is built over the primitives not beside it (beside is sorted).
+    std::vector<Aabb> bounds(primitives.size());
+    for (size_t i = 0; i < primitives.size(); ++i) primitiveBounds(primitives[i], bounds[i].lo, bounds[i].hi);
+    const std::vector<uint32_t> beside = besideTheTree(primitives, bounds, options);
+    std::vector<uint32_t> inTree;
+    inTree.reserve(primitives.size() - beside.size());
+    for (uint32_t i = 0, next = 0; i < primitives.size(); ++i) {
+        if (next < beside.size() && beside[next] == i) ++next;
+        else inTree.push_back(i);
     }
-    Builder builder(beside.empty() ? primitives : treePrimitives, options);
+    Builder builder(std::move(bounds), std::move(inTree), options);
     bvh.nodes = builder.build();
     bvh.wideNodes = makeWideNodes(bvh.nodes);
     bvh.originalIndex = builder.order();
-    if (!beside.empty())
-        for (uint32_t& i : bvh.originalIndex) i = treeIndex[i];
     bvh.besideCount = uint32_t(beside.size());
     bvh.originalIndex.insert(bvh.originalIndex.end(), beside.begin(), beside.end());
     bvh.primitives.reserve(primitives.size());
