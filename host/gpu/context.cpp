@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <string>
 
+#include "gpu/llvmpipe_width.h"
 #include "gpu/vk_check.h"
 
 namespace penumbra::gpu {
@@ -144,9 +145,37 @@ int automaticChoice(const std::vector<VkPhysicalDevice>& devices, VkSurfaceKHR s
     return best;
 }
 
+// Sets llvmpipe's SIMD width before the instance that renders is created (see
+// llvmpipe_width.h): the driver's version, on which the choice depends, is asked of a first
+// instance at the driver's own width, gone before the second is created. Costs that first
+// instance's start-up only where 16 lanes might pay (an Intel CPU with AVX-512).
+void chooseLlvmpipeWidth(bool presents) {
+    if (!llvmpipeWidthChoiceOpen(presents)) return;
+    VkInstance probe = VK_NULL_HANDLE;
+    try {
+        probe = createInstance({});
+    } catch (const GpuError&) {
+        return;  // the instance that renders reports it
+    }
+    bool pays = false;
+    try {
+        const auto devices = physicalDevices(probe);
+        const bool intel = cpuIsIntelWithAvx512();
+        for (uint32_t i = 0; i < devices.size() && !pays; ++i) {
+            const DeviceInfo info = describe(devices[i], i);
+            pays = sixteenLanesPay(intel, info.driverName, info.driverInfo);
+        }
+    } catch (const GpuError&) {
+        pays = false;
+    }
+    vkDestroyInstance(probe, nullptr);
+    if (pays) askForSixteenLanes();
+}
+
 }  // namespace
 
 std::vector<DeviceInfo> Context::listDevices(int* chosen) {
+    chooseLlvmpipeWidth(false);  // as a render would have it: the width is in llvmpipe's name
     VkInstance instance = createInstance({});
     std::vector<DeviceInfo> result;
     try {
@@ -174,6 +203,7 @@ Context::Context(const ContextOptions& options) {
             if (!done) context->release();
         }
     } guard{this};
+    chooseLlvmpipeWidth(bool(options.createSurface));
     m_instance = createInstance(options.instanceExtensions);
     if (options.createSurface) m_surface = options.createSurface(m_instance);
     auto devices = physicalDevices(m_instance);
