@@ -305,7 +305,10 @@ TEST(PassBands, AfterTheFirstPassSweepsGiveEachPixelAsManySamplesAsFit) {
         row += b.rowCount;
     }
     EXPECT_EQ(row, 48u);
-    EXPECT_LE(cheap.front().pixelSamples(), 2u * 64 * 48);
+    // At most four passes' pixel samples, as even those are predicted to take less than a
+    // quarter of the target here (twice the pass where they are not: the costly case below).
+    EXPECT_LE(cheap.front().pixelSamples(), 4u * 64 * 48);
+    EXPECT_GT(cheap.front().pixelSamples(), 2u * 64 * 48);
     // Costlier: one row of one sample takes 0.077 s, so the first two sweeps give 3 samples
     // (0.23 s a row; 3 also where the estimate of a band's fixed cost, the smallest band's
     // time, lowers the costs measured by up to an eighth) in bands of one row, and the last
@@ -320,6 +323,47 @@ TEST(PassBands, AfterTheFirstPassSweepsGiveEachPixelAsManySamplesAsFit) {
         EXPECT_EQ(costly[i].firstRow, last ? 3u * uint32_t(i - 2 * 48) : uint32_t(i % 48));
         EXPECT_LE(double(costly[i].pixelSamples()) * 1.2e-3, 0.25);
     }
+}
+
+TEST(PassBands, AShortRenderTakesFewSubmissions) {
+    // The time-to-error comparison's Cornell box: 200 x 200 pixels, a first band of 10,000
+    // pixel samples (Renderer's first guess), 0.07 us per pixel sample. Each submission has
+    // a fixed cost (0.2-0.7 ms on lavapipe, pass_bands.h), so a render of a few samples per
+    // pixel should take few: the first pass in two (10,000, then the 30,000 left, since that
+    // is at most half as much again as twice the first), then one sweep band of the rest
+    // (up to four passes, predicted far below the target).
+    const auto submissions = [](uint32_t spp) {
+        PassBands bands(200, 200, spp, 0, 10000);
+        std::vector<uint64_t> sizes;
+        while (!bands.finished()) {
+            const std::vector<PassBand> plan = bands.next(0.25);
+            std::vector<double> times;
+            uint64_t pixels = 0;
+            for (const PassBand& b : plan) {
+                times.push_back(7e-8 * double(b.pixelSamples()));
+                pixels += b.pixelSamples();
+            }
+            sizes.push_back(pixels);
+            bands.measured(times);
+        }
+        return sizes;
+    };
+    EXPECT_EQ(submissions(1), (std::vector<uint64_t>{10000, 30000}));
+    EXPECT_EQ(submissions(2), (std::vector<uint64_t>{10000, 30000, 40000}));
+    EXPECT_EQ(submissions(4), (std::vector<uint64_t>{10000, 30000, 120000}));
+    EXPECT_EQ(submissions(5), (std::vector<uint64_t>{10000, 30000, 160000}));
+    // Where the rest of the pass would not fit in the target at the cost measured (20 us per
+    // pixel sample: 0.6 s), it waits: the second submission grows by x2 at most. The first
+    // submission's two bands are of equal size, so the bound on a band's fixed part takes
+    // all of their time and their net cost is 0; the rule goes by the gross cost.
+    PassBands slow(200, 200, 1, 0, 10000);
+    std::vector<double> times;
+    for (const PassBand& b : slow.next(0.25)) times.push_back(2e-5 * double(b.pixelSamples()));
+    ASSERT_EQ(times.size(), 2u);
+    slow.measured(times);
+    uint64_t second = 0;
+    for (const PassBand& b : slow.next(0.25)) second += b.pixelSamples();
+    EXPECT_LE(second, 20000u);
 }
 
 TEST(PassBands, SplittingARenderChangesNoPixel) {

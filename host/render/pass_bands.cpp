@@ -49,6 +49,12 @@ std::vector<PassBand> PassBands::next(double target) {
         if (lastPixels > 0) pixels = 2.0 * double(lastPixels);
         if (maxCost() > 0.0) pixels = std::min(pixels, target / maxCost());
         pixels = std::max(pixels, double(kTile));
+        // The pass's rest too where it is at most half as much again (x3 growth instead of
+        // x2) and fits in the target at the costliest gross cost measured: a small last
+        // submission of the pass would pay a submission's fixed cost for little work.
+        const double rest = double(passPixelsLeft());
+        if (lastPixels > 0 && maxGrossCost() >= 0.0 && rest <= 1.5 * pixels && rest * maxGrossCost() <= target)
+            pixels = std::max(pixels, rest);
         if (m_maxPixelSamples > 0) pixels = std::min(pixels, double(m_maxPixelSamples));
         uint64_t budget = uint64_t(std::min(pixels, 1e15));
         // Bands of this pass's strips in the spread order until the budget is spent; a
@@ -129,7 +135,11 @@ PassBand PassBands::nextSweepBand(double target, uint64_t lastPixels) {
     const double rowSamples = double(m_width) * m_sweepCount;  // pixel samples of one row of the sweep
     const double pass = double(m_width) * m_height;
     double rows = rowSeconds > 0.0 ? target / (rowSeconds * m_sweepCount) : double(m_height);
-    rows = std::min(rows, 2.0 * std::max(double(lastPixels), pass) / rowSamples);
+    // x4 where even that is predicted to take at most a quarter of the target, so that a
+    // render of a few samples per pixel finishes its sweep in one submission.
+    const double basis = std::max(double(lastPixels), pass);
+    const double growth = 4.0 * basis * std::max(maxGrossCost(), 0.0) <= target / 4 ? 4.0 : 2.0;
+    rows = std::min(rows, growth * basis / rowSamples);
     if (m_maxPixelSamples > 0) rows = std::min(rows, double(m_maxPixelSamples) / rowSamples);
     rows = std::clamp(rows, 1.0, double(m_height - m_sweepRow));
     PassBand band{m_sample, m_sweepCount, m_sweepRow, uint32_t(rows), 0, m_width};
@@ -140,6 +150,18 @@ PassBand PassBands::nextSweepBand(double target, uint64_t lastPixels) {
         m_sweepRow = 0;
     }
     return band;
+}
+
+uint64_t PassBands::passPixelsLeft() const {
+    uint64_t left = 0;
+    for (const Strip& s : m_strips) left += uint64_t(s.rows - s.row) * m_width - s.column;
+    return left;
+}
+
+double PassBands::maxGrossCost() const {
+    double cost = -1.0;
+    for (const Strip& s : m_strips) cost = std::max(cost, s.grossCost);
+    return cost;
 }
 
 bool PassBands::allMeasured() const {
@@ -167,15 +189,20 @@ void PassBands::measured(const std::vector<double>& seconds) {
         const uint64_t pixels = band.pixelSamples();
         if (pixels == 0) continue;
         const double cost = std::max(std::max(seconds[i], 0.0) - m_fixedSeconds, 0.0) / double(pixels);
+        const double grossCost = std::max(seconds[i], 0.0) / double(pixels);
         if (m_handed[i].strip >= 0) {
             m_strips[size_t(m_handed[i].strip)].cost = cost;
+            m_strips[size_t(m_handed[i].strip)].grossCost = grossCost;
             continue;
         }
         // A sweep's band spans strips of different costs: its mean may only raise theirs, so
         // that a costly strip's estimate is never lowered by the cheap rows beside it.
         const uint32_t end = band.firstRow + band.rowCount;
         for (Strip& t : m_strips)
-            if (t.firstRow < end && band.firstRow < t.firstRow + t.rows) t.cost = std::max(t.cost, cost);
+            if (t.firstRow < end && band.firstRow < t.firstRow + t.rows) {
+                t.cost = std::max(t.cost, cost);
+                t.grossCost = std::max(t.grossCost, grossCost);
+            }
     }
 }
 

@@ -3,7 +3,8 @@
 // up to 8 horizontal strips, visited in a spread-out order (0, 4, 2, 6, 1, 5, 3, 7). During
 // the first pass a submission holds bands of the strips in that order (rows, or a run of
 // 8-pixel tiles of one row), as many pixel samples in all as the costliest strip's cost per
-// pixel sample lets fit in the time, and at most twice the previous submission's; once every
+// pixel sample lets fit in the time, and at most twice the previous submission's (three times
+// where that takes the pass's rest, predicted within the time at its gross cost); once every
 // strip is measured, it holds a band of a sweep of row bands (below). Each band is timed on
 // its own (gpu/gpu_timer.h), so a submission measures every strip it touched. A band's time
 // has a fixed part (on lavapipe under load, tens of milliseconds per dispatch) that is taken
@@ -17,7 +18,9 @@
 // Once the first pass has measured every strip, and a row of the film takes at most half
 // the target, the rest is rendered in sweeps of row bands from top to bottom: each sweep
 // gives every pixel `count` more samples, as many as one row can take within the target
-// (often all that are left), and each band is as many rows as fit. One dispatch then adds
+// (often all that are left), and each band is as many rows as fit, at most twice the pixel
+// samples of the last submission or of a pass (four times where even that is predicted to
+// take a quarter of the time). One dispatch then adds
 // many samples to each of its pixels one after another (integrators/kernel_common.glsl,
 // main), which is faster per sample the more it adds: each invocation's fixed cost is
 // spread over more samples, and a pixel's next sample may find what its last one read
@@ -32,7 +35,8 @@
 // against about 0.04 ms for a dispatch within one submission (`penumbra_bench --low-spp`).
 // One submission per strip made the first pass at least eight submissions: at 256 x 160 on
 // 2 cores, renders of 1-8 spp took 1.2-1.9x as long as the same passes in one submission
-// (docs/PERFORMANCE.md, "Round 21").
+// (docs/PERFORMANCE.md, "Round 21"). The x3 and x4 growth cut a Cornell box of 4 spp from
+// five submissions to three: 1.19x ("Round 23").
 #pragma once
 
 #include <cstddef>
@@ -90,12 +94,19 @@ private:
         uint32_t firstRow = 0, rows = 0;
         uint32_t row = 0, column = 0;  // the next pixel of the current pass, relative row
         double cost = -1.0;            // its last band's seconds per pixel sample; < 0 unknown
+        // The same with the band's fixed part left in: an overestimate, never under, even
+        // where bands of equal size make the fixed part's bound take all of their time.
+        double grossCost = -1.0;
         bool done() const { return row >= rows; }
     };
     // Whether every strip's cost is known (once the first pass is done).
     bool allMeasured() const;
     // The costliest strip's cost, or < 0 if none is known.
     double maxCost() const;
+    // The costliest strip's grossCost, or < 0 if none is known.
+    double maxGrossCost() const;
+    // The pixels of the current pass not handed out yet.
+    uint64_t passPixelsLeft() const;
     // The next band of the current sweep (see above), starting one if none is under way;
     // `lastPixels`: the pixel samples of the last submission.
     PassBand nextSweepBand(double target, uint64_t lastPixels);
