@@ -12,9 +12,11 @@ constexpr const char* kWidth = "LP_NATIVE_VECTOR_WIDTH";
 constexpr const char* kCacheDir = "MESA_SHADER_CACHE_DIR";
 constexpr const char* kMarker = "PENUMBRA_LLVMPIPE_WIDTH";  // set beside the two: penumbra chose them
 
-// The first Mesa version whose llvmpipe measured faster with 16 lanes (25.0.7; 22.3.6 was
-// 60x slower). Versions in between were not measured and keep 8.
-constexpr MesaVersion kFirstFastMesa{25, 0};
+// The Mesa release series whose llvmpipe was measured faster with 16 lanes (25.0.7). The
+// others keep 8 until measured: 22.3.6 rendered 60x slower, and 26.2.6 (Debian unstable's)
+// aborts with "stack smashing detected" on a scene with a BVH; a release in between may be
+// either.
+constexpr MesaVersion kFastMesa{25, 0};
 
 // Where the 16-lane kernels are cached; empty when there is no home to put it in.
 std::string sixteenLaneCache() {
@@ -54,8 +56,7 @@ bool sixteenLanesPay(bool intelWithAvx512, const std::string& driverName, const 
     if (!intelWithAvx512 || driverName != "llvmpipe") return false;
     const MesaVersion version = parseMesaVersion(driverInfo);
     if (!version.known()) return false;
-    return version.major > kFirstFastMesa.major ||
-           (version.major == kFirstFastMesa.major && version.minor >= kFirstFastMesa.minor);
+    return version.major == kFastMesa.major && version.minor == kFastMesa.minor;
 }
 
 bool cpuIsIntelWithAvx512() {

@@ -2,9 +2,9 @@
 // vectors) by default, 16 where LP_NATIVE_VECTOR_WIDTH=512 asks for them. Whether 16 pay
 // depends on the CPU and on the driver's version (docs/PERFORMANCE.md, "Round 23"):
 //
-//   CPU                         Mesa 22.3.6        Mesa 25.0.7
-//   Intel Xeon, AVX-512         0.016x (60x slower) 1.17-1.27x, images bit-identical
-//   AMD EPYC Zen 4, AVX-512     -                  0.91-1.01x
+//   CPU                         Mesa 22.3.6          Mesa 25.0.7                 Mesa 26.2.6
+//   Intel Xeon, AVX-512         0.016x (60x slower)  1.15-1.33x, same images     aborts on BVH scenes
+//   AMD EPYC Zen 4, AVX-512     -                    0.91-1.01x                  -
 //
 // The variable is read when the driver loads (its shader cache, its device name) and again
 // at every kernel compile, so the choice must be made before the Vulkan instance that
@@ -28,8 +28,9 @@ struct MesaVersion {
 MesaVersion parseMesaVersion(const std::string& driverInfo);
 
 // True where 16 lanes were measured faster: an Intel CPU with AVX-512 (F, BW, DQ, VL) and
-// llvmpipe from Mesa 25.0 or later. Older Mesa (22.3 renders 60x slower at 16 lanes) and
-// other CPUs keep the driver's own 8.
+// llvmpipe from the Mesa 25.0 series. Other releases (22.3 renders 60x slower at 16 lanes,
+// 26.2 aborts: "stack smashing detected") and other CPUs keep the driver's own 8 until
+// measured.
 bool sixteenLanesPay(bool intelWithAvx512, const std::string& driverName, const std::string& driverInfo);
 
 // Whether this CPU is an Intel one with AVX-512 F, BW, DQ and VL.
