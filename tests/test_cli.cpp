@@ -183,6 +183,14 @@ TEST(Cli, SamplerTypeIsRecordedAndOverridable) {
     EXPECT_FALSE(fs::exists(bad));
 }
 
+// A device list or name without llvmpipe's SIMD width ("llvmpipe (LLVM 15.0.6, 256 bits)"
+// -> "llvmpipe (LLVM 15.0.6)"): penumbra may choose another width than this process has
+// (tests/test_llvmpipe_width.cpp checks that choice).
+std::string withoutLlvmpipeWidth(const std::string& text) {
+    static const std::regex width(R"(, \d+ bits\))");
+    return std::regex_replace(text, width, ")");
+}
+
 // Device 0 as the Vulkan loader reports it to this process, queried here without
 // penumbra's own code: its name, and its driver as "<driverName>, <driverInfo>" ("" without
 // driver properties). Empty when there is no device.
@@ -226,12 +234,7 @@ TEST(Cli, CompareAndDevicesPrintForScripts) {
     ASSERT_EQ(test::runPenumbra("devices", nullptr, &out), 0);
     const FirstDevice first = firstDevice();
     ASSERT_FALSE(first.name.empty()) << "no Vulkan device";
-    // llvmpipe's name carries its SIMD width ("256 bits"), which penumbra may choose
-    // differently from this process (tests/test_llvmpipe_width.cpp checks that choice).
-    const std::regex width(R"(, \d+ bits\))");
-    EXPECT_NE(std::regex_replace(out, width, ")").find("* 0: " + std::regex_replace(first.name, width, ")")),
-              std::string::npos)
-        << out;
+    EXPECT_NE(withoutLlvmpipeWidth(out).find("* 0: " + withoutLlvmpipeWidth(first.name)), std::string::npos) << out;
 }
 
 TEST(Cli, DevicesPrintsTheDriverAndItsMesaVersion) {
@@ -241,9 +244,8 @@ TEST(Cli, DevicesPrintsTheDriverAndItsMesaVersion) {
     ASSERT_EQ(test::runPenumbra("devices", nullptr, &out), 0);
     // The line under device 0 names the same driver and version as the loader reports
     // (lavapipe on the machines that run the tests; "NVIDIA, 580.159.04" on an H200).
-    const std::regex width(R"(, \d+ bits\))");  // as above
-    out = std::regex_replace(out, width, ")");
-    size_t device = out.find("* 0: " + std::regex_replace(first.name, width, ")"));
+    out = withoutLlvmpipeWidth(out);
+    size_t device = out.find("* 0: " + withoutLlvmpipeWidth(first.name));
     ASSERT_NE(device, std::string::npos) << out;
     size_t lineEnd = out.find('\n', device);
     ASSERT_NE(lineEnd, std::string::npos) << out;

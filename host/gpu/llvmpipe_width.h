@@ -9,8 +9,8 @@
 // The variable is read when the driver loads (its shader cache, its device name) and again
 // at every kernel compile, so the choice must be made before the Vulkan instance that
 // renders exists, while the driver's version is only known once some instance exists. So
-// gpu::Context asks a first, short-lived instance for the version (llvmpipeDriverVersion),
-// and only then sets the variable and creates its own.
+// gpu::Context asks a first, short-lived instance for the version (chooseLlvmpipeWidth in
+// gpu/context.cpp), and only then sets the variable and creates its own.
 #pragma once
 
 #include <string>
