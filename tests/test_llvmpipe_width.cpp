@@ -4,12 +4,15 @@
 // unstable's 26.2 too (tools/test-other-mesa), where 16 lanes rendered 60x slower and
 // aborted: there the rendering process must keep 8.
 #include <cstdlib>
+#include <fstream>
+#include <optional>
 #include <regex>
 #include <string>
 
 #include <gtest/gtest.h>
 
 #include "gpu/llvmpipe_width.h"
+#include "gpu_fixture.h"
 #include "render_helpers.h"
 
 using namespace penumbra;
@@ -83,6 +86,29 @@ TEST(LlvmpipeWidth, TheRenderingProcessGetsTheWidthTheRuleGivesForItsDriver) {
     }
     const bool pays = gpu::sixteenLanesPay(gpu::cpuIsIntelWithAvx512(), device.driverName, device.driverInfo);
     EXPECT_EQ(device.bits, pays ? 512 : 256) << device.driverInfo;
+}
+
+TEST(LlvmpipeWidth, AnUnusableCacheDirectoryKeepsEightLanes) {
+    // XDG_CACHE_HOME naming a file: the 16-lane kernels would have no cache of their own
+    // (Mesa disables it and every start compiles them again), so the choice keeps 8 lanes,
+    // whatever the CPU and driver. The child processes inherit the variable from this one.
+    for (const char* user : {"LP_NATIVE_VECTOR_WIDTH", "MESA_SHADER_CACHE_DIR", "PENUMBRA_DEVICE"}) {
+        if (std::getenv(user) != nullptr) GTEST_SKIP() << user << " is set: the choice is the user's";
+    }
+    const std::string file = test::outputPath("not-a-cache-directory").string();
+    std::ofstream(file) << "a file, not a directory\n";
+    const char* before = std::getenv("XDG_CACHE_HOME");
+    const std::optional<std::string> saved = before ? std::optional<std::string>(before) : std::nullopt;
+    setenv("XDG_CACHE_HOME", file.c_str(), 1);
+    const PrintedDevice device = printedDevice0();
+    if (saved) {
+        setenv("XDG_CACHE_HOME", saved->c_str(), 1);
+    } else {
+        unsetenv("XDG_CACHE_HOME");
+    }
+    ASSERT_FALSE(device.driverName.empty()) << "penumbra devices printed no driver for device 0";
+    if (device.driverName != "llvmpipe") GTEST_SKIP() << "device 0 is " << device.driverName << ", not llvmpipe";
+    EXPECT_EQ(device.bits, 256) << device.driverInfo;
 }
 
 }  // namespace

@@ -2,7 +2,9 @@
 #include "gpu/llvmpipe_width.h"
 
 #include <cstdlib>
+#include <filesystem>
 #include <string>
+#include <system_error>
 
 namespace penumbra::gpu {
 
@@ -25,6 +27,16 @@ std::string sixteenLaneCache() {
     if (const char* home = std::getenv("HOME"); home != nullptr && home[0] == '/')
         return std::string(home) + "/.cache/penumbra/llvmpipe-512";
     return {};
+}
+
+// Whether `dir` is a directory, made if missing. Where it cannot be (a file on the way, no
+// permission, a path too long), Mesa would disable its cache with a warning on stderr, and
+// every start would compile the kernels again: 8 lanes with the usual cache serve better.
+bool usableDirectory(const std::string& dir) {
+    if (dir.empty()) return false;
+    std::error_code error;
+    std::filesystem::create_directories(dir, error);
+    return std::filesystem::is_directory(dir, error) && !error;
 }
 
 // Reads a decimal number of at most 4 digits at `text[*at]`; -1 if there is none.
@@ -79,7 +91,7 @@ bool llvmpipeWidthChoiceOpen(bool presents) {
         unsetenv(kMarker);
     }
     if (presents || std::getenv(kWidth) != nullptr || std::getenv(kCacheDir) != nullptr) return false;
-    return cpuIsIntelWithAvx512() && !sixteenLaneCache().empty();
+    return cpuIsIntelWithAvx512() && usableDirectory(sixteenLaneCache());
 }
 
 void askForSixteenLanes() {

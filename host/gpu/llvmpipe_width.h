@@ -44,7 +44,7 @@ bool cpuIsIntelWithAvx512();
 //   LP_NATIVE_VECTOR_WIDTH or MESA_SHADER_CACHE_DIR; the context presents (with 16 lanes,
 //   llvmpipe 25.0.7 stops the preview with a bus error while presenting); the CPU is not
 //   an Intel one with AVX-512; there is no cache directory to give the 16-lane kernels
-//   (below); or a choice was made already in this process.
+//   (below) or it cannot be made a directory; or a choice was made already in this process.
 bool llvmpipeWidthChoiceOpen(bool presents);
 
 // Sets LP_NATIVE_VECTOR_WIDTH=512 for the rest of the process with a shader cache of its
