@@ -114,33 +114,37 @@ constexpr uint32_t kUnwrittenEntry = 0xffffffffu;
 // Runs the test kernel `name` over the scene's buffers: one invocation per input (binding
 // 0, 64 per workgroup), each writing one Result (binding 1). The push constants are the
 // input count, the node buffer's device address, the traversal stacks' address and
-// entries per invocation (bvh_trace.comp's "_address" variant: childStackDepth entries, as
-// the renderer gives them, unless `stackDepth` says otherwise; most of these scenes' rays
-// seldom fill the stack, so Bvh.StackDepthIsTheLongestPathsInteriorNodes checks the count
-// itself, with rays that do), and the primitives beside the tree. With `stackEntries`, the stacks start as kUnwrittenEntry
-// and are read back into it after the run, `depth` entries per invocation.
+// entries per stack (bvh_trace.comp's "_address" variant: BVH_STACKS_PER_INVOCATION stacks
+// of childStackDepth entries, as the renderer gives them, unless `stackDepth` says
+// otherwise; most of these scenes' rays seldom fill the stack, so
+// Bvh.StackDepthIsTheLongestPathsInteriorNodes checks the count itself, with rays that do),
+// the primitives beside the tree, and `pairs` (bvh_trace.comp: trace through tracePair).
+// With `stackEntries`, the stacks start as kUnwrittenEntry and are read back into it after
+// the run, BVH_STACKS_PER_INVOCATION * `depth` entries per invocation.
 template <class Result, class Input>
 std::vector<Result> runSceneKernel(const char* name, const Bvh& bvh,
                                    const std::vector<gpu::TriangleNormals>& shadingNormals,
                                    const std::vector<Input>& inputs, const std::vector<uint32_t>& specialization = {},
-                                   uint32_t stackDepth = 0, std::vector<uint32_t>* stackEntries = nullptr) {
+                                   uint32_t stackDepth = 0, std::vector<uint32_t>* stackEntries = nullptr,
+                                   bool pairs = false) {
     auto& ctx = test::gpuContext();
     auto inputBuffer = gpu::Buffer::fromVector(ctx, inputs);
     gpu::Buffer results(ctx, inputs.size() * sizeof(Result), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     SceneBuffers scene(ctx, bvh, shadingNormals);
     const uint32_t groups = uint32_t((inputs.size() + 63) / 64),
                    depth = stackDepth > 0 ? stackDepth : childStackDepth(bvh.wideNodes);
-    gpu::Buffer stacks = gpu::Buffer::fromVector(ctx,
-                                                 std::vector<uint32_t>(size_t(groups) * 64 * depth, kUnwrittenEntry),
-                                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | gpu::deviceAddressUsage(ctx));
-    const uint32_t push[8] = {uint32_t(inputs.size()),
+    gpu::Buffer stacks = gpu::Buffer::fromVector(
+        ctx, std::vector<uint32_t>(size_t(groups) * 64 * gpu::BVH_STACKS_PER_INVOCATION * depth, kUnwrittenEntry),
+        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | gpu::deviceAddressUsage(ctx));
+    const uint32_t push[9] = {uint32_t(inputs.size()),
                               uint32_t(scene.nodes.address()),
                               uint32_t(scene.nodes.address() >> 32),
                               uint32_t(stacks.address()),
                               uint32_t(stacks.address() >> 32),
                               depth,
                               bvh.besideFirst(),
-                              bvh.besideCount};
+                              bvh.besideCount,
+                              pairs ? 1u : 0u};
     gpu::Kernel kernel(ctx, name, sceneBindings(), sizeof(push), specialization);
     kernel.bind(0, inputBuffer);
     kernel.bind(1, results);
@@ -154,14 +158,15 @@ std::vector<Result> runSceneKernel(const char* name, const Bvh& bvh,
 
 // tests/bvh_trace, or its "_inline<N>" variant where `specialization` puts primitives inline,
 // or its "_int64" one where it reads nodes 32 bytes at a time, "_address" through the node
-// buffer's device address (render/node_reads.h).
+// buffer's device address (render/node_reads.h); with `pairs` ("_address" only), the
+// closest and any hits are traced two rays at a time (geometry/bvh.glsl, tracePair).
 std::vector<TraceResult> traceOnGpu(const Bvh& bvh, const std::vector<TraceRay>& rays,
-                                    const std::vector<uint32_t>& specialization = {}) {
+                                    const std::vector<uint32_t>& specialization = {}, bool pairs = false) {
     const uint32_t inlined = specialization.size() > SPEC_INLINE_COUNT ? specialization[SPEC_INLINE_COUNT] : 0;
     const uint32_t nodeReads = specialization.size() > SPEC_NODE_READS ? specialization[SPEC_NODE_READS] : 0;
     const std::string name = inlined > 0 ? "tests/bvh_trace_inline" + std::to_string(inlineKernelCapacity(inlined))
                                          : nodeReadsKernel("tests/bvh_trace", nodeReads);
-    return runSceneKernel<TraceResult>(name.c_str(), bvh, {}, rays, specialization);
+    return runSceneKernel<TraceResult>(name.c_str(), bvh, {}, rays, specialization, 0, nullptr, pairs);
 }
 
 // The traversal kernels' specialization with nodes read as `nodeReads` (NODE_READS_*); the
@@ -180,13 +185,21 @@ bool deviceReadsNodesThroughAddresses() {
 
 // Every way a kernel reads nodes on the test device: texels, the storage buffer in loads of
 // 16 bytes, and of 32 where the device has shaderInt64 (lavapipe has), and those through the
-// buffer's device address where it also has bufferDeviceAddress (lavapipe has).
-std::vector<std::pair<std::vector<uint32_t>, std::string>> everyNodeReads() {
-    std::vector<std::pair<std::vector<uint32_t>, std::string>> reads = {
-        {{}, "texels"}, {nodeReadsSpecialization(NODE_READS_STORAGE), "storage"}};
+// buffer's device address where it also has bufferDeviceAddress (lavapipe has), and, for
+// those, the rays traced two at a time as the render kernel traces them (tracePair).
+struct NodeReadsVariant {
+    std::vector<uint32_t> specialization;
+    std::string label;
+    bool pairs = false;
+};
+std::vector<NodeReadsVariant> everyNodeReads() {
+    std::vector<NodeReadsVariant> reads = {{{}, "texels"}, {nodeReadsSpecialization(NODE_READS_STORAGE), "storage"}};
     if (test::gpuContext().info().shaderInt64)
         reads.push_back({nodeReadsSpecialization(NODE_READS_STORAGE_32), "storage32"});
-    if (deviceReadsNodesThroughAddresses()) reads.push_back({nodeReadsSpecialization(NODE_READS_ADDRESS), "address"});
+    if (deviceReadsNodesThroughAddresses()) {
+        reads.push_back({nodeReadsSpecialization(NODE_READS_ADDRESS), "address"});
+        reads.push_back({nodeReadsSpecialization(NODE_READS_ADDRESS), "address_pairs", true});
+    }
     return reads;
 }
 
@@ -202,7 +215,7 @@ uint32_t gpuStackHighWater(const Bvh& bvh, const std::vector<TraceRay>& rays, ui
     uint32_t deepest = 0;
     for (size_t ray = 0; ray < rays.size(); ++ray)
         for (uint32_t used = depth; used > deepest; --used)
-            if (entries[ray * depth + used - 1] != kUnwrittenEntry) {
+            if (entries[(ray * gpu::BVH_STACKS_PER_INVOCATION) * depth + used - 1] != kUnwrittenEntry) {
                 deepest = used;
                 break;
             }
@@ -284,10 +297,10 @@ void mixRayLengths(Random& rng, const Bvh& bvh, std::vector<TraceRay>& rays, flo
 // against CPU brute force over `scene`; `label` names the summary line and the log file.
 void expectGpuMatchesCpuBruteForce(const std::vector<gpu::Primitive>& scene, const Bvh& bvh,
                                    const std::vector<TraceRay>& rays, const std::vector<uint32_t>& specialization,
-                                   const std::string& label) {
+                                   const std::string& label, bool pairs = false) {
     const uint32_t rayCount = uint32_t(rays.size());
     auto gpuStart = std::chrono::steady_clock::now();
-    auto gpuResults = traceOnGpu(bvh, rays, specialization);
+    auto gpuResults = traceOnGpu(bvh, rays, specialization, pairs);
     double gpuSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - gpuStart).count();
 
     // Tolerance on t: GPU and CPU round differently (and lavapipe may fuse multiply-adds);
@@ -393,8 +406,8 @@ TEST(Bvh, GpuTraversalMatchesCpuBruteForce) {
     mixRayLengths(rng, bvh, rays, 20.0f);
     // Every way the kernel may read nodes (render/node_reads.h): the texel buffer (the
     // shader's default) and the storage buffer in loads of 16 and of 32 bytes.
-    for (const auto& [specialization, reads] : everyNodeReads())
-        expectGpuMatchesCpuBruteForce(scene, bvh, rays, specialization, "bvh_gpu_" + reads);
+    for (const auto& [specialization, reads, pairs] : everyNodeReads())
+        expectGpuMatchesCpuBruteForce(scene, bvh, rays, specialization, "bvh_gpu_" + reads, pairs);
 }
 
 // (b') Primitives beside the tree (Bvh::besideCount): a floor whose box has most of the
@@ -446,8 +459,8 @@ TEST(Bvh, PrimitivesBesideTheTreeMatchBruteForce) {
     EXPECT_GT(besideHits, rays.size() / 20) << "the floor should be the nearest hit of a fair share of rays";
     CpuComparison cpu = compareCpu(scene, bvh, rays);
     EXPECT_EQ(cpu.failures, 0u) << "first failing ray: " << cpu.firstFailure;
-    for (const auto& [specialization, reads] : everyNodeReads())
-        expectGpuMatchesCpuBruteForce(scene, bvh, rays, specialization, "bvh_beside_" + reads);
+    for (const auto& [specialization, reads, pairs] : everyNodeReads())
+        expectGpuMatchesCpuBruteForce(scene, bvh, rays, specialization, "bvh_beside_" + reads, pairs);
 }
 
 // (b'') The same with every primitive inline (shaders/geometry/inline_geometry.glsl): the
@@ -864,8 +877,8 @@ TEST(Bvh, NonFiniteRaysMissAndTerminate) {
             EXPECT_FALSE(intersectClosest(bvh, vec3(ray.originTMax), vec3(ray.dir), kInf)) << describe(ray);
             EXPECT_FALSE(intersectAny(bvh, vec3(ray.originTMax), vec3(ray.dir), kInf)) << describe(ray);
         }
-        for (const auto& [specialization, reads] : everyNodeReads())
-            for (const TraceResult& r : traceOnGpu(bvh, rays, specialization)) {
+        for (const auto& [specialization, reads, pairs] : everyNodeReads())
+            for (const TraceResult& r : traceOnGpu(bvh, rays, specialization, pairs)) {
                 SCOPED_TRACE(reads);
                 EXPECT_EQ(r.primitive, gpu::NO_HIT);
                 EXPECT_EQ(r.anyHit, 0u);
@@ -927,7 +940,8 @@ TEST(Bvh, LargeBuildHasSaneCostAndBoundedDepth) {
         for (int i = 0; i < 4000; ++i) {
             vec3 c = centre + radius * rng.inBox(-1, 1);
             float size = 0.02f * radius;
-            scene.push_back(triangle(c + size * rng.inBox(-1, 1), c + size * rng.inBox(-1, 1), c + size * rng.inBox(-1, 1)));
+            scene.push_back(
+                triangle(c + size * rng.inBox(-1, 1), c + size * rng.inBox(-1, 1), c + size * rng.inBox(-1, 1)));
         }
     }
     Bvh bvh = buildBvh(scene);
@@ -1089,7 +1103,8 @@ TEST(Bvh, SecondaryRaysNeverReHitTheirOwnSurface) {
     }
     std::cout << "[ bvh offset ] " << cases.size() << " cases, " << valid << " hit their target, " << selfHits
               << " self-hits, " << largeOffsets << " large offsets, " << badNormals << " wrong normals\n";
-    if (selfHits || largeOffsets || badNormals) std::ofstream(test::outputPath("bvh_self_intersection.txt")) << log.str();
+    if (selfHits || largeOffsets || badNormals)
+        std::ofstream(test::outputPath("bvh_self_intersection.txt")) << log.str();
     EXPECT_GT(valid, cases.size() * 7 / 10) << "most first rays should reach their target primitive";
     EXPECT_EQ(selfHits, 0u) << "see build/test-output/bvh_self_intersection.txt";
     EXPECT_EQ(largeOffsets, 0u);

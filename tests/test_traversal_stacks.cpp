@@ -22,7 +22,9 @@ TEST(TraversalStacks, HoldTheFilmUpToTheLimitAndAlwaysOneRow) {
     EXPECT_EQ(stackInvocationsFor(10000, 4), 10000u * 64u);  // one row of a very wide film
     EXPECT_EQ(stackInvocationsFor(0, 0), 64u);
     // The limit keeps the buffer within kStackBytes for deep trees' stacks.
-    EXPECT_EQ(stackInvocationLimit(45), kStackInvocations);  // the 1M-triangle bench scene's
+    EXPECT_EQ(stackInvocationLimit(45), kStackInvocations);
+    // The 1M-triangle bench scene's two stacks of 45 entries per invocation.
+    EXPECT_EQ(stackInvocationLimit(gpu::BVH_STACKS_PER_INVOCATION * 45), 186413u);
     EXPECT_EQ(stackInvocationLimit(64), kStackInvocations);
     EXPECT_EQ(stackInvocationLimit(3 * BVH_MAX_DEPTH), 87381u);
     EXPECT_LE(uint64_t(stackInvocationLimit(3 * BVH_MAX_DEPTH)) * 3 * BVH_MAX_DEPTH * 4, kStackBytes);

@@ -69,7 +69,7 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
           workerThreadsFor(context.info(), std::getenv("LP_NUM_THREADS"), std::thread::hardware_concurrency())),
       m_stackDepth(childStackDepth(m_arrays.bvh.wideNodes)),
       m_stackInvocations(stackInvocationsFor(tilesFor(m_params.width), tilesFor(m_params.height),
-                                             stackInvocationLimit(m_stackDepth))) {
+                                             stackInvocationLimit(gpu::BVH_STACKS_PER_INVOCATION * m_stackDepth))) {
     using gpu::Buffer;
     m_paramsBuffer = Buffer(context, sizeof(gpu::RenderParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, 0,
                             VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, "render parameters");
@@ -122,9 +122,10 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
 
 void Renderer::allocateStacks() {
     if (m_options.nodeReads != NODE_READS_ADDRESS || m_stacks.handle() != VK_NULL_HANDLE) return;
-    m_stacks = gpu::Buffer(m_context, VkDeviceSize(m_stackInvocations) * m_stackDepth * sizeof(uint32_t),
-                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | gpu::deviceAddressUsage(m_context), 0,
-                           VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, "traversal stacks");
+    m_stacks = gpu::Buffer(
+        m_context, VkDeviceSize(m_stackInvocations) * gpu::BVH_STACKS_PER_INVOCATION * m_stackDepth * sizeof(uint32_t),
+        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | gpu::deviceAddressUsage(m_context), 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT,
+        "traversal stacks");
 }
 
 void Renderer::setStackInvocations(uint32_t invocations) {

@@ -150,7 +150,7 @@ private:
     NodeReads m_nodeReads = NodeReads::Device;
     KernelOptions m_options;
     uint32_t m_workerThreads = 1;     // render/tile_queue.h
-    uint32_t m_stackDepth = 1;        // traversal stack entries per invocation (childStackDepth)
+    uint32_t m_stackDepth = 1;        // entries per traversal stack (childStackDepth)
     uint32_t m_stackInvocations = 0;  // invocations whose stacks m_stacks holds
     // Declaration order is teardown order in reverse: the kernel goes before the buffers.
     gpu::Buffer m_paramsBuffer, m_accum, m_nodes, m_primitives, m_normals, m_materials, m_lights, m_lightTable,

@@ -1,6 +1,7 @@
 // Where the "_address" kernels keep their BVH traversal stacks (shaders/geometry/bvh.glsl):
-// a buffer of childStackDepth (host/bvh/bvh.h) 32-bit entries, child references, per
-// invocation of a dispatch, reached through its device address instead of a local array.
+// a buffer of BVH_STACKS_PER_INVOCATION stacks of childStackDepth (host/bvh/bvh.h) 32-bit
+// entries, child references, per invocation of a dispatch (one per ray that the kernel
+// traverses together), reached through its device address instead of a local array.
 // On lavapipe 25.0 a store to a local array at a per-lane index is a loop over the SIMD
 // lanes with a branch on each lane's mask bit, which mispredicts as lanes push at random; a
 // store through an address is one masked scatter (docs/PERFORMANCE.md, "Round 13").
@@ -19,9 +20,10 @@ namespace penumbra {
 inline constexpr uint32_t kStackInvocations = 1u << 18;
 inline constexpr uint64_t kStackBytes = uint64_t(64) << 20;
 
-// The most invocations whose stacks of `entries` 32-bit entries each fit in kStackBytes, at
-// most kStackInvocations and at least 1: 2^18 up to 64 entries, 87,381 for the deepest tree
-// the builder makes (3 x BVH_MAX_DEPTH entries).
+// The most invocations whose stacks, `entries` 32-bit entries per invocation in all, fit in
+// kStackBytes, at most kStackInvocations and at least 1: 2^18 up to 64 entries, 43,690 for
+// the deepest tree the builder makes (BVH_STACKS_PER_INVOCATION stacks of 3 x BVH_MAX_DEPTH
+// entries).
 uint32_t stackInvocationLimit(uint32_t entries);
 
 // Invocations of a dispatch of `workgroups` workgroups (of TILE_SIZE x TILE_SIZE).

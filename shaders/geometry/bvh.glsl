@@ -56,11 +56,14 @@ uvec2 bvhStackAddress();
 uint bvhStackDepth();
 uint bvhStackInvocation();
 
-// This invocation's bvhStackDepth() entries, from entry bvhStackInvocation() * bvhStackDepth().
-TraversalStackAt invocationStack() {
+// Stack `which` (< BVH_STACKS_PER_INVOCATION) of this invocation: bvhStackDepth() entries from
+// entry (bvhStackInvocation() * BVH_STACKS_PER_INVOCATION + which) * bvhStackDepth(). A
+// single traversal uses stack 0, tracePair stacks 0 and 1.
+TraversalStackAt invocationStack(uint which) {
     uvec2 base = bvhStackAddress();
     uint carry;
-    uint low = uaddCarry(base.x, bvhStackInvocation() * bvhStackDepth() * 4u, carry);
+    uint entry = (bvhStackInvocation() * BVH_STACKS_PER_INVOCATION + which) * bvhStackDepth();
+    uint low = uaddCarry(base.x, entry * 4u, carry);
     return TraversalStackAt(uvec2(low, base.y + carry));
 }
 #endif
@@ -227,6 +230,46 @@ void orderChildren(inout uint keyA, inout uint refA, inout uint keyB, inout uint
     refB = swap ? ref : refB;
 }
 
+#ifdef PENUMBRA_NODE_ADDRESS
+// One step of the descent in traverse and tracePair, for the "_address" kernels: node `ref`
+// tested against the ray; false where no child is hit. Otherwise the children hit are
+// sorted by entry distance, all but the nearest pushed, farthest first, so that a popped
+// child is taken up at once, and `ref` becomes the nearest.
+bool descendOneNode(NodeQuadsAt nodes, TraversalStackAt stack, uint lastEntry, inout int sp, inout uint ref,
+                    vec3 origin, vec3 invDir, float tMax) {
+    vec4 tEntry;
+    uvec4 refs;
+    uint hits = intersectWideNode(nodes, ref, origin, invDir, tMax, tEntry, refs);
+    if (hits == 0u) return false;
+    // Entry distances are >= 0, so their bits order as the floats do; a child not hit sorts
+    // last. A sorting network of five compare-exchanges (Knuth, TAOCP vol. 3, 5.3.4) puts
+    // the children in order of entry, ties as the network leaves them
+    // (host/bvh/traverse.cpp sorts with the same network).
+    uvec4 key = floatBitsToUint(tEntry);
+    key.x = (hits & 1u) != 0u ? key.x : 0xffffffffu;
+    key.y = (hits & 2u) != 0u ? key.y : 0xffffffffu;
+    key.z = (hits & 4u) != 0u ? key.z : 0xffffffffu;
+    key.w = (hits & 8u) != 0u ? key.w : 0xffffffffu;
+    orderChildren(key.x, refs.x, key.y, refs.y);
+    orderChildren(key.z, refs.z, key.w, refs.w);
+    orderChildren(key.x, refs.x, key.z, refs.z);
+    orderChildren(key.y, refs.y, key.w, refs.w);
+    orderChildren(key.y, refs.y, key.z, refs.z);
+    // Sorted, the keys of the children hit come first, and a child's key is all ones only
+    // where it was not hit (an entry distance is finite or +inf): three comparisons, where
+    // a bit count of `hits` took lavapipe ten instructions of table lookups. An index past
+    // the last entry is clamped to it (see TraversalStackAt).
+    if (key.w != 0xffffffffu) stack.entries[min(uint(sp++), lastEntry)] = refs.w;
+    if (key.z != 0xffffffffu) stack.entries[min(uint(sp++), lastEntry)] = refs.z;
+    if (key.y != 0xffffffffu) stack.entries[min(uint(sp++), lastEntry)] = refs.y;
+    ref = refs.x;
+    return true;
+}
+
+// Whether child reference `ref` names an interior node (no primitive count).
+bool isInteriorRef(uint ref) { return (ref >> BVH_COUNT_SHIFT) == 0u; }
+#endif
+
 // The loop behind both queries. From a node, the ray goes on to the nearest child it hits
 // (for `anyHit` too: a blocked shadow ray meets its blocker sooner, 1.03-1.09x on a million
 // triangles, "Round 13"). What the stack keeps of the other children it hits depends on
@@ -273,55 +316,28 @@ bool traverse(vec3 origin, vec3 dir, float tMax, bool anyHit, uint ignore, out H
     int sp = 0;
 #ifdef PENUMBRA_NODE_ADDRESS
     // Entries: child references (offset | primCount << BVH_COUNT_SHIFT).
-    TraversalStackAt stack = invocationStack();
+    TraversalStackAt stack = invocationStack(0u);
     uint lastEntry = bvhStackDepth() - 1u;
     // The nodes' address, read once here: read inside intersectWideNode, its push constants
     // were loaded again, with a bounds check, at every step (lavapipe 25.0's generated code),
     // as the stack's stores might alias them for all the compiler knows. With the pushes'
-    // test below, 1.01x on a million triangles and 1.05x on mesh_light ("Round 19").
+    // test in descendOneNode, 1.01x on a million triangles and 1.05x on mesh_light ("Round 19").
     NodeQuadsAt nodes = NodeQuadsAt(bvhNodeAddress());
-#define PENUMBRA_PUSH(value) stack.entries[min(uint(sp++), lastEntry)] = (value)
     uint ref = 0u;  // the root, an interior node
     while (true) {
         // Descend to a leaf, or until a node has no child hit.
         bool atLeaf = true;
-        while ((ref >> BVH_COUNT_SHIFT) == 0u) {
-            vec4 tEntry;
-            uvec4 refs;
-            uint hits = intersectWideNode(nodes, ref, origin, invDir, hit.t, tEntry, refs);
-            if (hits == 0u) {
+        while (isInteriorRef(ref)) {
+            if (!descendOneNode(nodes, stack, lastEntry, sp, ref, origin, invDir, hit.t)) {
                 atLeaf = false;
                 break;
             }
-            // Entry distances are >= 0, so their bits order as the floats do; a child not
-            // hit sorts last. A sorting network of five compare-exchanges (Knuth, TAOCP
-            // vol. 3, 5.3.4) puts the children in order of entry, ties as the network
-            // leaves them (host/bvh/traverse.cpp sorts with the same network).
-            uvec4 key = floatBitsToUint(tEntry);
-            key.x = (hits & 1u) != 0u ? key.x : 0xffffffffu;
-            key.y = (hits & 2u) != 0u ? key.y : 0xffffffffu;
-            key.z = (hits & 4u) != 0u ? key.z : 0xffffffffu;
-            key.w = (hits & 8u) != 0u ? key.w : 0xffffffffu;
-            orderChildren(key.x, refs.x, key.y, refs.y);
-            orderChildren(key.z, refs.z, key.w, refs.w);
-            orderChildren(key.x, refs.x, key.z, refs.z);
-            orderChildren(key.y, refs.y, key.w, refs.w);
-            orderChildren(key.y, refs.y, key.z, refs.z);
-            // Sorted, the keys of the children hit come first, and a child's key is all ones
-            // only where it was not hit (an entry distance is finite or +inf): three
-            // comparisons, where a bit count of `hits` took lavapipe ten instructions of table
-            // lookups.
-            if (key.w != 0xffffffffu) PENUMBRA_PUSH(refs.w);
-            if (key.z != 0xffffffffu) PENUMBRA_PUSH(refs.z);
-            if (key.y != 0xffffffffu) PENUMBRA_PUSH(refs.y);
-            ref = refs.x;
         }
         if (atLeaf && testLeaf(ref, origin, dir, anyHit, hit)) return true;
         if (sp == 0) break;
         --sp;
         ref = stack.entries[min(uint(sp), lastEntry)];
     }
-#undef PENUMBRA_PUSH
 #else
     uint stack[BVH_MAX_DEPTH];  // node | children still to visit << WIDE_STACK_MASK_SHIFT
     uint node = 0u, allowed = WIDE_ALL_CHILDREN;  // the root, every child
@@ -383,5 +399,80 @@ bool traceAnyIgnoring(vec3 origin, vec3 dir, float tMax, uint ignore) {
     Hit hit;
     return traverse(origin, dir, tMax, true, ignore, hit);
 }
+
+
+#ifdef PENUMBRA_NODE_ADDRESS
+// Two rays traversed together by one invocation: ray A for its closest hit with t in
+// (0, tMaxA), as traceClosest, and ray B for any hit with t in (0, tMaxB), as traceAny;
+// `tracedA` / `tracedB` false leave a ray out (a miss). Returns whether A hit, and in
+// `blockedB` whether B did. Each loop below holds a step of each ray, so the CPU overlaps
+// the two rays' dependent chains (a node's gather, its box tests, the stack): two chains in
+// flight where traverse has one, as sixteen lanes bought over eight ("Round 15", two rays
+// per invocation, 1.08-1.30x per step). A step runs only while some lane's ray needs it
+// (Mesa 24.3 and later skip a branch no lane takes), so each ray costs the steps it would
+// cost alone. Each ray visits its nodes and primitives in the order traverse would, with
+// the same tests, so its result is traverse's bit for bit: only the interleaving differs.
+// The kernel traces a sample's camera ray together with the previous sample's shadow ray
+// (integrators/direct.comp, addPixelSamples). Stacks 0 and 1 of the invocation.
+bool tracePair(vec3 originA, vec3 dirA, float tMaxA, bool tracedA, out Hit hitA, vec3 originB, vec3 dirB, float tMaxB,
+               bool tracedB, out bool blockedB) {
+    hitA.t = tMaxA;
+    hitA.primitive = NO_HIT;
+    hitA.uv = vec2(0.0);
+    Hit hitB;
+    hitB.t = tMaxB;
+    hitB.primitive = NO_HIT;
+    hitB.uv = vec2(0.0);
+    blockedB = false;
+    if (tracedA) countRay();
+    if (tracedB) countRay();
+    // As in traverse: a NaN or infinite ray misses, and must not enter the loop.
+    bool liveA = tracedA && isFiniteVec(originA) && isFiniteVec(dirA);
+    bool liveB = tracedB && isFiniteVec(originB) && isFiniteVec(dirB);
+    // The primitives beside the tree, before it, as in traverse.
+    uvec2 beside = bvhBesideRange();
+    if (liveA) testPrimitives(beside.x, beside.x + beside.y, originA, dirA, false, hitA);
+    if (liveB && testPrimitives(beside.x, beside.x + beside.y, originB, dirB, true, hitB)) {
+        blockedB = true;
+        liveB = false;
+    }
+    vec3 invDirA = rayInverseDirection(dirA), invDirB = rayInverseDirection(dirB);
+    TraversalStackAt stackA = invocationStack(0u), stackB = invocationStack(1u);
+    uint lastEntry = bvhStackDepth() - 1u;
+    NodeQuadsAt nodes = NodeQuadsAt(bvhNodeAddress());
+    uint refA = 0u, refB = 0u;  // the root, an interior node
+    int spA = 0, spB = 0;
+    while (liveA || liveB) {
+        // Descend each ray to a leaf, or until a node of its has no child hit (traverse's
+        // inner loop, for two).
+        bool leafA = liveA, leafB = liveB;
+        bool downA = liveA && isInteriorRef(refA), downB = liveB && isInteriorRef(refB);
+        while (downA || downB) {
+            if (downA) {
+                leafA = descendOneNode(nodes, stackA, lastEntry, spA, refA, originA, invDirA, hitA.t);
+                downA = leafA && isInteriorRef(refA);
+            }
+            if (downB) {
+                leafB = descendOneNode(nodes, stackB, lastEntry, spB, refB, originB, invDirB, hitB.t);
+                downB = leafB && isInteriorRef(refB);
+            }
+        }
+        if (leafA) testLeaf(refA, originA, dirA, false, hitA);
+        if (leafB && testLeaf(refB, originB, dirB, true, hitB)) {
+            blockedB = true;
+            liveB = false;
+        }
+        if (liveA) {
+            liveA = spA > 0;
+            if (liveA) refA = stackA.entries[min(uint(--spA), lastEntry)];
+        }
+        if (liveB) {
+            liveB = spB > 0;
+            if (liveB) refB = stackB.entries[min(uint(--spB), lastEntry)];
+        }
+    }
+    return hitA.primitive != NO_HIT;
+}
+#endif
 
 #endif

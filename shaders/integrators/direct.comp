@@ -14,6 +14,13 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 
+// The "_address" variant traces each sample's camera ray together with the previous
+// sample's shadow ray (addPixelSamples, at the end): it brings its own sample loop.
+#if defined(PENUMBRA_NODE_ADDRESS) && !defined(PENUMBRA_INLINE_GEOMETRY)
+#define PENUMBRA_TRACE_PAIRS
+#define PENUMBRA_KERNEL_SAMPLE_LOOP
+#endif
+
 #include "integrators/kernel_common.glsl"
 #include "common/specialization.glsl"
 #include "geometry/bvh.glsl"
@@ -49,11 +56,23 @@ struct Shading {
     Material m;
 };
 
-// The shadow ray toward a light sample stops just short of the sampled point, so that
-// the light's own surface does not count as an occluder.
-bool visible(Shading s, LightSample ls) {
-    float tMax = ls.dist == FLOAT_MAX ? FLOAT_MAX : ls.dist * (1.0 - 1e-4);
-    return !traceAny(s.origin, ls.wi, tMax);
+// A light sample's term of the estimate, and the shadow ray that decides whether it counts:
+// the term is `value` where nothing blocks the ray, 0 where something does. Sampling and
+// tracing are apart so that the kernel can trace a sample's first such ray later, together
+// with the next sample's camera ray (addPixelSamples).
+struct ShadowedTerm {
+    vec3 value;
+    vec3 origin;  // the shadow ray: from the shading point's offset origin
+    vec3 dir;     // toward the light sample
+    float tMax;
+    bool traced;  // false: the term is 0, with no ray to trace
+};
+
+ShadowedTerm noShadowedTerm() { return ShadowedTerm(vec3(0.0), vec3(0.0), vec3(0.0, 0.0, 1.0), 0.0, false); }
+
+// The term traced now: its value where unblocked, else 0.
+vec3 tracedNow(ShadowedTerm term) {
+    return term.traced && !traceAny(term.origin, term.dir, term.tMax) ? term.value : vec3(0.0);
 }
 
 // f * cos for a direction whose BRDF value is f, zero below either normal.
@@ -83,19 +102,29 @@ uint drawLight(uint offset, uint count, inout Rng rng, out float pmf, out vec3 u
 
 // One sample, from the numbers u, of light `index` drawn with probability `pmf` from a
 // selection table (drawLight), weighted against N2 BRDF samples (WEIGHT_MIS) or by the
-// mixture density. quadSolidAnglePdf receives the sample's LightSample.quadSolidAnglePdf
-// when the light was sampled.
-vec3 lightSampleEstimate(Shading s, uint index, float pmf, vec3 u, uint weighting, float nLight, float nBsdf,
-                         inout float quadSolidAnglePdf) {
-    if (!(pmf > 0.0)) return vec3(0.0);
+// mixture density: its term, with the shadow ray still to trace. quadSolidAnglePdf
+// receives the sample's LightSample.quadSolidAnglePdf when the light was sampled.
+ShadowedTerm lightSampleTerm(Shading s, uint index, float pmf, vec3 u, uint weighting, float nLight, float nBsdf,
+                             inout float quadSolidAnglePdf) {
+    ShadowedTerm term = noShadowedTerm();
+    if (!(pmf > 0.0)) return term;
     LightSample ls;
     bool sampled = sampleLight(index, s.origin, s.ns, u, lightModes(), ls);
     quadSolidAnglePdf = ls.quadSolidAnglePdf;
-    if (!sampled) return vec3(0.0);
+    if (!sampled) return term;
     BsdfValue b = bsdfEvalPdf(s.m, s.ns, s.wo, ls.wi);
     vec3 fc = cosineWeighted(s, ls.wi, b.f);
-    if (fc == vec3(0.0) || !visible(s, ls)) return vec3(0.0);
-    if (ls.isDelta) return fc * ls.radiance / pmf;
+    if (fc == vec3(0.0)) return term;
+    // The shadow ray stops just short of the sampled point, so that the light's own surface
+    // does not count as an occluder.
+    term.origin = s.origin;
+    term.dir = ls.wi;
+    term.tMax = ls.dist == FLOAT_MAX ? FLOAT_MAX : ls.dist * (1.0 - 1e-4);
+    term.traced = true;
+    if (ls.isDelta) {
+        term.value = fc * ls.radiance / pmf;
+        return term;
+    }
     float pLight = pmf * ls.pdf;
     float density = pLight;
     float weight = 1.0;
@@ -104,7 +133,14 @@ vec3 lightSampleEstimate(Shading s, uint index, float pmf, vec3 u, uint weightin
     } else if (weighting == WEIGHT_MIXTURE) {
         density = 0.5 * pLight + 0.5 * b.pdf;
     }
-    return fc * ls.radiance * weight / density;
+    term.value = fc * ls.radiance * weight / density;
+    return term;
+}
+
+// lightSampleTerm with its shadow ray traced now.
+vec3 lightSampleEstimate(Shading s, uint index, float pmf, vec3 u, uint weighting, float nLight, float nBsdf,
+                         inout float quadSolidAnglePdf) {
+    return tracedNow(lightSampleTerm(s, index, pmf, u, weighting, nLight, nBsdf, quadSolidAnglePdf));
 }
 
 // Emitted radiance reaching x along wi (first hit, or the environment when nothing is
@@ -165,9 +201,13 @@ vec3 deltaLightEstimate(Shading s, inout Rng rng) {
     return lightSampleEstimate(s, index, pmf, u, WEIGHT_NONE, 0.0, 0.0, unused);
 }
 
-vec3 reflectedRadiance(Shading s, inout Rng rng) {
+// Light reflected at s toward the viewer, apart from the first light sample's term, which
+// it leaves in `first` with its shadow ray untraced (light and mis strategies; the others
+// leave none).
+vec3 reflectedRadiance(Shading s, inout Rng rng, out ShadowedTerm first) {
     uint n1 = kLightSamples, n2 = kBsdfSamples;
     vec3 L = vec3(0.0);
+    first = noShadowedTerm();
     // With one light in the scene, MIS draws its light samples from x before its BRDF
     // samples, and any BRDF-sampled ray that finds a light finds that one: its quad density
     // at x is what the light samples computed (the same for every one of them). It stays 0
@@ -180,7 +220,10 @@ vec3 reflectedRadiance(Shading s, inout Rng rng) {
             float pmf;
             vec3 u;
             uint index = drawLight(0u, params.lightCount, rng, pmf, u);
-            L += lightSampleEstimate(s, index, pmf, u, weighting, float(n1), float(n2), quadSolidAnglePdf) / float(n1);
+            ShadowedTerm term = lightSampleTerm(s, index, pmf, u, weighting, float(n1), float(n2), quadSolidAnglePdf);
+            term.value /= float(n1);
+            if (i == 0u) first = term;
+            else L += tracedNow(term);
         }
     }
     if (kStrategy == STRATEGY_BSDF || kStrategy == STRATEGY_MIS) {
@@ -213,13 +256,12 @@ vec3 reflectedRadiance(Shading s, inout Rng rng) {
     return L;
 }
 
-vec3 pixelSample(uvec2 pixel, uint sampleIndex) {
-    Rng rng = pixelRng(pixel, sampleIndex);
-
-    vec3 origin, dir;
-    cameraRay(pixel, rand2(rng), origin, dir);
-    Hit hit;
-    if (!traceClosest(origin, dir, FLOAT_MAX, hit))
+// A sample's radiance, given what its camera ray (origin, dir) found, apart from the first
+// light sample's term, left in `first` (reflectedRadiance). `rng` goes on from the camera
+// ray's numbers.
+vec3 radianceApartFromFirst(bool found, Hit hit, vec3 origin, vec3 dir, inout Rng rng, out ShadowedTerm first) {
+    first = noShadowedTerm();
+    if (!found)
         return params.environmentLight == NO_LIGHT ? vec3(0.0) : environmentRadiance(loadLight(params.environmentLight), dir);
     SurfacePoint sp = surfaceAt(hit, origin, dir);
     vec3 L = sp.light == NO_LIGHT ? vec3(0.0) : emittedRadiance(loadLight(sp.light), sp.geometricNormal, dir);
@@ -233,6 +275,48 @@ vec3 pixelSample(uvec2 pixel, uint sampleIndex) {
     if (dot(s.ns, s.wo) <= 0.0) s.ns = s.ng;
     s.origin = offsetRayOrigin(s.x, s.ng);
     s.m = applyTextures(loadMaterial(sp.material), sp.material, sp.uv);
-    L += reflectedRadiance(s, rng);
+    L += reflectedRadiance(s, rng, first);
     return L;
 }
+
+// The sample's radiance: what radianceApartFromFirst returned, and the first term where its
+// shadow ray is unblocked. Both ways of tracing that ray end here, so they give the same
+// sums bit for bit.
+vec3 withFirstTerm(vec3 rest, ShadowedTerm first, bool blocked) { return first.traced && !blocked ? rest + first.value : rest; }
+
+#ifdef PENUMBRA_TRACE_PAIRS
+// A pixel's samples, software-pipelined (kernel_common.glsl, addPixelSamples, says what the
+// loop keeps): iteration k traces sample k's camera ray together with sample k - 1's first
+// shadow ray (geometry/bvh.glsl, tracePair), then finishes sample k - 1 and shades sample k
+// up to its own first shadow ray. The first iteration has no shadow ray to trace and the
+// last no camera ray. Sample k - 1 is added before sample k is shaded, in sample order.
+void addPixelSamples(uvec2 pixel) {
+    uint index = pixel.y * params.width + pixel.x;
+    vec4 sum = accum[index];
+    ShadowedTerm first = noShadowedTerm();
+    vec3 rest = vec3(0.0);
+    for (uint k = 0u; k <= pass.sampleCount; ++k) {
+        bool camera = k < pass.sampleCount;
+        Rng rng = pixelRng(pixel, pass.sampleIndex + k);
+        vec3 origin, dir;
+        cameraRay(pixel, rand2(rng), origin, dir);
+        Hit hit;
+        bool blocked;
+        bool found = tracePair(origin, dir, FLOAT_MAX, camera, hit, first.origin, first.dir, first.tMax, first.traced, blocked);
+        if (k > 0u) addSample(sum, withFirstTerm(rest, first, blocked));
+        if (camera) rest = radianceApartFromFirst(found, hit, origin, dir, rng, first);
+    }
+    accum[index] = sum;
+}
+#else
+vec3 pixelSample(uvec2 pixel, uint sampleIndex) {
+    Rng rng = pixelRng(pixel, sampleIndex);
+    vec3 origin, dir;
+    cameraRay(pixel, rand2(rng), origin, dir);
+    Hit hit;
+    bool found = traceClosest(origin, dir, FLOAT_MAX, hit);
+    ShadowedTerm first;
+    vec3 rest = radianceApartFromFirst(found, hit, origin, dir, rng, first);
+    return withFirstTerm(rest, first, first.traced && traceAny(first.origin, first.dir, first.tMax));
+}
+#endif

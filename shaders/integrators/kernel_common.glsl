@@ -27,8 +27,9 @@ uvec2 bvhBesideRange() { return uvec2(params.besideFirst, params.besideCount); }
 
 #ifdef PENUMBRA_NODE_ADDRESS
 // Where the "_address" kernels read the BVH's nodes from, and where this invocation keeps
-// its traversal stack (geometry/bvh.glsl): entry i * stackDepth for invocation i of the
-// dispatch (render/traversal_stacks.h keeps the dispatches within the buffer).
+// its traversal stacks (geometry/bvh.glsl, invocationStack): BVH_STACKS_PER_INVOCATION of
+// stackDepth entries from entry i * BVH_STACKS_PER_INVOCATION * stackDepth for invocation i
+// of the dispatch (render/traversal_stacks.h keeps the dispatches within the buffer).
 uvec2 bvhNodeAddress() { return uvec2(pass.nodeAddressLow, pass.nodeAddressHigh); }
 uvec2 bvhStackAddress() { return uvec2(pass.stackAddressLow, pass.stackAddressHigh); }
 uint bvhStackDepth() { return pass.stackDepth; }
@@ -72,24 +73,32 @@ void cameraRay(uvec2 pixel, vec2 jitter, out vec3 origin, out vec3 dir) {
     dir = normalize(params.forward + x * params.right + y * params.up);
 }
 
-// One pixel sample's radiance estimate: each integrator kernel defines it.
-vec3 pixelSample(uvec2 pixel, uint sampleIndex);
+// Adds a finished sample's radiance to a pixel's running sum. A non-finite estimate (a pdf
+// division gone wrong) counts as zero: the sample is still counted, so the sum stays an
+// average over all samples.
+void addSample(inout vec4 sum, vec3 radiance) {
+    if (!isFiniteVec(radiance)) radiance = vec3(0.0);
+    sum += vec4(radiance, 1.0);
+}
 
 // Adds the pass's sampleCount samples of `pixel` to its sums, in sample order and in a
 // register, so that the sums are the same, bit for bit, as with one dispatch per sample,
 // without a dispatch's fixed cost per sample (on lavapipe, waking and waiting for its worker
-// threads). A non-finite estimate (a pdf division gone wrong) counts as zero: the sample is
-// still counted, so the sum stays an average over all samples.
+// threads). A kernel that defines PENUMBRA_KERNEL_SAMPLE_LOOP brings its own, with the same
+// contract (integrators/direct.comp, where it traces rays of two samples together).
+#ifdef PENUMBRA_KERNEL_SAMPLE_LOOP
+void addPixelSamples(uvec2 pixel);
+#else
+// One pixel sample's radiance estimate: each integrator kernel defines it.
+vec3 pixelSample(uvec2 pixel, uint sampleIndex);
+
 void addPixelSamples(uvec2 pixel) {
     uint index = pixel.y * params.width + pixel.x;
     vec4 sum = accum[index];
-    for (uint k = 0u; k < pass.sampleCount; ++k) {
-        vec3 radiance = pixelSample(pixel, pass.sampleIndex + k);
-        if (!isFiniteVec(radiance)) radiance = vec3(0.0);
-        sum += vec4(radiance, 1.0);
-    }
+    for (uint k = 0u; k < pass.sampleCount; ++k) addSample(sum, pixelSample(pixel, pass.sampleIndex + k));
     accum[index] = sum;
 }
+#endif
 
 // Which pixels an invocation renders (render/tile_queue.h). With the tile queue
 // (pass.queueTiles > 0, on CPU devices with several worker threads) each invocation takes

@@ -112,6 +112,9 @@ PENUMBRA_CONST float BOX_EXIT_SCALE = 1.0000004f;
 // nodes keeps at most one deferred node per level on its stack, so a stack of
 // BVH_MAX_DEPTH entries never overflows.
 #define BVH_MAX_DEPTH 64
+// Traversal stacks per invocation of the kernels that keep them in memory (the "_address"
+// kernels, geometry/bvh.glsl): one per ray that tracePair traverses together.
+PENUMBRA_CONST uint BVH_STACKS_PER_INVOCATION = 2u;
 // Closest-hit result meaning "no primitive was hit".
 PENUMBRA_CONST uint NO_HIT = 0xffffffffu;
 
@@ -420,8 +423,9 @@ struct RenderParams {
 // band's pixels (queueTiles: render/tile_queue.h), and where the BVH's nodes
 // are for the kernels that read them through their device address (NODE_READS_ADDRESS; 0
 // for the others), and where those kernels keep their traversal stacks: stackDepth entries
-// per invocation, invocation i of the dispatch (x fastest, then y, then z) at entry
-// i * stackDepth (render/traversal_stacks.h). The addresses are the same for every dispatch
+// per stack, BVH_STACKS_PER_INVOCATION stacks per invocation, invocation i of the dispatch
+// (x fastest, then y, then z) from entry i * BVH_STACKS_PER_INVOCATION * stackDepth on
+// (render/traversal_stacks.h). The addresses are the same for every dispatch
 // of a scene; they are push constants and not specialization constants because they change
 // from run to run, and a kernel specialized on them would miss Mesa's shader cache on every
 // start.
@@ -435,7 +439,7 @@ struct PassConstants {
     uint nodeAddressHigh;  // words: a 64-bit member would be aligned differently in C++)
     uint stackAddressLow;  // VkDeviceAddress of the traversal stacks' buffer, likewise
     uint stackAddressHigh;
-    uint stackDepth;  // entries per invocation (at least 1)
+    uint stackDepth;  // entries per stack (at least 1)
     // 0: workgroup (x, y) renders tile (x, y) of the band. Otherwise the band's tiles, this
     // many, tileColumns to a row, which the invocations take pixel by pixel from the tile
     // queue's counter (render/tile_queue.h), whatever workgroup they are in.

@@ -23,10 +23,13 @@ struct TraceResult {
 layout(std430, binding = 0) readonly restrict buffer Rays { TraceRay rays[]; };
 layout(std430, binding = 1) writeonly restrict buffer Results { TraceResult results[]; };
 // The node buffer's and the traversal stacks' device addresses are read by the "_address"
-// variant only: stackDepth entries per ray. The primitives beside the tree: besideFirst on.
+// variant only: BVH_STACKS_PER_INVOCATION stacks of stackDepth entries per ray. The
+// primitives beside the tree: besideFirst on. `pairs` (the "_address" variant only): the
+// queries go through tracePair, as the render kernel traces them, invocation i tracing ray
+// i's closest hit together with ray rayCount - 1 - i's any hit.
 layout(push_constant) uniform Push {
     uint rayCount, nodeAddressLow, nodeAddressHigh, stackAddressLow, stackAddressHigh, stackDepth, besideFirst,
-        besideCount;
+        besideCount, pairs;
 };
 
 uvec2 bvhBesideRange() { return uvec2(besideFirst, besideCount); }
@@ -44,6 +47,20 @@ void main() {
     vec3 origin = rays[i].originTMax.xyz;
     float tMax = rays[i].originTMax.w;
     vec3 dir = rays[i].dir.xyz;
+#ifdef PENUMBRA_NODE_ADDRESS
+    if (pairs != 0u) {
+        uint j = rayCount - 1u - i;
+        Hit closest;
+        bool blocked;
+        bool found = tracePair(origin, dir, tMax, true, closest, rays[j].originTMax.xyz, rays[j].dir.xyz,
+                               rays[j].originTMax.w, true, blocked);
+        results[i].t = found ? closest.t : 0.0;
+        results[i].primitive = found ? closest.primitive : NO_HIT;
+        results[i].pad = 0u;
+        results[j].anyHit = blocked ? 1u : 0u;
+        return;
+    }
+#endif
     Hit hit;
     bool found = traceClosest(origin, dir, tMax, hit);
     TraceResult result;
