@@ -521,6 +521,9 @@ int main(int argc, char** argv) {
                     addCase(table, "two rays per invocation, interleaved (device address)", "step4 pair", raysLabel,
                             "step_rays_pair", steps, SSBO, t.wide4.data(), bytes4, NONE, p, 2.0 * invocations * steps,
                             invocations);
+                    addCase(table, "four rays per invocation, interleaved (device address)", "step4 quad", raysLabel,
+                            "step_rays_quad", steps, SSBO, t.wide4.data(), bytes4, NONE, p, 4.0 * invocations * steps,
+                            invocations);
                     if (!shuffles) {
                         std::printf("(skipped %s, 8-wide steps: subgroups of fewer than 8 lanes or no shuffles)\n",
                                     table.c_str());
@@ -627,11 +630,12 @@ int main(int argc, char** argv) {
             // The first 256 rays against their walk replayed on the CPU, bit for bit (the
             // lanes that go alone walk no ray's path).
             const StepTables& t = stepTables.at(c.table);
-            const bool pair = c.group == "step4 pair";  // invocation i: ray 2i's sum, ray 2i + 1's node
+            // Invocation i of a pair: ray 2i's sum, ray 2i + 1's node; of a quad: 4i's and 4i + 3's.
+            const uint32_t raysPer = c.group == "step4 pair" ? 2 : (c.group == "step4 quad" ? 4 : 1);
             for (uint32_t ray = 0; ray < (c.group == "step8 alone" ? 0u : 256u); ++ray) {
                 const size_t at = 2 * size_t(children8 ? 8 * ray : ray);
-                const float acc = replayStep(t, children8, pair ? 2 * ray : ray, steps).first;
-                const float node = replayStep(t, children8, pair ? 2 * ray + 1 : ray, steps).second;
+                const float acc = replayStep(t, children8, raysPer * ray, steps).first;
+                const float node = replayStep(t, children8, raysPer * ray + raysPer - 1, steps).second;
                 if (std::bit_cast<uint32_t>(acc) != std::bit_cast<uint32_t>(c.output[at]) || node != c.output[at + 1]) {
                     std::printf("MISMATCH: %s, %s: ray %u walked otherwise than on the CPU\n", c.table.c_str(),
                                 c.label.c_str(), ray);

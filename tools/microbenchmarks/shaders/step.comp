@@ -16,6 +16,8 @@
 //   from memory, would save at most.
 // - STEP_RAYS_PAIR: that step for two rays per invocation, interleaved: how much of a
 //   step is waiting on its loads, which a second independent ray lets the CPU overlap.
+// - STEP_RAYS_QUAD: that step for four rays per invocation, interleaved: whether more
+//   chains than two still overlap (or spill the registers they need).
 // - STEP_RAYS_PREFETCH: that step, which also loads the first word of each of the four
 //   nodes it could go on to as soon as it has the node's references, so that the next
 //   step's line is on its way while the boxes are tested (a load used only by a test that
@@ -35,7 +37,8 @@
 #if defined(STEP_CHILDREN8_ALONE)
 #define STEP_CHILDREN8  // the same step with its lanes' results not combined (below)
 #endif
-#if defined(STEP_RAYS_FLOAT) || defined(STEP_RAYS_NO_FRAME) || defined(STEP_RAYS_PAIR) || defined(STEP_RAYS_PREFETCH)
+#if defined(STEP_RAYS_FLOAT) || defined(STEP_RAYS_NO_FRAME) || defined(STEP_RAYS_PAIR) || defined(STEP_RAYS_QUAD) || \
+    defined(STEP_RAYS_PREFETCH)
 #define STEP_RAYS  // variants of the same step (below)
 #endif
 #if defined(STEP_CHILDREN8)
@@ -153,6 +156,27 @@ void main() {
         nodeB = wideStep(at, nodeB, s, saltB, originB, invDirB, accB);
     }
     results[gl_GlobalInvocationID.x] = vec2(accA, float(nodeB));
+#elif defined(STEP_RAYS_QUAD)
+    // Four rays per invocation, likewise: ray 4i's sum, ray 4i + 3's node.
+    uint salt0 = hash(4u * gl_GlobalInvocationID.x), salt1 = hash(4u * gl_GlobalInvocationID.x + 1u);
+    uint salt2 = hash(4u * gl_GlobalInvocationID.x + 2u), salt3 = hash(4u * gl_GlobalInvocationID.x + 3u);
+    vec3 origin0, invDir0, origin1, invDir1, origin2, invDir2, origin3, invDir3;
+    makeRay(salt0, origin0, invDir0);
+    makeRay(salt1, origin1, invDir1);
+    makeRay(salt2, origin2, invDir2);
+    makeRay(salt3, origin3, invDir3);
+    uint node0 = salt0 & pc.mask, node1 = salt1 & pc.mask, node2 = salt2 & pc.mask, node3 = salt3 & pc.mask;
+    float acc0 = 0.0, acc1 = 0.0, acc2 = 0.0, acc3 = 0.0;
+    for (uint s = 0u; s < STEPS; ++s) {
+        node0 = wideStep(at, node0, s, salt0, origin0, invDir0, acc0);
+        node1 = wideStep(at, node1, s, salt1, origin1, invDir1, acc1);
+        node2 = wideStep(at, node2, s, salt2, origin2, invDir2, acc2);
+        node3 = wideStep(at, node3, s, salt3, origin3, invDir3, acc3);
+    }
+    results[gl_GlobalInvocationID.x] = vec2(acc0, float(node3));
+    // Rays 1 and 2 kept live by a store that never happens (a node index is masked by
+    // pc.mask, never all ones), which the compiler cannot know.
+    if (node1 == 0xffffffffu && node2 == 0xffffffffu) results[gl_GlobalInvocationID.x] = vec2(acc1, acc2);
 #else
     uint id = gl_GlobalInvocationID.x;
     uint salt = hash(id);
