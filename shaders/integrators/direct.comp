@@ -19,6 +19,9 @@
 #if defined(PENUMBRA_NODE_ADDRESS) && !defined(PENUMBRA_INLINE_GEOMETRY)
 #define PENUMBRA_TRACE_PAIRS
 #define PENUMBRA_KERNEL_SAMPLE_LOOP
+const bool kFirstShadowRayWaits = true;
+#else
+const bool kFirstShadowRayWaits = false;
 #endif
 
 #include "integrators/kernel_common.glsl"
@@ -65,15 +68,17 @@ struct ShadowedTerm {
     vec3 origin;  // the shadow ray: from the shading point's offset origin
     vec3 dir;     // toward the light sample
     float tMax;
-    bool traced;  // false: the term is 0, with no ray to trace
+    bool traced;   // false: the term is 0, with no ray to trace
+    bool blocked;  // what traceNow found
 };
 
-ShadowedTerm noShadowedTerm() { return ShadowedTerm(vec3(0.0), vec3(0.0), vec3(0.0, 0.0, 1.0), 0.0, false); }
+ShadowedTerm noShadowedTerm() { return ShadowedTerm(vec3(0.0), vec3(0.0), vec3(0.0, 0.0, 1.0), 0.0, false, false); }
 
-// The term traced now: its value where unblocked, else 0.
-vec3 tracedNow(ShadowedTerm term) {
-    return term.traced && !traceAny(term.origin, term.dir, term.tMax) ? term.value : vec3(0.0);
-}
+// Traces the term's shadow ray at once.
+void traceNow(inout ShadowedTerm term) { term.blocked = term.traced && traceAny(term.origin, term.dir, term.tMax); }
+
+// The term's share of the estimate: its value where traced and unblocked, else 0.
+vec3 termValue(ShadowedTerm term, bool blocked) { return term.traced && !blocked ? term.value : vec3(0.0); }
 
 // f * cos for a direction whose BRDF value is f, zero below either normal.
 vec3 cosineWeighted(Shading s, vec3 wi, vec3 f) {
@@ -140,7 +145,9 @@ ShadowedTerm lightSampleTerm(Shading s, uint index, float pmf, vec3 u, uint weig
 // lightSampleTerm with its shadow ray traced now.
 vec3 lightSampleEstimate(Shading s, uint index, float pmf, vec3 u, uint weighting, float nLight, float nBsdf,
                          inout float quadSolidAnglePdf) {
-    return tracedNow(lightSampleTerm(s, index, pmf, u, weighting, nLight, nBsdf, quadSolidAnglePdf));
+    ShadowedTerm term = lightSampleTerm(s, index, pmf, u, weighting, nLight, nBsdf, quadSolidAnglePdf);
+    traceNow(term);
+    return termValue(term, term.blocked);
 }
 
 // Emitted radiance reaching x along wi (first hit, or the environment when nothing is
@@ -202,8 +209,8 @@ vec3 deltaLightEstimate(Shading s, inout Rng rng) {
 }
 
 // Light reflected at s toward the viewer, apart from the first light sample's term, which
-// it leaves in `first` with its shadow ray untraced (light and mis strategies; the others
-// leave none).
+// it leaves in `first` (light and mis strategies; the others leave none): traced, or, in
+// the kernel that traces it with the next sample's camera ray, not yet.
 vec3 reflectedRadiance(Shading s, inout Rng rng, out ShadowedTerm first) {
     uint n1 = kLightSamples, n2 = kBsdfSamples;
     vec3 L = vec3(0.0);
@@ -222,8 +229,11 @@ vec3 reflectedRadiance(Shading s, inout Rng rng, out ShadowedTerm first) {
             uint index = drawLight(0u, params.lightCount, rng, pmf, u);
             ShadowedTerm term = lightSampleTerm(s, index, pmf, u, weighting, float(n1), float(n2), quadSolidAnglePdf);
             term.value /= float(n1);
+            // At the loop's one call of traceNow, so that the kernel holds one copy of the
+            // traversal (with inline geometry, of every primitive's test) for all of them.
+            if (i > 0u || !kFirstShadowRayWaits) traceNow(term);
             if (i == 0u) first = term;
-            else L += tracedNow(term);
+            else L += termValue(term, term.blocked);
         }
     }
     if (kStrategy == STRATEGY_BSDF || kStrategy == STRATEGY_MIS) {
@@ -282,7 +292,9 @@ vec3 radianceApartFromFirst(bool found, Hit hit, vec3 origin, vec3 dir, inout Rn
 // The sample's radiance: what radianceApartFromFirst returned, and the first term where its
 // shadow ray is unblocked. Both ways of tracing that ray end here, so they give the same
 // sums bit for bit.
-vec3 withFirstTerm(vec3 rest, ShadowedTerm first, bool blocked) { return first.traced && !blocked ? rest + first.value : rest; }
+vec3 withFirstTerm(vec3 rest, ShadowedTerm first, bool blocked) {
+    return first.traced && !blocked ? rest + first.value : rest;
+}
 
 #ifdef PENUMBRA_TRACE_PAIRS
 // A pixel's samples, software-pipelined (kernel_common.glsl, addPixelSamples, says what the
@@ -317,6 +329,6 @@ vec3 pixelSample(uvec2 pixel, uint sampleIndex) {
     bool found = traceClosest(origin, dir, FLOAT_MAX, hit);
     ShadowedTerm first;
     vec3 rest = radianceApartFromFirst(found, hit, origin, dir, rng, first);
-    return withFirstTerm(rest, first, first.traced && traceAny(first.origin, first.dir, first.tMax));
+    return withFirstTerm(rest, first, first.blocked);
 }
 #endif
