@@ -158,21 +158,16 @@ uint64_t PassBands::passPixelsLeft() const {
     return left;
 }
 
-double PassBands::maxGrossCost() const {
-    double cost = -1.0;
-    for (const Strip& s : m_strips) cost = std::max(cost, s.grossCost);
-    return cost;
+double PassBands::maxOver(double Strip::*cost) const {
+    double most = -1.0;
+    for (const Strip& s : m_strips) most = std::max(most, s.*cost);
+    return most;
 }
 
 bool PassBands::allMeasured() const {
     return std::all_of(m_strips.begin(), m_strips.end(), [](const Strip& t) { return t.cost >= 0.0; });
 }
 
-double PassBands::maxCost() const {
-    double cost = -1.0;
-    for (const Strip& s : m_strips) cost = std::max(cost, s.cost);
-    return cost;
-}
 
 void PassBands::measured(const std::vector<double>& seconds) {
     if (seconds.size() != m_handed.size())

@@ -101,10 +101,10 @@ private:
     };
     // Whether every strip's cost is known (once the first pass is done).
     bool allMeasured() const;
-    // The costliest strip's cost, or < 0 if none is known.
-    double maxCost() const;
-    // The costliest strip's grossCost, or < 0 if none is known.
-    double maxGrossCost() const;
+    // The most of the strips' `cost` or `grossCost`, or < 0 if none is known.
+    double maxOver(double Strip::*cost) const;
+    double maxCost() const { return maxOver(&Strip::cost); }
+    double maxGrossCost() const { return maxOver(&Strip::grossCost); }
     // The pixels of the current pass not handed out yet.
     uint64_t passPixelsLeft() const;
     // The next band of the current sweep (see above), starting one if none is under way;
