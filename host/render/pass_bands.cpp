@@ -168,7 +168,6 @@ bool PassBands::allMeasured() const {
     return std::all_of(m_strips.begin(), m_strips.end(), [](const Strip& t) { return t.cost >= 0.0; });
 }
 
-
 void PassBands::measured(const std::vector<double>& seconds) {
     if (seconds.size() != m_handed.size())
         throw std::logic_error("pass bands: one time per band of the last submission expected");
