@@ -5,6 +5,7 @@
 
 #include "render/light_arrays.h"
 #include "render/material_arrays.h"
+#include "render/out_of_view.h"
 
 namespace penumbra {
 namespace {
@@ -81,6 +82,7 @@ gpu::RenderParams makeRenderParams(const Scene& scene, const SceneArrays& arrays
     p.environmentLight = arrays.environmentLight;
     p.besideFirst = arrays.bvh.besideFirst();
     p.besideCount = arrays.bvh.besideCount;
+    p.cameraOutOfView = besideOutOfView(p, arrays.bvh);
     return p;
 }
 

@@ -197,6 +197,26 @@ uint nearestChild(uint hits, vec4 tEntry) {
     return nearest;
 }
 
+// The primitives beside the tree (first and count) tested against the ray, as testPrimitives,
+// apart from those in `ignore` (see traverse). A loop of the same count for every lane: a
+// primitive that every lane's ray leaves out is a branch that no lane takes, which Mesa 24.3
+// and later skip.
+bool testBeside(uvec2 beside, vec3 origin, vec3 dir, bool anyHit, uvec2 ignore, inout Hit hit) {
+    for (uint k = 0u; k < beside.y; ++k) {
+        uint i = beside.x + k;
+        if (i == ignore.x || i == ignore.y) continue;
+        float t;
+        vec2 uv;
+        if (intersectPrimitive(loadPrimitive(i), origin, dir, hit.t, t, uv)) {
+            hit.t = t;
+            hit.primitive = i;
+            hit.uv = uv;
+            if (anyHit) return true;
+        }
+    }
+    return false;
+}
+
 // Primitives [first, end) tested against the ray, `hit` kept as the closest found; true when
 // `anyHit` and one is hit, so the query ends.
 bool testPrimitives(uint first, uint end, vec3 origin, vec3 dir, bool anyHit, inout Hit hit) {
@@ -289,9 +309,14 @@ bool isInteriorRef(uint ref) { return (ref >> BVH_COUNT_SHIFT) == 0u; }
 //   binary one).
 // With `anyHit` it returns at the first hit found. `anyHit` is a constant at both call
 // sites below, so after inlining the compiler keeps a copy of the loop specialised for each
-// query. Primitive `ignore` (NO_HIT: none) does not count in the inline tests; the tree's
-// own tests need no such rule (traceAnyIgnoring says why).
-bool traverse(vec3 origin, vec3 dir, float tMax, bool anyHit, uint ignore, out Hit hit) {
+// query. Primitive ignore.x (NO_HIT: none) does not count in the inline tests and beside
+// the tree; the tree's own tests need no such rule (traceAnyIgnoring says why).
+// Primitive ignore.y is one that the caller knows the ray cannot meet: its test beside the
+// tree is left out, which saves the test and changes nothing; the leaves and inline tests
+// still test it, to no effect. The callers' reasons: a camera ray cannot meet a primitive
+// out of the view (host/render/out_of_view.h), a ray cannot meet the flat primitive it
+// leaves from (integrators/direct.comp, Shading).
+bool traverse(vec3 origin, vec3 dir, float tMax, bool anyHit, uvec2 ignore, out Hit hit) {
     countRay();
     hit.t = tMax;
     hit.primitive = NO_HIT;
@@ -301,7 +326,7 @@ bool traverse(vec3 origin, vec3 dir, float tMax, bool anyHit, uint ignore, out H
     if (!isFiniteVec(origin) || !isFiniteVec(dir)) return false;
 #ifdef PENUMBRA_INLINE_GEOMETRY
     if (kInlineCount > 0u) {
-        inlineClosest(origin, dir, ignore, hit);
+        inlineClosest(origin, dir, ignore.x, hit);
         return hit.primitive != NO_HIT;
     }
 #endif
@@ -311,7 +336,7 @@ bool traverse(vec3 origin, vec3 dir, float tMax, bool anyHit, uint ignore, out H
     // uniform loop, usually of none; the tests are the leaves', so traceAnyIgnoring's
     // reasoning holds here too.
     uvec2 beside = bvhBesideRange();
-    if (testPrimitives(beside.x, beside.x + beside.y, origin, dir, anyHit, hit)) return true;
+    if (testBeside(beside, origin, dir, anyHit, ignore, hit)) return true;
     vec3 invDir = rayInverseDirection(dir);
     int sp = 0;
 #ifdef PENUMBRA_NODE_ADDRESS
@@ -378,24 +403,30 @@ bool traverse(vec3 origin, vec3 dir, float tMax, bool anyHit, uint ignore, out H
 
 // Nearest hit with t in (0, tMax), for camera and bounce rays.
 bool traceClosest(vec3 origin, vec3 dir, float tMax, out Hit hit) {
-    return traverse(origin, dir, tMax, false, NO_HIT, hit);
+    return traverse(origin, dir, tMax, false, uvec2(NO_HIT), hit);
+}
+
+// traceClosest for a ray that cannot meet primitive ignore.y, with ignore.x = NO_HIT (see
+// traverse).
+bool traceClosestIgnoring(vec3 origin, vec3 dir, float tMax, uvec2 ignore, out Hit hit) {
+    return traverse(origin, dir, tMax, false, ignore, hit);
 }
 
 // Whether anything is hit with t in (0, tMax): for shadow rays, stops at the first hit
 // found, in no particular order.
 bool traceAny(vec3 origin, vec3 dir, float tMax) {
     Hit hit;
-    return traverse(origin, dir, tMax, true, NO_HIT, hit);
+    return traverse(origin, dir, tMax, true, uvec2(NO_HIT), hit);
 }
 
-// traceAny up to tMax = the distance at which the ray meets primitive `ignore`, found by
-// intersectPrimitive on the primitive as loadPrimitive reads it, with that primitive left
-// out. The tree's leaves test the same data with the same code, so they find the same
-// distance, never strictly below tMax; an inline test computes it from the constants, where
-// the compiler folds the arithmetic differently and can land an ulp below, which would make
-// the primitive hide itself. Leaving it out is exact: a quad is met once, and tMax is the
-// nearer of a sphere's two distances.
-bool traceAnyIgnoring(vec3 origin, vec3 dir, float tMax, uint ignore) {
+// traceAny up to tMax = the distance at which the ray meets primitive ignore.x, or short of
+// it, found by intersectPrimitive on the primitive as loadPrimitive reads it, with that
+// primitive left out. The tree's leaves test the same data with the same code, so they find
+// the same distance, never strictly below tMax; an inline test computes it from the
+// constants, where the compiler folds the arithmetic differently and can land an ulp below,
+// which would make the primitive hide itself. Leaving it out is exact: a quad is met once,
+// and tMax is the nearer of a sphere's two distances. ignore.y: as in traverse.
+bool traceAnyIgnoring(vec3 origin, vec3 dir, float tMax, uvec2 ignore) {
     Hit hit;
     return traverse(origin, dir, tMax, true, ignore, hit);
 }
@@ -414,8 +445,8 @@ bool traceAnyIgnoring(vec3 origin, vec3 dir, float tMax, uint ignore) {
 // the same tests, so its result is traverse's bit for bit: only the interleaving differs.
 // The kernel traces a sample's camera ray together with the previous sample's shadow ray
 // (integrators/direct.comp, addPixelSamples). Stacks 0 and 1 of the invocation.
-bool tracePair(vec3 originA, vec3 dirA, float tMaxA, bool tracedA, out Hit hitA, vec3 originB, vec3 dirB, float tMaxB,
-               bool tracedB, out bool blockedB) {
+bool tracePair(vec3 originA, vec3 dirA, float tMaxA, bool tracedA, uvec2 ignoreA, out Hit hitA, vec3 originB, vec3 dirB,
+               float tMaxB, bool tracedB, uvec2 ignoreB, out bool blockedB) {
     hitA.t = tMaxA;
     hitA.primitive = NO_HIT;
     hitA.uv = vec2(0.0);
@@ -431,8 +462,8 @@ bool tracePair(vec3 originA, vec3 dirA, float tMaxA, bool tracedA, out Hit hitA,
     bool liveB = tracedB && isFiniteVec(originB) && isFiniteVec(dirB);
     // The primitives beside the tree, before it, as in traverse.
     uvec2 beside = bvhBesideRange();
-    if (liveA) testPrimitives(beside.x, beside.x + beside.y, originA, dirA, false, hitA);
-    if (liveB && testPrimitives(beside.x, beside.x + beside.y, originB, dirB, true, hitB)) {
+    if (liveA) testBeside(beside, originA, dirA, false, ignoreA, hitA);
+    if (liveB && testBeside(beside, originB, dirB, true, ignoreB, hitB)) {
         blockedB = true;
         liveB = false;
     }
@@ -457,10 +488,33 @@ bool tracePair(vec3 originA, vec3 dirA, float tMaxA, bool tracedA, out Hit hitA,
                 downB = leafB && isInteriorRef(refB);
             }
         }
-        if (leafA) testLeaf(refA, originA, dirA, false, hitA);
-        if (leafB && testLeaf(refB, originB, dirB, true, hitB)) {
-            blockedB = true;
-            liveB = false;
+        // Both leaves in one loop, a primitive of each per round: the two rays' loads and
+        // tests are independent work for the CPU to overlap. Each ray tests its leaf's
+        // primitives in order, as testLeaf does.
+        uint iA = refA & BVH_OFFSET_MASK, iB = refB & BVH_OFFSET_MASK;
+        uint endA = leafA ? iA + (refA >> BVH_COUNT_SHIFT) : iA;
+        uint endB = leafB ? iB + (refB >> BVH_COUNT_SHIFT) : iB;
+        while (iA < endA || iB < endB) {
+            if (iA < endA) {
+                float t;
+                vec2 uv;
+                if (intersectPrimitive(loadPrimitive(iA), originA, dirA, hitA.t, t, uv)) {
+                    hitA.t = t;
+                    hitA.primitive = iA;
+                    hitA.uv = uv;
+                }
+                ++iA;
+            }
+            if (iB < endB) {
+                float t;
+                vec2 uv;
+                if (intersectPrimitive(loadPrimitive(iB), originB, dirB, hitB.t, t, uv)) {
+                    blockedB = true;
+                    liveB = false;
+                    endB = iB;
+                }
+                ++iB;
+            }
         }
         if (liveA) {
             liveA = spA > 0;

@@ -22,7 +22,7 @@ vec3 pixelSample(uvec2 pixel, uint sampleIndex) {
     vec3 origin, dir;
     cameraRay(pixel, rand2(rng), origin, dir);
     Hit hit;
-    if (!traceClosest(origin, dir, FLOAT_MAX, hit)) return vec3(1.0);
+    if (!traceClosestIgnoring(origin, dir, FLOAT_MAX, cameraRayIgnores(), hit)) return vec3(1.0);
     SurfacePoint sp = surfaceAt(hit, origin, dir);
     // Two-sided shading: use the side facing the viewer.
     vec3 ng = dot(sp.geometricNormal, dir) < 0.0 ? sp.geometricNormal : -sp.geometricNormal;

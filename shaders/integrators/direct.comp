@@ -57,6 +57,11 @@ struct Shading {
     vec3 ns;      // shading normal
     vec3 wo;      // toward the viewer
     Material m;
+    // The triangle or quad x lies on (NO_HIT for a sphere), which no ray from `origin` that
+    // counts can meet: such a ray leaves on the side of ng (cosineWeighted), and `origin`
+    // lies off the primitive's plane on that side, so the plane is behind the ray. Its test
+    // beside the tree is left out of those rays (geometry/bvh.glsl, traverse).
+    uint flatPrimitive;
 };
 
 // A light sample's term of the estimate, and the shadow ray that decides whether it counts:
@@ -70,12 +75,17 @@ struct ShadowedTerm {
     float tMax;
     bool traced;   // false: the term is 0, with no ray to trace
     bool blocked;  // what traceNow found
+    uvec2 ignore;  // primitives that cannot block the ray (traverse's `ignore`; NO_HIT: none)
 };
 
-ShadowedTerm noShadowedTerm() { return ShadowedTerm(vec3(0.0), vec3(0.0), vec3(0.0, 0.0, 1.0), 0.0, false, false); }
+ShadowedTerm noShadowedTerm() {
+    return ShadowedTerm(vec3(0.0), vec3(0.0), vec3(0.0, 0.0, 1.0), 0.0, false, false, uvec2(NO_HIT));
+}
 
 // Traces the term's shadow ray at once.
-void traceNow(inout ShadowedTerm term) { term.blocked = term.traced && traceAny(term.origin, term.dir, term.tMax); }
+void traceNow(inout ShadowedTerm term) {
+    term.blocked = term.traced && traceAnyIgnoring(term.origin, term.dir, term.tMax, term.ignore);
+}
 
 // The term's share of the estimate: its value where traced and unblocked, else 0.
 vec3 termValue(ShadowedTerm term, bool blocked) { return term.traced && !blocked ? term.value : vec3(0.0); }
@@ -126,6 +136,11 @@ ShadowedTerm lightSampleTerm(Shading s, uint index, float pmf, vec3 u, uint weig
     term.dir = ls.wi;
     term.tMax = ls.dist == FLOAT_MAX ? FLOAT_MAX : ls.dist * (1.0 - 1e-4);
     term.traced = true;
+    // A quad light cannot block a ray toward a point on itself: the ray meets its plane once,
+    // there, beyond tMax. Neither can the flat primitive under x (Shading.flatPrimitive).
+    // Leaving their tests out changes no image: each would find nothing.
+    Light light = loadLight(index);
+    term.ignore = uvec2(lightIs(light, LIGHT_QUAD) ? light.first : NO_HIT, s.flatPrimitive);
     if (ls.isDelta) {
         term.value = fc * ls.radiance / pmf;
         return term;
@@ -171,7 +186,7 @@ vec3 incidentEmission(Shading s, vec3 wi, float selectionScale, KnownQuadDensity
     if (y.light == NO_LIGHT) return vec3(0.0);
     Light light = loadLight(y.light);
     vec3 Le = emittedRadiance(light, y.geometricNormal, wi);
-    if (Le == vec3(0.0) || emitterHidden(s.origin, wi, hit)) return vec3(0.0);
+    if (Le == vec3(0.0) || emitterHidden(s.origin, wi, hit, s.flatPrimitive)) return vec3(0.0);
     pLight = light.selectionProb * selectionScale *
              lightPdf(y.light, s.origin, s.ns, wi, y.position, y.geometricNormal, hit.t, hit.primitive, lightModes(), quad);
     return Le;
@@ -284,6 +299,7 @@ vec3 radianceApartFromFirst(bool found, Hit hit, vec3 origin, vec3 dir, inout Rn
     // A shading normal facing away from the viewer would reflect nothing: fall back.
     if (dot(s.ns, s.wo) <= 0.0) s.ns = s.ng;
     s.origin = offsetRayOrigin(s.x, s.ng);
+    s.flatPrimitive = sp.primitiveType == PRIM_SPHERE ? NO_HIT : hit.primitive;
     s.m = applyTextures(loadMaterial(sp.material), sp.material, sp.uv);
     L += reflectedRadiance(s, rng, first);
     return L;
@@ -314,7 +330,8 @@ void addPixelSamples(uvec2 pixel) {
         cameraRay(pixel, rand2(rng), origin, dir);
         Hit hit;
         bool blocked;
-        bool found = tracePair(origin, dir, FLOAT_MAX, camera, hit, first.origin, first.dir, first.tMax, first.traced, blocked);
+        bool found = tracePair(origin, dir, FLOAT_MAX, camera, cameraRayIgnores(), hit, first.origin, first.dir,
+                               first.tMax, first.traced, first.ignore, blocked);
         if (k > 0u) addSample(sum, withFirstTerm(rest, first, blocked));
         if (camera) rest = radianceApartFromFirst(found, hit, origin, dir, rng, first);
     }
@@ -326,7 +343,7 @@ vec3 pixelSample(uvec2 pixel, uint sampleIndex) {
     vec3 origin, dir;
     cameraRay(pixel, rand2(rng), origin, dir);
     Hit hit;
-    bool found = traceClosest(origin, dir, FLOAT_MAX, hit);
+    bool found = traceClosestIgnoring(origin, dir, FLOAT_MAX, cameraRayIgnores(), hit);
     ShadowedTerm first;
     vec3 rest = radianceApartFromFirst(found, hit, origin, dir, rng, first);
     return withFirstTerm(rest, first, first.blocked);

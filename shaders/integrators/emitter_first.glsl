@@ -53,9 +53,10 @@ bool traceForEmission(vec3 origin, vec3 dir, out Hit hit) {
 // Whether a surface strictly nearer than the emitter found by traceForEmission hides it;
 // always false for a closest hit. The emitter itself is left out: it is met at hit.t and
 // nowhere nearer, and with the primitives inline its own test could land an ulp below.
-bool emitterHidden(vec3 origin, vec3 dir, Hit hit) {
+// `leaving`: the flat primitive the ray leaves from, which it cannot meet (or NO_HIT).
+bool emitterHidden(vec3 origin, vec3 dir, Hit hit, uint leaving) {
     if (!emitterFirst()) return false;
-    return traceAnyIgnoring(origin, dir, hit.t, hit.primitive);
+    return traceAnyIgnoring(origin, dir, hit.t, uvec2(hit.primitive, leaving));
 }
 
 #endif

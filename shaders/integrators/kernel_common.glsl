@@ -24,6 +24,9 @@ layout(std430, binding = BINDING_COUNTERS) restrict buffer Counters {
 
 // The primitives the BVH's traversal tests before the tree (geometry/bvh.glsl).
 uvec2 bvhBesideRange() { return uvec2(params.besideFirst, params.besideCount); }
+// What camera rays pass to the traversal as `ignore` (geometry/bvh.glsl): the primitive
+// beside the tree that none of them can meet, if any.
+uvec2 cameraRayIgnores() { return uvec2(NO_HIT, params.cameraOutOfView); }
 
 #ifdef PENUMBRA_NODE_ADDRESS
 // Where the "_address" kernels read the BVH's nodes from, and where this invocation keeps

@@ -408,7 +408,10 @@ struct RenderParams {
     // query, in no leaf of it (host/bvh/bvh.h, Bvh::besideCount).
     uint besideFirst;
     uint besideCount;
-    uint pad2, pad3, pad4;
+    // One of those that no camera ray can hit, whose test camera rays leave out, or NO_HIT
+    // (host/render/out_of_view.h).
+    uint cameraOutOfView;
+    uint pad3, pad4;
 };
 
 // The render kernels work in tiles of TILE_SIZE x TILE_SIZE pixels, a workgroup's

@@ -52,8 +52,8 @@ void main() {
         uint j = rayCount - 1u - i;
         Hit closest;
         bool blocked;
-        bool found = tracePair(origin, dir, tMax, true, closest, rays[j].originTMax.xyz, rays[j].dir.xyz,
-                               rays[j].originTMax.w, true, blocked);
+        bool found = tracePair(origin, dir, tMax, true, uvec2(NO_HIT), closest, rays[j].originTMax.xyz, rays[j].dir.xyz,
+                               rays[j].originTMax.w, true, uvec2(NO_HIT), blocked);
         results[i].t = found ? closest.t : 0.0;
         results[i].primitive = found ? closest.primitive : NO_HIT;
         results[i].pad = 0u;
