@@ -197,6 +197,20 @@ uint nearestChild(uint hits, vec4 tEntry) {
     return nearest;
 }
 
+// Primitive i tested against the ray up to hit.t; where it is hit, `hit` becomes that hit
+// and the result is true.
+bool testPrimitive(uint i, vec3 origin, vec3 dir, inout Hit hit) {
+    float t;
+    vec2 uv;
+    bool found = intersectPrimitive(loadPrimitive(i), origin, dir, hit.t, t, uv);
+    if (found) {
+        hit.t = t;
+        hit.primitive = i;
+        hit.uv = uv;
+    }
+    return found;
+}
+
 // The primitives beside the tree (first and count) tested against the ray, as testPrimitives,
 // apart from those in `ignore` (see traverse). A loop of the same count for every lane: a
 // primitive that every lane's ray leaves out is a branch that no lane takes, which Mesa 24.3
@@ -205,14 +219,7 @@ bool testBeside(uvec2 beside, vec3 origin, vec3 dir, bool anyHit, uvec2 ignore, 
     for (uint k = 0u; k < beside.y; ++k) {
         uint i = beside.x + k;
         if (i == ignore.x || i == ignore.y) continue;
-        float t;
-        vec2 uv;
-        if (intersectPrimitive(loadPrimitive(i), origin, dir, hit.t, t, uv)) {
-            hit.t = t;
-            hit.primitive = i;
-            hit.uv = uv;
-            if (anyHit) return true;
-        }
+        if (testPrimitive(i, origin, dir, hit) && anyHit) return true;
     }
     return false;
 }
@@ -220,16 +227,8 @@ bool testBeside(uvec2 beside, vec3 origin, vec3 dir, bool anyHit, uvec2 ignore, 
 // Primitives [first, end) tested against the ray, `hit` kept as the closest found; true when
 // `anyHit` and one is hit, so the query ends.
 bool testPrimitives(uint first, uint end, vec3 origin, vec3 dir, bool anyHit, inout Hit hit) {
-    for (uint i = first; i < end; ++i) {
-        float t;
-        vec2 uv;
-        if (intersectPrimitive(loadPrimitive(i), origin, dir, hit.t, t, uv)) {
-            hit.t = t;
-            hit.primitive = i;
-            hit.uv = uv;
-            if (anyHit) return true;
-        }
-    }
+    for (uint i = first; i < end; ++i)
+        if (testPrimitive(i, origin, dir, hit) && anyHit) return true;
     return false;
 }
 
@@ -495,17 +494,9 @@ bool tracePair(vec3 originA, vec3 dirA, float tMaxA, bool tracedA, uvec2 ignoreA
         uint endA = leafA ? iA + (refA >> BVH_COUNT_SHIFT) : iA;
         uint endB = leafB ? iB + (refB >> BVH_COUNT_SHIFT) : iB;
         while (iA < endA || iB < endB) {
-            if (iA < endA) {
-                float t;
-                vec2 uv;
-                if (intersectPrimitive(loadPrimitive(iA), originA, dirA, hitA.t, t, uv)) {
-                    hitA.t = t;
-                    hitA.primitive = iA;
-                    hitA.uv = uv;
-                }
-                ++iA;
-            }
+            if (iA < endA) testPrimitive(iA++, originA, dirA, hitA);
             if (iB < endB) {
+                // Any hit ends ray B; its Hit is not read, so only the test is made.
                 float t;
                 vec2 uv;
                 if (intersectPrimitive(loadPrimitive(iB), originB, dirB, hitB.t, t, uv)) {
