@@ -12,15 +12,13 @@ namespace {
 // (about 1e-7) and a basis that is orthonormal to about as much.
 constexpr double kMargin = 1e-3;
 
-glm::dvec3 dv(glm::vec3 v) { return glm::dvec3(v); }
-
 }  // namespace
 
 uint32_t besideOutOfView(const gpu::RenderParams& p, const Bvh& bvh) {
     // A camera ray's direction is forward + x right + y up with |x| <= aspect tan, |y| <= tan
     // (cameraRay), so every point it reaches has dot(n, q - eye) <= 0 for each outward
     // normal n below; a box all of whose corners have dot(n, c - eye) > 0 is missed.
-    const glm::dvec3 eye = dv(p.eye), f = dv(p.forward), r = dv(p.right), u = dv(p.up);
+    const glm::dvec3 eye(p.eye), f(p.forward), r(p.right), u(p.up);
     const double t = double(p.tanHalfFovY), a = double(p.aspect) * t;
     const std::array<glm::dvec3, 5> sides = {u - t * f, -u - t * f, r - a * f, -r - a * f, -f};
     for (uint32_t k = 0; k < bvh.besideCount; ++k) {

@@ -405,8 +405,8 @@ bool traceClosest(vec3 origin, vec3 dir, float tMax, out Hit hit) {
     return traverse(origin, dir, tMax, false, uvec2(NO_HIT), hit);
 }
 
-// traceClosest for a ray that cannot meet primitive ignore.y, with ignore.x = NO_HIT (see
-// traverse).
+// traceClosest with traverse's `ignore`: camera rays pass the primitive out of view as
+// ignore.y (kernel_common.glsl, cameraRayIgnores).
 bool traceClosestIgnoring(vec3 origin, vec3 dir, float tMax, uvec2 ignore, out Hit hit) {
     return traverse(origin, dir, tMax, false, ignore, hit);
 }
