@@ -431,48 +431,82 @@ bool traceAnyIgnoring(vec3 origin, vec3 dir, float tMax, uvec2 ignore) {
 }
 
 
+// An any-hit query handed to tracePair: traceAnyIgnoring's arguments, and whether there is
+// one (`traced` false: none, which counts as a miss).
+struct AnyHitRay {
+    vec3 origin;
+    vec3 dir;
+    float tMax;
+    bool traced;
+    uvec2 ignore;
+};
+
+AnyHitRay noAnyHitRay() { return AnyHitRay(vec3(0.0), vec3(0.0, 0.0, 1.0), 0.0, false, uvec2(NO_HIT)); }
+
 #ifdef PENUMBRA_NODE_ADDRESS
-// Two rays traversed together by one invocation: ray A for its closest hit with t in
-// (0, tMaxA), as traceClosest, and ray B for any hit with t in (0, tMaxB), as traceAny;
-// `tracedA` / `tracedB` false leave a ray out (a miss). Returns whether A hit, and in
-// `blockedB` whether B did. Each loop below holds a step of each ray, so the CPU overlaps
-// the two rays' dependent chains (a node's gather, its box tests, the stack): two chains in
-// flight where traverse has one, as sixteen lanes bought over eight ("Round 15", two rays
-// per invocation, 1.08-1.30x per step). A step runs only while some lane's ray needs it
-// (Mesa 24.3 and later skip a branch no lane takes), so each ray costs the steps it would
-// cost alone. Each ray visits its nodes and primitives in the order traverse would, with
-// the same tests, so its result is traverse's bit for bit: only the interleaving differs.
-// The kernel traces a sample's camera ray together with the previous sample's shadow ray
+// Rays traversed together by one invocation: ray A for its closest hit with t in
+// (0, tMaxA), as traceClosest, and the any-hit rays B and then C, as traceAnyIgnoring, one
+// after the other in the second slot; `tracedA` false leaves ray A out (a miss). Returns
+// whether A hit, and in `blockedB` / `blockedC` whether B / C did. Each loop below holds a
+// step of each slot, so the CPU overlaps the two slots' dependent chains (a node's gather,
+// its box tests, the stack): two chains in flight where traverse has one, as sixteen lanes
+// bought over eight ("Round 15", two rays per invocation, 1.08-1.30x per step). A step runs
+// only while some lane's ray needs it (Mesa 24.3 and later skip a branch no lane takes), so
+// each ray costs the steps it would cost alone. Ray C takes the second slot where ray B
+// ends, in that lane alone: the group then runs as long as its longest A or B-then-C,
+// where a traversal of C after the loop would add its own longest lane ("Round 27"). Each
+// ray visits its nodes and primitives in the order traverse would, with the same tests, so
+// its result is traverse's bit for bit: only the interleaving differs. The kernel traces a
+// sample's camera ray together with the previous sample's first shadow ray and BRDF ray
 // (integrators/direct.comp, addPixelSamples). Stacks 0 and 1 of the invocation.
-bool tracePair(vec3 originA, vec3 dirA, float tMaxA, bool tracedA, uvec2 ignoreA, out Hit hitA, vec3 originB, vec3 dirB,
-               float tMaxB, bool tracedB, uvec2 ignoreB, out bool blockedB) {
+bool tracePair(vec3 originA, vec3 dirA, float tMaxA, bool tracedA, uvec2 ignoreA, out Hit hitA, AnyHitRay b,
+               AnyHitRay c, out bool blockedB, out bool blockedC) {
     hitA.t = tMaxA;
     hitA.primitive = NO_HIT;
     hitA.uv = vec2(0.0);
-    Hit hitB;
-    hitB.t = tMaxB;
-    hitB.primitive = NO_HIT;
-    hitB.uv = vec2(0.0);
-    blockedB = false;
     if (tracedA) countRay();
-    if (tracedB) countRay();
+    if (b.traced) countRay();
+    if (c.traced) countRay();
     // As in traverse: a NaN or infinite ray misses, and must not enter the loop.
     bool liveA = tracedA && isFiniteVec(originA) && isFiniteVec(dirA);
-    bool liveB = tracedB && isFiniteVec(originB) && isFiniteVec(dirB);
     // The primitives beside the tree, before it, as in traverse.
     uvec2 beside = bvhBesideRange();
     if (liveA) testBeside(beside, originA, dirA, false, ignoreA, hitA);
-    if (liveB && testBeside(beside, originB, dirB, true, ignoreB, hitB)) {
-        blockedB = true;
-        liveB = false;
-    }
-    vec3 invDirA = rayInverseDirection(dirA), invDirB = rayInverseDirection(dirB);
+    vec3 invDirA = rayInverseDirection(dirA);
     TraversalStackAt stackA = invocationStack(0u), stackB = invocationStack(1u);
     uint lastEntry = bvhStackDepth() - 1u;
     NodeQuadsAt nodes = NodeQuadsAt(bvhNodeAddress());
     uint refA = 0u, refB = 0u;  // the root, an interior node
     int spA = 0, spB = 0;
-    while (liveA || liveB) {
+    // The second slot holds `ray`: B, then C once B has ended (`onC`). `blocked` is what the
+    // ray in it found, `liveB` whether it still traverses.
+    AnyHitRay ray = b;
+    bool onC = false;
+    Hit hitB;
+    hitB.t = b.tMax;
+    hitB.primitive = NO_HIT;
+    hitB.uv = vec2(0.0);
+    bool liveB = b.traced && isFiniteVec(b.origin) && isFiniteVec(b.dir);
+    bool blocked = liveB && testBeside(beside, b.origin, b.dir, true, b.ignore, hitB);
+    liveB = liveB && !blocked;
+    vec3 invDirB = rayInverseDirection(b.dir);
+    blockedB = false;
+    while (true) {
+        // C takes the slot where B has ended (or had no ray): only in lanes with a C, so
+        // that the block runs in few rounds.
+        if (!liveB && !onC && c.traced) {
+            blockedB = blocked;
+            ray = c;
+            onC = true;
+            spB = 0;
+            refB = 0u;
+            hitB.t = c.tMax;
+            liveB = isFiniteVec(c.origin) && isFiniteVec(c.dir);
+            blocked = liveB && testBeside(beside, c.origin, c.dir, true, c.ignore, hitB);
+            liveB = liveB && !blocked;
+            invDirB = rayInverseDirection(c.dir);
+        }
+        if (!liveA && !liveB) break;
         // Descend each ray to a leaf, or until a node of its has no child hit (traverse's
         // inner loop, for two).
         bool leafA = liveA, leafB = liveB;
@@ -483,7 +517,7 @@ bool tracePair(vec3 originA, vec3 dirA, float tMaxA, bool tracedA, uvec2 ignoreA
                 downA = leafA && isInteriorRef(refA);
             }
             if (downB) {
-                leafB = descendOneNode(nodes, stackB, lastEntry, spB, refB, originB, invDirB, hitB.t);
+                leafB = descendOneNode(nodes, stackB, lastEntry, spB, refB, ray.origin, invDirB, hitB.t);
                 downB = leafB && isInteriorRef(refB);
             }
         }
@@ -496,11 +530,11 @@ bool tracePair(vec3 originA, vec3 dirA, float tMaxA, bool tracedA, uvec2 ignoreA
         while (iA < endA || iB < endB) {
             if (iA < endA) testPrimitive(iA++, originA, dirA, hitA);
             if (iB < endB) {
-                // Any hit ends ray B; its Hit is not read, so only the test is made.
+                // Any hit ends the ray; its Hit is not read, so only the test is made.
                 float t;
                 vec2 uv;
-                if (intersectPrimitive(loadPrimitive(iB), originB, dirB, hitB.t, t, uv)) {
-                    blockedB = true;
+                if (intersectPrimitive(loadPrimitive(iB), ray.origin, ray.dir, hitB.t, t, uv)) {
+                    blocked = true;
                     liveB = false;
                     endB = iB;
                 }
@@ -516,6 +550,8 @@ bool tracePair(vec3 originA, vec3 dirA, float tMaxA, bool tracedA, uvec2 ignoreA
             if (liveB) refB = stackB.entries[min(uint(--spB), lastEntry)];
         }
     }
+    if (!onC) blockedB = blocked;
+    blockedC = onC && blocked;
     return hitA.primitive != NO_HIT;
 }
 #endif

@@ -15,13 +15,13 @@
 #extension GL_GOOGLE_include_directive : require
 
 // The "_address" variant traces each sample's camera ray together with the previous
-// sample's shadow ray (addPixelSamples, at the end): it brings its own sample loop.
+// sample's shadow rays (addPixelSamples, at the end): it brings its own sample loop.
 #if defined(PENUMBRA_NODE_ADDRESS) && !defined(PENUMBRA_INLINE_GEOMETRY)
 #define PENUMBRA_TRACE_PAIRS
 #define PENUMBRA_KERNEL_SAMPLE_LOOP
-const bool kFirstShadowRayWaits = true;
+const bool kShadowRaysWait = true;
 #else
-const bool kFirstShadowRayWaits = false;
+const bool kShadowRaysWait = false;
 #endif
 
 #include "integrators/kernel_common.glsl"
@@ -64,31 +64,28 @@ struct Shading {
     uint flatPrimitive;
 };
 
-// A light sample's term of the estimate, and the shadow ray that decides whether it counts:
-// the term is `value` where nothing blocks the ray, 0 where something does. Sampling and
-// tracing are apart so that the kernel can trace a sample's first such ray later, together
+// A term of the estimate, and the shadow ray that decides whether it counts: the term is
+// `value` where nothing blocks the ray, 0 where something does. `ray.traced` false: the
+// term is 0, with no ray to trace. For a light sample the ray runs from the shading point's
+// offset origin toward the sampled point; for a BRDF sample that found an emitter first, it
+// is the query whether anything hides that emitter (emitter_first.glsl). Sampling and
+// tracing are apart so that the kernel can trace a sample's first such rays later, together
 // with the next sample's camera ray (addPixelSamples).
 struct ShadowedTerm {
     vec3 value;
-    vec3 origin;  // the shadow ray: from the shading point's offset origin
-    vec3 dir;     // toward the light sample
-    float tMax;
-    bool traced;   // false: the term is 0, with no ray to trace
-    bool blocked;  // what traceNow found
-    uvec2 ignore;  // primitives that cannot block the ray (traverse's `ignore`; NO_HIT: none)
+    AnyHitRay ray;  // its `ignore`: primitives that cannot block it (traverse's; NO_HIT: none)
+    bool blocked;   // what traceNow found
 };
 
-ShadowedTerm noShadowedTerm() {
-    return ShadowedTerm(vec3(0.0), vec3(0.0), vec3(0.0, 0.0, 1.0), 0.0, false, false, uvec2(NO_HIT));
-}
+ShadowedTerm noShadowedTerm() { return ShadowedTerm(vec3(0.0), noAnyHitRay(), false); }
 
 // Traces the term's shadow ray at once.
 void traceNow(inout ShadowedTerm term) {
-    term.blocked = term.traced && traceAnyIgnoring(term.origin, term.dir, term.tMax, term.ignore);
+    term.blocked = term.ray.traced && traceAnyIgnoring(term.ray.origin, term.ray.dir, term.ray.tMax, term.ray.ignore);
 }
 
 // The term's share of the estimate: its value where traced and unblocked, else 0.
-vec3 termValue(ShadowedTerm term, bool blocked) { return term.traced && !blocked ? term.value : vec3(0.0); }
+vec3 termValue(ShadowedTerm term, bool blocked) { return term.ray.traced && !blocked ? term.value : vec3(0.0); }
 
 // f * cos for a direction whose BRDF value is f, zero below either normal.
 vec3 cosineWeighted(Shading s, vec3 wi, vec3 f) {
@@ -132,15 +129,13 @@ ShadowedTerm lightSampleTerm(Shading s, uint index, float pmf, vec3 u, uint weig
     if (fc == vec3(0.0)) return term;
     // The shadow ray stops just short of the sampled point, so that the light's own surface
     // does not count as an occluder.
-    term.origin = s.origin;
-    term.dir = ls.wi;
-    term.tMax = ls.dist == FLOAT_MAX ? FLOAT_MAX : ls.dist * (1.0 - 1e-4);
-    term.traced = true;
+    float tMax = ls.dist == FLOAT_MAX ? FLOAT_MAX : ls.dist * (1.0 - 1e-4);
     // A quad light cannot block a ray toward a point on itself: the ray meets its plane once,
     // there, beyond tMax. Neither can the flat primitive under x (Shading.flatPrimitive).
     // Leaving their tests out changes no image: each would find nothing.
     Light light = loadLight(index);
-    term.ignore = uvec2(lightIs(light, LIGHT_QUAD) ? light.first : NO_HIT, s.flatPrimitive);
+    uvec2 ignore = uvec2(lightIs(light, LIGHT_QUAD) ? light.first : NO_HIT, s.flatPrimitive);
+    term.ray = AnyHitRay(s.origin, ls.wi, tMax, true, ignore);
     if (ls.isDelta) {
         term.value = fc * ls.radiance / pmf;
         return term;
@@ -170,9 +165,13 @@ vec3 lightSampleEstimate(Shading s, uint index, float pmf, vec3 u, uint weightin
 // turning Light::selectionProb into the probability in the table actually sampled.
 // With the emitter-first path (integrators/emitter_first.glsl; only in scenes without an
 // environment light) the hit is the nearest emitter, checked for occluders once it is known
-// to emit toward x. `quad`: the light's quad density at x where a light sample knows it.
-vec3 incidentEmission(Shading s, vec3 wi, float selectionScale, KnownQuadDensity quad, out float pLight) {
+// to emit toward x: at once, or, with `waits`, by the caller, who receives that query in
+// `hidden` (otherwise none). `quad`: the light's quad density at x where a light sample
+// knows it.
+vec3 incidentEmission(Shading s, vec3 wi, float selectionScale, KnownQuadDensity quad, bool waits, out float pLight,
+                      out AnyHitRay hidden) {
     pLight = 0.0;
+    hidden = noAnyHitRay();
     Hit hit;
     if (!traceForEmission(s.origin, wi, hit)) {
         // The environment's own density, not lightPdf's dispatch over every kind: llvmpipe
@@ -186,15 +185,21 @@ vec3 incidentEmission(Shading s, vec3 wi, float selectionScale, KnownQuadDensity
     if (y.light == NO_LIGHT) return vec3(0.0);
     Light light = loadLight(y.light);
     vec3 Le = emittedRadiance(light, y.geometricNormal, wi);
-    if (Le == vec3(0.0) || emitterHidden(s.origin, wi, hit, s.flatPrimitive)) return vec3(0.0);
+    if (Le == vec3(0.0)) return vec3(0.0);
+    if (waits && emitterFirst()) hidden = emitterHiddenRay(s.origin, wi, hit, s.flatPrimitive);
+    else if (emitterHidden(s.origin, wi, hit, s.flatPrimitive)) return vec3(0.0);
     pLight = light.selectionProb * selectionScale *
              lightPdf(y.light, s.origin, s.ns, wi, y.position, y.geometricNormal, hit.t, hit.primitive, lightModes(), quad);
     return Le;
 }
 
 // One BRDF sample, weighted against N1 light samples from the full table (WEIGHT_MIS) or
-// by the mixture density with the continuous-light table (WEIGHT_MIXTURE).
-vec3 bsdfSampleEstimate(Shading s, uint weighting, float nLight, float nBsdf, KnownQuadDensity quad, inout Rng rng) {
+// by the mixture density with the continuous-light table (WEIGHT_MIXTURE). With `waits`,
+// a sample whose emitter is still to be checked for occluders (incidentEmission) returns
+// 0 and leaves its value and that query in `waiting`; otherwise `waiting` holds none.
+vec3 bsdfSampleEstimate(Shading s, uint weighting, float nLight, float nBsdf, KnownQuadDensity quad, bool waits,
+                        inout Rng rng, out ShadowedTerm waiting) {
+    waiting = noShadowedTerm();
     vec3 wi;
     BsdfValue b;
     if (!bsdfSample(s.m, s.ns, s.wo, rand2(rng), wi, b)) return vec3(0.0);
@@ -203,13 +208,16 @@ vec3 bsdfSampleEstimate(Shading s, uint weighting, float nLight, float nBsdf, Kn
     float pBsdf = b.pdf;
     float pLight;
     float scale = weighting == WEIGHT_MIXTURE ? params.continuousScale : 1.0;
-    vec3 Le = incidentEmission(s, wi, scale, quad, pLight);
+    vec3 Le = incidentEmission(s, wi, scale, quad, waits, pLight, waiting.ray);
     if (Le == vec3(0.0)) return vec3(0.0);
     float density = pBsdf;
     float weight = 1.0;
     if (weighting == WEIGHT_MIS) weight = misWeight(nBsdf * pBsdf, nLight * pLight, kHeuristic);
     else if (weighting == WEIGHT_MIXTURE) density = 0.5 * pLight + 0.5 * pBsdf;
-    return fc * Le * weight / density;
+    vec3 value = fc * Le * weight / density;
+    if (!waiting.ray.traced) return value;
+    waiting.value = value;
+    return vec3(0.0);
 }
 
 // One draw from the delta-only table: the explicit estimate of point and directional
@@ -223,13 +231,20 @@ vec3 deltaLightEstimate(Shading s, inout Rng rng) {
     return lightSampleEstimate(s, index, pmf, u, WEIGHT_NONE, 0.0, 0.0, unused);
 }
 
-// Light reflected at s toward the viewer, apart from the first light sample's term, which
-// it leaves in `first` (light and mis strategies; the others leave none): traced, or, in
-// the kernel that traces it with the next sample's camera ray, not yet.
-vec3 reflectedRadiance(Shading s, inout Rng rng, out ShadowedTerm first) {
+// The terms of a sample that reflectedRadiance leaves apart: the first light sample's (light
+// and mis strategies) and, with mis, the last BRDF sample's, each with its shadow ray traced
+// or, in the kernel that traces them with the next sample's camera ray, not yet (a BRDF
+// sample's only where its emitter was found first, emitter_first.glsl); none otherwise.
+struct WaitingTerms {
+    ShadowedTerm light;
+    ShadowedTerm bsdf;
+};
+
+// Light reflected at s toward the viewer, apart from the terms it leaves in `waiting`.
+vec3 reflectedRadiance(Shading s, inout Rng rng, out WaitingTerms waiting) {
     uint n1 = kLightSamples, n2 = kBsdfSamples;
     vec3 L = vec3(0.0);
-    first = noShadowedTerm();
+    waiting = WaitingTerms(noShadowedTerm(), noShadowedTerm());
     // With one light in the scene, MIS draws its light samples from x before its BRDF
     // samples, and any BRDF-sampled ray that finds a light finds that one: its quad density
     // at x is what the light samples computed (the same for every one of them). It stays 0
@@ -246,8 +261,8 @@ vec3 reflectedRadiance(Shading s, inout Rng rng, out ShadowedTerm first) {
             term.value /= float(n1);
             // At the loop's one call of traceNow, so that the kernel holds one copy of the
             // traversal (with inline geometry, of every primitive's test) for all of them.
-            if (i > 0u || !kFirstShadowRayWaits) traceNow(term);
-            if (i == 0u) first = term;
+            if (i > 0u || !kShadowRaysWait) traceNow(term);
+            if (i == 0u) waiting.light = term;
             else L += termValue(term, term.blocked);
         }
     }
@@ -256,7 +271,13 @@ vec3 reflectedRadiance(Shading s, inout Rng rng, out ShadowedTerm first) {
         float nLight = kStrategy == STRATEGY_MIS ? float(n1) : 0.0;
         KnownQuadDensity quad = KnownQuadDensity(kStrategy == STRATEGY_MIS && n1 > 0u && hasSingleLight(), quadSolidAnglePdf);
         for (uint i = 0u; i < n2; ++i) {
-            L += bsdfSampleEstimate(s, weighting, nLight, float(n2), quad, rng) / float(n2);
+            // The last BRDF sample of mis with light samples is the last term added here, so
+            // it may wait: finishedSample adds it in the same order.
+            bool waits = kShadowRaysWait && kStrategy == STRATEGY_MIS && n1 > 0u && i == n2 - 1u;
+            ShadowedTerm term;
+            L += bsdfSampleEstimate(s, weighting, nLight, float(n2), quad, waits, rng, term) / float(n2);
+            term.value /= float(n2);
+            waiting.bsdf = term;
             // Without light samples, delta lights get their own explicit draw.
             if (nLight == 0.0) L += deltaLightEstimate(s, rng) / float(n2);
         }
@@ -273,7 +294,8 @@ vec3 reflectedRadiance(Shading s, inout Rng rng, out ShadowedTerm first) {
                     L += lightSampleEstimate(s, index, pmf, u, WEIGHT_MIXTURE, 0.0, 0.0, unused) / float(n);
                 }
             } else {
-                L += bsdfSampleEstimate(s, WEIGHT_MIXTURE, 0.0, 0.0, unknownQuadDensity(), rng) / float(n);
+                ShadowedTerm none;
+                L += bsdfSampleEstimate(s, WEIGHT_MIXTURE, 0.0, 0.0, unknownQuadDensity(), false, rng, none) / float(n);
             }
             L += deltaLightEstimate(s, rng) / float(n);
         }
@@ -281,15 +303,25 @@ vec3 reflectedRadiance(Shading s, inout Rng rng, out ShadowedTerm first) {
     return L;
 }
 
-// A sample's radiance, given what its camera ray (origin, dir) found, apart from the first
-// light sample's term, left in `first` (reflectedRadiance). `rng` goes on from the camera
-// ray's numbers.
-vec3 radianceApartFromFirst(bool found, Hit hit, vec3 origin, vec3 dir, inout Rng rng, out ShadowedTerm first) {
-    first = noShadowedTerm();
-    if (!found)
-        return params.environmentLight == NO_LIGHT ? vec3(0.0) : environmentRadiance(loadLight(params.environmentLight), dir);
+// A sample's radiance in parts: emitted + reflected, and the terms whose shadow rays may
+// still wait (reflectedRadiance). finishedSample adds them up.
+struct PartialSample {
+    vec3 emitted;
+    vec3 reflected;
+    WaitingTerms waiting;
+};
+
+// The sample that the camera ray (origin, dir) found. `rng` goes on from the camera ray's
+// numbers.
+PartialSample partialSample(bool found, Hit hit, vec3 origin, vec3 dir, inout Rng rng) {
+    PartialSample p = PartialSample(vec3(0.0), vec3(0.0), WaitingTerms(noShadowedTerm(), noShadowedTerm()));
+    if (!found) {
+        if (params.environmentLight != NO_LIGHT)
+            p.emitted = environmentRadiance(loadLight(params.environmentLight), dir);
+        return p;
+    }
     SurfacePoint sp = surfaceAt(hit, origin, dir);
-    vec3 L = sp.light == NO_LIGHT ? vec3(0.0) : emittedRadiance(loadLight(sp.light), sp.geometricNormal, dir);
+    if (sp.light != NO_LIGHT) p.emitted = emittedRadiance(loadLight(sp.light), sp.geometricNormal, dir);
 
     Shading s;
     s.x = sp.position;
@@ -301,39 +333,43 @@ vec3 radianceApartFromFirst(bool found, Hit hit, vec3 origin, vec3 dir, inout Rn
     s.origin = offsetRayOrigin(s.x, s.ng);
     s.flatPrimitive = sp.primitiveType == PRIM_SPHERE ? NO_HIT : hit.primitive;
     s.m = applyTextures(loadMaterial(sp.material), sp.material, sp.uv);
-    L += reflectedRadiance(s, rng, first);
-    return L;
+    p.reflected = reflectedRadiance(s, rng, p.waiting);
+    return p;
 }
 
-// The sample's radiance: what radianceApartFromFirst returned, and the first term where its
-// shadow ray is unblocked. Both ways of tracing that ray end here, so they give the same
-// sums bit for bit.
-vec3 withFirstTerm(vec3 rest, ShadowedTerm first, bool blocked) {
-    return first.traced && !blocked ? rest + first.value : rest;
+// The sample's radiance, given whether the waiting terms' shadow rays are blocked: the BRDF
+// term joins the reflected light where it was the last added, and the light term the sum
+// last. Both ways of tracing those rays end here, so they give the same sums bit for bit.
+vec3 finishedSample(PartialSample p, bool lightBlocked, bool bsdfBlocked) {
+    vec3 reflected = p.reflected + termValue(p.waiting.bsdf, bsdfBlocked);
+    vec3 rest = p.emitted + reflected;
+    return p.waiting.light.ray.traced && !lightBlocked ? rest + p.waiting.light.value : rest;
 }
 
 #ifdef PENUMBRA_TRACE_PAIRS
 // A pixel's samples, software-pipelined (kernel_common.glsl, addPixelSamples, says what the
-// loop keeps): iteration k traces sample k's camera ray together with sample k - 1's first
-// shadow ray (geometry/bvh.glsl, tracePair), then finishes sample k - 1 and shades sample k
-// up to its own first shadow ray. The first iteration has no shadow ray to trace and the
+// loop keeps): iteration k traces sample k's camera ray together with sample k - 1's
+// waiting shadow rays (geometry/bvh.glsl, tracePair), then finishes sample k - 1 and shades
+// sample k up to its own waiting rays. The first iteration has no shadow ray to trace and the
 // last no camera ray. Sample k - 1 is added before sample k is shaded, in sample order.
 void addPixelSamples(uvec2 pixel) {
     uint index = pixel.y * params.width + pixel.x;
     vec4 sum = accum[index];
-    ShadowedTerm first = noShadowedTerm();
-    vec3 rest = vec3(0.0);
+    PartialSample last = PartialSample(vec3(0.0), vec3(0.0), WaitingTerms(noShadowedTerm(), noShadowedTerm()));
     for (uint k = 0u; k <= pass.sampleCount; ++k) {
         bool camera = k < pass.sampleCount;
         Rng rng = pixelRng(pixel, pass.sampleIndex + k);
         vec3 origin, dir;
         cameraRay(pixel, rand2(rng), origin, dir);
         Hit hit;
-        bool blocked;
-        bool found = tracePair(origin, dir, FLOAT_MAX, camera, cameraRayIgnores(), hit, first.origin, first.dir,
-                               first.tMax, first.traced, first.ignore, blocked);
-        if (k > 0u) addSample(sum, withFirstTerm(rest, first, blocked));
-        if (camera) rest = radianceApartFromFirst(found, hit, origin, dir, rng, first);
+        bool lightBlocked, bsdfBlocked;
+        // Only emitter-first BRDF samples wait (bsdfSampleEstimate): elsewhere none is
+        // passed, a constant, so that the compiler leaves tracePair's third ray out.
+        AnyHitRay bsdfRay = emitterFirst() ? last.waiting.bsdf.ray : noAnyHitRay();
+        bool found = tracePair(origin, dir, FLOAT_MAX, camera, cameraRayIgnores(), hit, last.waiting.light.ray, bsdfRay,
+                               lightBlocked, bsdfBlocked);
+        if (k > 0u) addSample(sum, finishedSample(last, lightBlocked, bsdfBlocked));
+        if (camera) last = partialSample(found, hit, origin, dir, rng);
     }
     accum[index] = sum;
 }
@@ -344,8 +380,7 @@ vec3 pixelSample(uvec2 pixel, uint sampleIndex) {
     cameraRay(pixel, rand2(rng), origin, dir);
     Hit hit;
     bool found = traceClosestIgnoring(origin, dir, FLOAT_MAX, cameraRayIgnores(), hit);
-    ShadowedTerm first;
-    vec3 rest = radianceApartFromFirst(found, hit, origin, dir, rng, first);
-    return withFirstTerm(rest, first, first.blocked);
+    PartialSample p = partialSample(found, hit, origin, dir, rng);
+    return finishedSample(p, p.waiting.light.blocked, p.waiting.bsdf.blocked);
 }
 #endif

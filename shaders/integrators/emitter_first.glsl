@@ -50,13 +50,21 @@ bool traceForEmission(vec3 origin, vec3 dir, out Hit hit) {
     return traceClosest(origin, dir, FLOAT_MAX, hit);
 }
 
+// The query that decides whether a surface strictly nearer than the emitter found by
+// traceForEmission hides it, for emitterHidden or for a caller that traces it later. The
+// emitter itself is left out: it is met at hit.t and nowhere nearer, and with the
+// primitives inline its own test could land an ulp below. `leaving`: the flat primitive the
+// ray leaves from, which it cannot meet (or NO_HIT).
+AnyHitRay emitterHiddenRay(vec3 origin, vec3 dir, Hit hit, uint leaving) {
+    return AnyHitRay(origin, dir, hit.t, true, uvec2(hit.primitive, leaving));
+}
+
 // Whether a surface strictly nearer than the emitter found by traceForEmission hides it;
-// always false for a closest hit. The emitter itself is left out: it is met at hit.t and
-// nowhere nearer, and with the primitives inline its own test could land an ulp below.
-// `leaving`: the flat primitive the ray leaves from, which it cannot meet (or NO_HIT).
+// always false for a closest hit.
 bool emitterHidden(vec3 origin, vec3 dir, Hit hit, uint leaving) {
     if (!emitterFirst()) return false;
-    return traceAnyIgnoring(origin, dir, hit.t, uvec2(hit.primitive, leaving));
+    AnyHitRay ray = emitterHiddenRay(origin, dir, hit, leaving);
+    return traceAnyIgnoring(ray.origin, ray.dir, ray.tMax, ray.ignore);
 }
 
 #endif
