@@ -444,6 +444,21 @@ struct AnyHitRay {
 AnyHitRay noAnyHitRay() { return AnyHitRay(vec3(0.0), vec3(0.0, 0.0, 1.0), 0.0, false, uvec2(NO_HIT)); }
 
 #ifdef PENUMBRA_NODE_ADDRESS
+// Any-hit ray r taken up in tracePair's second slot: `hit` up to its tMax, its tests beside
+// the tree made, and `invDir`. Returns whether those tests found a hit; `live` says whether
+// the tree is still to walk (not where they found one, nor for a ray that is none or not
+// finite, which misses, as in traverse).
+bool startSecondSlot(AnyHitRay r, uvec2 beside, out Hit hit, out bool live, out vec3 invDir) {
+    hit.t = r.tMax;
+    hit.primitive = NO_HIT;
+    hit.uv = vec2(0.0);
+    live = r.traced && isFiniteVec(r.origin) && isFiniteVec(r.dir);
+    bool blocked = live && testBeside(beside, r.origin, r.dir, true, r.ignore, hit);
+    live = live && !blocked;
+    invDir = rayInverseDirection(r.dir);
+    return blocked;
+}
+
 // Rays traversed together by one invocation: ray A for its closest hit with t in
 // (0, tMaxA), as traceClosest, and the any-hit rays B and then C, as traceAnyIgnoring, one
 // after the other in the second slot; `tracedA` false leaves ray A out (a miss). Returns
@@ -481,15 +496,10 @@ bool tracePair(vec3 originA, vec3 dirA, float tMaxA, bool tracedA, uvec2 ignoreA
     // The second slot holds `ray`: B, then C once B has ended (`onC`). `blocked` is what the
     // ray in it found, `liveB` whether it still traverses.
     AnyHitRay ray = b;
-    bool onC = false;
+    bool onC = false, liveB;
     Hit hitB;
-    hitB.t = b.tMax;
-    hitB.primitive = NO_HIT;
-    hitB.uv = vec2(0.0);
-    bool liveB = b.traced && isFiniteVec(b.origin) && isFiniteVec(b.dir);
-    bool blocked = liveB && testBeside(beside, b.origin, b.dir, true, b.ignore, hitB);
-    liveB = liveB && !blocked;
-    vec3 invDirB = rayInverseDirection(b.dir);
+    vec3 invDirB;
+    bool blocked = startSecondSlot(b, beside, hitB, liveB, invDirB);
     blockedB = false;
     while (true) {
         // C takes the slot where B has ended (or had no ray): only in lanes with a C, so
@@ -500,11 +510,7 @@ bool tracePair(vec3 originA, vec3 dirA, float tMaxA, bool tracedA, uvec2 ignoreA
             onC = true;
             spB = 0;
             refB = 0u;
-            hitB.t = c.tMax;
-            liveB = isFiniteVec(c.origin) && isFiniteVec(c.dir);
-            blocked = liveB && testBeside(beside, c.origin, c.dir, true, c.ignore, hitB);
-            liveB = liveB && !blocked;
-            invDirB = rayInverseDirection(c.dir);
+            blocked = startSecondSlot(c, beside, hitB, liveB, invDirB);
         }
         if (!liveA && !liveB) break;
         // Descend each ray to a leaf, or until a node of its has no child hit (traverse's

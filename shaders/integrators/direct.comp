@@ -240,11 +240,13 @@ struct WaitingTerms {
     ShadowedTerm bsdf;
 };
 
+WaitingTerms noWaitingTerms() { return WaitingTerms(noShadowedTerm(), noShadowedTerm()); }
+
 // Light reflected at s toward the viewer, apart from the terms it leaves in `waiting`.
 vec3 reflectedRadiance(Shading s, inout Rng rng, out WaitingTerms waiting) {
     uint n1 = kLightSamples, n2 = kBsdfSamples;
     vec3 L = vec3(0.0);
-    waiting = WaitingTerms(noShadowedTerm(), noShadowedTerm());
+    waiting = noWaitingTerms();
     // With one light in the scene, MIS draws its light samples from x before its BRDF
     // samples, and any BRDF-sampled ray that finds a light finds that one: its quad density
     // at x is what the light samples computed (the same for every one of them). It stays 0
@@ -276,8 +278,10 @@ vec3 reflectedRadiance(Shading s, inout Rng rng, out WaitingTerms waiting) {
             bool waits = kShadowRaysWait && kStrategy == STRATEGY_MIS && n1 > 0u && i == n2 - 1u;
             ShadowedTerm term;
             L += bsdfSampleEstimate(s, weighting, nLight, float(n2), quad, waits, rng, term) / float(n2);
-            term.value /= float(n2);
-            waiting.bsdf = term;
+            if (waits) {
+                term.value /= float(n2);
+                waiting.bsdf = term;
+            }
             // Without light samples, delta lights get their own explicit draw.
             if (nLight == 0.0) L += deltaLightEstimate(s, rng) / float(n2);
         }
@@ -311,10 +315,12 @@ struct PartialSample {
     WaitingTerms waiting;
 };
 
+PartialSample noPartialSample() { return PartialSample(vec3(0.0), vec3(0.0), noWaitingTerms()); }
+
 // The sample that the camera ray (origin, dir) found. `rng` goes on from the camera ray's
 // numbers.
 PartialSample partialSample(bool found, Hit hit, vec3 origin, vec3 dir, inout Rng rng) {
-    PartialSample p = PartialSample(vec3(0.0), vec3(0.0), WaitingTerms(noShadowedTerm(), noShadowedTerm()));
+    PartialSample p = noPartialSample();
     if (!found) {
         if (params.environmentLight != NO_LIGHT)
             p.emitted = environmentRadiance(loadLight(params.environmentLight), dir);
@@ -355,7 +361,7 @@ vec3 finishedSample(PartialSample p, bool lightBlocked, bool bsdfBlocked) {
 void addPixelSamples(uvec2 pixel) {
     uint index = pixel.y * params.width + pixel.x;
     vec4 sum = accum[index];
-    PartialSample last = PartialSample(vec3(0.0), vec3(0.0), WaitingTerms(noShadowedTerm(), noShadowedTerm()));
+    PartialSample last = noPartialSample();
     for (uint k = 0u; k <= pass.sampleCount; ++k) {
         bool camera = k < pass.sampleCount;
         Rng rng = pixelRng(pixel, pass.sampleIndex + k);
