@@ -24,9 +24,10 @@ static_assert(sizeof(RenderParams) % 16 == 0 && offsetof(RenderParams, right) ==
               offsetof(RenderParams, forward) == 48 && offsetof(RenderParams, height) == 60 &&
               offsetof(RenderParams, seed) == 64 &&
               sizeof(RenderParams) == 128);
-static_assert(sizeof(PassConstants) == 48 && offsetof(PassConstants, nodeAddressLow) == 20 &&
+static_assert(sizeof(PassConstants) == 52 && offsetof(PassConstants, nodeAddressLow) == 20 &&
               offsetof(PassConstants, stackAddressLow) == 28 && offsetof(PassConstants, stackDepth) == 36 &&
-              offsetof(PassConstants, queueTiles) == 40 && offsetof(PassConstants, tileColumns) == 44);
+              offsetof(PassConstants, queueTiles) == 40 && offsetof(PassConstants, tileColumns) == 44 &&
+              offsetof(PassConstants, loopProbeTrips) == 48);
 // Texel-buffer views (RGBA32UI, 16 bytes a texel) cover the structs exactly: a wide node,
 // a primitive and a material are whole numbers of texels.
 static_assert(sizeof(WideNode) == WIDE_NODE_TEXELS * 16 && offsetof(WideNode, meta) == 12 &&

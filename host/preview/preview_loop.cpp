@@ -299,6 +299,9 @@ void Preview::frame(bool render) {
     if (image) recordPresentation(cmd, m_swapchain->image(*image));
     vkCheck(vkEndCommandBuffer(cmd), "end the preview's command buffer");
     const double seconds = submitAndPresent(cmd, image);
+    // Where the driver may cut loops short, the pixels they left short get the rest once
+    // the passes are done (render/loop_budget.h); later frames and a save then see them.
+    if (render && m_scheduler.finished()) m_renderer->renderSamplesCutLoopsLeft(m_scheduler.samplesDone());
 
     if (render && m_settings.rowsPerFrame == 0)
         m_rowBudget = adaptRowBudget(m_rowBudget, seconds, kTargetFrameSeconds, m_scene.film.height);

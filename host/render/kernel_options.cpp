@@ -48,6 +48,7 @@ std::vector<uint32_t> KernelOptions::specialization() const {
     std::copy(inlineGeometry.slots.begin(), inlineGeometry.slots.end(), values.begin() + SPEC_INLINE_FIRST);
     std::copy(inlineGeometry.groups.begin(), inlineGeometry.groups.end(), values.begin() + SPEC_INLINE_GROUP_FIRST);
     values[SPEC_NODE_READS] = nodeReads;
+    values[SPEC_LOOPS_MAY_BE_CUT] = loopsMayBeCut;
     return values;
 }
 

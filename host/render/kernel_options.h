@@ -22,6 +22,7 @@ struct KernelOptions {
     uint32_t emitterFirstLights = 0;         // 0, or the light count: emitter-first BRDF rays
     InlineGeometryWords inlineGeometry;      // no slots, or the primitives inline (render/inline_geometry.h)
     uint32_t nodeReads = NODE_READS_TEXELS;  // NODE_READS_*: set per device (render/node_reads.h)
+    uint32_t loopsMayBeCut = 0;              // 1: set per device (render/loop_budget.h)
 
     // Values in constant_id order, for gpu::Pipeline.
     std::vector<uint32_t> specialization() const;

@@ -13,6 +13,7 @@
 #include "gpu/gpu_timer.h"
 #include "gpu/vk_check.h"
 #include "render/environment_map.h"
+#include "render/loop_budget.h"
 #include "render/pass_bands.h"
 #include "render/tile_queue.h"
 #include "render/traversal_stacks.h"
@@ -24,8 +25,10 @@ namespace {
 
 constexpr uint32_t kTile = PassBands::kTile;  // local_size_x/y of the integrator kernels
 static_assert(kTile == TILE_SIZE);
-// Where the tile queue's counter is in BINDING_COUNTERS: after the rays traced.
+// BINDING_COUNTERS: the rays traced, the tile queue's next pixel, the loops cut short.
+constexpr uint32_t kCounterCount = 3;
 constexpr VkDeviceSize kQueueCounterOffset = sizeof(uint32_t);
+constexpr size_t kLoopsCutCounter = 2;
 
 // Tiles across `pixels` (the last one partly outside).
 uint32_t tilesFor(uint32_t pixels) { return (pixels + kTile - 1) / kTile; }
@@ -91,8 +94,9 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
     m_lights = Buffer::fromVector(context, m_arrays.lights, "lights", texels);
     m_lightTable = Buffer::fromVector(context, m_arrays.lightTable, "light selection table", texels);
     m_meshTable = Buffer::fromVector(context, m_arrays.meshTable, "mesh light table", texels);
-    // The rays traced and the tile queue's next pixel (BINDING_COUNTERS), set by fills.
-    m_counters = Buffer(context, 2 * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, 0,
+    // The rays traced, the tile queue's next pixel and the loops cut short (BINDING_COUNTERS),
+    // set by fills.
+    m_counters = Buffer(context, kCounterCount * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, 0,
                         VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, "counters");
     // Untextured scenes get 16-byte placeholders: the kernel never reads them (hasTextures()).
     const TextureArrays& textures = m_arrays.textures;
@@ -170,6 +174,11 @@ void Renderer::setNodeReads(NodeReads mode) {
     updateKernel();
 }
 
+void Renderer::setLoopChecks(bool on) {
+    m_loopChecks = on ? 1 : 0;
+    updateKernel();
+}
+
 void Renderer::setInlineGeometry(InlineGeometry mode) {
     m_inlineGeometry = mode;
     updateKernel();
@@ -178,6 +187,7 @@ void Renderer::setInlineGeometry(InlineGeometry mode) {
 KernelOptions Renderer::kernelOptions() const {
     KernelOptions options = makeKernelOptions(m_scene, m_arrays, m_emitterFirst, m_inlineGeometry);
     options.nodeReads = nodeReadsValue(m_nodeReads, m_context.info());
+    options.loopsMayBeCut = m_loopChecks >= 0 ? uint32_t(m_loopChecks) : loopsMayBeCutFor(m_context.info()) ? 1 : 0;
     return options;
 }
 
@@ -204,7 +214,13 @@ void Renderer::retarget(const Scene& scene) {
     reset();
 }
 
-void Renderer::reset() { m_accum.clear(); }
+void Renderer::reset() {
+    m_accum.clear();
+    // And the loops cut short so far (renderSamplesCutLoopsLeft), which only kernels with the
+    // checks count.
+    if (m_options.loopsMayBeCut) m_counters.clear();
+    m_loopCuts = 0;
+}
 
 void Renderer::setCamera(const Camera& camera) {
     m_scene.camera = camera;
@@ -240,7 +256,8 @@ gpu::PassConstants Renderer::passConstants(uint32_t first, uint32_t firstRow, ui
             uint32_t(stacks >> 32),
             m_stackDepth,
             0,
-            0};
+            0,
+            LOOP_PROBE_TRIPS};
 }
 
 void Renderer::compileKernel() const {
@@ -300,6 +317,9 @@ void Renderer::renderAll(const std::function<void(const RenderProgress&)>& progr
     using Clock = std::chrono::steady_clock;
     const uint32_t total = m_scene.sampler.spp;
     const auto start = Clock::now();
+    // The loops cut short in this render, counted from here (renderSamplesCutLoopsLeft).
+    m_loopCuts = 0;
+    if (m_options.loopsMayBeCut) m_counters.clear();
     // Each submission is sized to take about pacing.targetSeconds (render/pass_bands.h), by
     // the device's time for it: the wall time also holds a fixed cost per submission that
     // does not grow with the work (gpu/gpu_timer.h).
@@ -338,6 +358,40 @@ void Renderer::renderAll(const std::function<void(const RenderProgress&)>& progr
                       .samplesTotal = total,
                       .seconds = std::chrono::duration<double>(Clock::now() - start).count(),
                       .meanSamplesDone = bands.meanSamplesDone()});
+    }
+    renderSamplesCutLoopsLeft(total, cancel);
+}
+
+uint32_t Renderer::takeLoopCuts() {
+    const uint32_t cuts = m_counters.read<uint32_t>()[kLoopsCutCounter];
+    m_counters.clear();
+    m_loopCuts += cuts;
+    return cuts;
+}
+
+void Renderer::renderSamplesCutLoopsLeft(uint32_t samples, const std::atomic<bool>* cancel) {
+    // The kernels counted the invocations whose loops were cut (kernel_common.glsl, main)
+    // since the counters were cleared. Each left its pixel short, and with the tile queue the
+    // pixel it had taken next unrendered; passes over the whole film up to `samples` give
+    // every pixel the rest, from its own count, until none is cut. Each pass renders at least
+    // one sample more, unless a single sample runs longer than the driver's loops may.
+    if (!m_options.loopsMayBeCut) return;
+    auto samplesDone = [&] {
+        double sum = 0.0;
+        for (const glm::vec4& s : m_accum.read<glm::vec4>()) sum += s.w;
+        return sum;
+    };
+    double done = samplesDone();
+    while (takeLoopCuts() > 0) {
+        if (cancel && cancel->load()) throw std::runtime_error("render interrupted");
+        m_context.submitAndWait(
+            [&](VkCommandBuffer cmd) { recordPasses(cmd, 0, samples, 0, m_params.height, 0, m_params.width); });
+        const double now = samplesDone();
+        if (!(now > done))
+            throw gpu::GpuError("this Vulkan driver (" + m_context.info().driverInfo +
+                                ") ends a shader's loops after 65535 iterations, before one sample of this scene "
+                                "is traced; use Mesa 25 or later (tools/setup installs it) or a GPU");
+        done = now;
     }
 }
 

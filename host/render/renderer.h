@@ -59,7 +59,8 @@ public:
     // integrator only). Throws std::logic_error when a checkable part of that differs.
     void retarget(const Scene& scene);
 
-    // Clears the accumulation buffer (the next sample index restarts at 0).
+    // Clears the accumulation buffer (the next sample index restarts at 0) and the count of
+    // loops cut short.
     void reset();
     // Re-upload the render parameters for a new camera / new integrator options (the
     // preview changes them live). Neither clears the accumulation: call reset() too.
@@ -76,6 +77,10 @@ public:
     void setInlineGeometry(InlineGeometry mode);
     // Where the traversal reads nodes from (render/node_reads.h); Device unless set.
     void setNodeReads(NodeReads mode);
+    // Whether the kernels check for loops the driver cut short and take each pixel's samples
+    // up from its own count (render/loop_budget.h); what loopsMayBeCutFor says for the device
+    // unless set (tests turn the checks on where loops are whole, to compare).
+    void setLoopChecks(bool on);
     // The worker threads the dispatches are shaped for (render/tile_queue.h: more than 1
     // makes each dispatch a tile queue); what workerThreadsFor says for the device unless
     // set (tests compare several, min 1).
@@ -93,6 +98,8 @@ public:
     // [firstRow, firstRow + rowCount) into `cmd`, as one dispatch followed by a barrier; with
     // `firstColumn`, only columns [firstColumn, firstColumn + columnCount), where
     // firstColumn and columnCount are multiples of 8 or the run ends at the film's edge.
+    // With the loop checks on (setLoopChecks), a pixel's samples start at its own count
+    // instead of `first`, and a dispatch may leave some out: renderAll renders them.
     void recordPasses(VkCommandBuffer cmd, uint32_t first, uint32_t count, uint32_t firstRow, uint32_t rowCount,
                       uint32_t firstColumn = 0, uint32_t columnCount = UINT32_MAX) const;
     // Runs passes until the scene's spp is reached, calling `progress` after each
@@ -101,6 +108,14 @@ public:
     // render stops at the next submission, throwing std::runtime_error.
     void renderAll(const std::function<void(const RenderProgress&)>& progress = {},
                    const std::atomic<bool>* cancel = nullptr, const RenderPacing& pacing = RenderPacing());
+    // On a driver that may cut loops short (render/loop_budget.h), after passes that should
+    // have brought every pixel to `samples`: renders the samples that loops cut short since
+    // the last reset() or renderAll left out, until none is cut (renderAll does this itself).
+    // Throws gpu::GpuError where a single sample runs longer than the driver's loops may.
+    void renderSamplesCutLoopsLeft(uint32_t samples, const std::atomic<bool>* cancel = nullptr);
+    // Invocations whose loops the driver cut short since the last reset() or renderAll (each
+    // left samples out, which renderSamplesCutLoopsLeft rendered); 0 where loops are whole.
+    uint64_t loopCuts() const { return m_loopCuts; }
     // Rays traced (camera, shadow and BRDF rays) by `passes` passes over the whole film,
     // sample indices [0, passes), run with a ray-counting variant of the kernel; for
     // benchmarks (rays per second). The samples land in the accumulation: reset() after.
@@ -135,6 +150,9 @@ private:
     // per run of tile rows that fits (render/traversal_stacks.h).
     void recordDispatches(VkCommandBuffer cmd, const gpu::Kernel& kernel, uint32_t first, uint32_t count,
                           uint32_t firstRow, uint32_t rowCount, uint32_t firstColumn, uint32_t columnCount) const;
+    // The loops cut short since the counters were last cleared (kernel_common.glsl, main),
+    // added to m_loopCuts; clears the counters.
+    uint32_t takeLoopCuts();
     // Allocates m_stacks for m_stackInvocations when the current kernel reads nodes through
     // their address and it is not there yet.
     void allocateStacks();
@@ -148,6 +166,8 @@ private:
     EmitterFirst m_emitterFirst = EmitterFirst::Rule;
     InlineGeometry m_inlineGeometry = InlineGeometry::Rule;
     NodeReads m_nodeReads = NodeReads::Device;
+    int m_loopChecks = -1;  // -1: as the device needs (loopsMayBeCutFor), else 0 or 1
+    uint64_t m_loopCuts = 0;
     KernelOptions m_options;
     uint32_t m_workerThreads = 1;     // render/tile_queue.h
     uint32_t m_stackDepth = 1;        // entries per traversal stack (childStackDepth)

@@ -361,10 +361,12 @@ vec3 finishedSample(PartialSample p, bool lightBlocked, bool bsdfBlocked) {
 void addPixelSamples(uvec2 pixel) {
     uint index = pixel.y * params.width + pixel.x;
     vec4 sum = accum[index];
+    uint first = firstSampleOf(sum), end = pass.sampleIndex + pass.sampleCount;
+    uint count = end > first ? end - first : 0u;
     PartialSample last = noPartialSample();
-    for (uint k = 0u; k <= pass.sampleCount; ++k) {
-        bool camera = k < pass.sampleCount;
-        Rng rng = pixelRng(pixel, pass.sampleIndex + k);
+    for (uint k = 0u; k <= count; ++k) {
+        bool camera = k < count;
+        Rng rng = pixelRng(pixel, first + k);
         vec3 origin, dir;
         cameraRay(pixel, rand2(rng), origin, dir);
         Hit hit;
@@ -374,6 +376,8 @@ void addPixelSamples(uvec2 pixel) {
         AnyHitRay bsdfRay = emitterFirst() ? last.waiting.bsdf.ray : noAnyHitRay();
         bool found = tracePair(origin, dir, FLOAT_MAX, camera, cameraRayIgnores(), hit, last.waiting.light.ray, bsdfRay,
                                lightBlocked, bsdfBlocked);
+        // Sample k - 1 is whole where no loop has been cut yet (kernel_common.glsl).
+        if (loopsWereCut()) break;
         if (k > 0u) addSample(sum, finishedSample(last, lightBlocked, bsdfBlocked));
         if (camera) last = partialSample(found, hit, origin, dir, rng);
     }

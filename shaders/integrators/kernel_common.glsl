@@ -14,13 +14,33 @@ layout(local_size_x = TILE_SIZE, local_size_y = TILE_SIZE) in;
 layout(std140, binding = BINDING_PARAMS) uniform Params { RenderParams params; };
 layout(std430, binding = BINDING_ACCUM) restrict buffer Accumulation { vec4 accum[]; };
 layout(push_constant) uniform Pass { PassConstants pass; };
-// The kernels' atomic counters: the rays traced, when counting, and the tile queue's next
+// The kernels' atomic counters: the rays traced, when counting, the tile queue's next
 // pixel (main, below), which the host sets to 0 before each dispatch that uses it
-// (render/tile_queue.h).
+// (render/tile_queue.h), and the invocations whose loops the driver cut short (main).
 layout(std430, binding = BINDING_COUNTERS) restrict buffer Counters {
     uint rayCount;
     uint nextQueuedPixel;
+    uint loopsCut;
 };
+
+// Whether the driver has cut this invocation's loops short (render/loop_budget.h): lavapipe
+// before Mesa 25 gives a SIMD group's run 65535 loop iterations, all loops together, and
+// then ends every loop at the end of its current iteration, silently. From then on every
+// loop runs its body once, so this one, of LOOP_PROBE_TRIPS trips (a push constant, which
+// the compiler cannot count), runs once. The budget only runs down, so all that was done
+// before a check that finds the loops whole was done whole.
+bool loopsWereCut() {
+    if (kLoopsMayBeCut == 0u) return false;
+    uint trips = 0u;
+    for (uint i = 0u; i < pass.loopProbeTrips; ++i) ++trips;
+    return trips != pass.loopProbeTrips;
+}
+
+// The first sample a pass adds to a pixel whose sums are `sum`: the pass's first, or, where
+// the driver may cut loops short, the pixel's own next one (its sample count). A pixel that
+// an earlier pass left short then takes up its samples where it stopped, and its sums are
+// the same, bit for bit, as if nothing had been cut.
+uint firstSampleOf(vec4 sum) { return kLoopsMayBeCut != 0u ? uint(sum.w) : pass.sampleIndex; }
 
 // The primitives the BVH's traversal tests before the tree (geometry/bvh.glsl).
 uvec2 bvhBesideRange() { return uvec2(params.besideFirst, params.besideCount); }
@@ -84,10 +104,10 @@ void addSample(inout vec4 sum, vec3 radiance) {
     sum += vec4(radiance, 1.0);
 }
 
-// Adds the pass's sampleCount samples of `pixel` to its sums, in sample order and in a
-// register, so that the sums are the same, bit for bit, as with one dispatch per sample,
-// without a dispatch's fixed cost per sample (on lavapipe, waking and waiting for its worker
-// threads). A kernel that defines PENUMBRA_KERNEL_SAMPLE_LOOP brings its own, with the same
+// Adds the pass's samples of `pixel` (from firstSampleOf to sampleIndex + sampleCount) to
+// its sums, in sample order and in a register, so that the sums are the same, bit for bit,
+// as with one dispatch per sample, without a dispatch's fixed cost per sample (on lavapipe,
+// waking and waiting for its worker threads). A kernel that defines PENUMBRA_KERNEL_SAMPLE_LOOP brings its own, with the same
 // contract (integrators/direct.comp, where it traces rays of two samples together).
 #ifdef PENUMBRA_KERNEL_SAMPLE_LOOP
 void addPixelSamples(uvec2 pixel);
@@ -98,7 +118,13 @@ vec3 pixelSample(uvec2 pixel, uint sampleIndex);
 void addPixelSamples(uvec2 pixel) {
     uint index = pixel.y * params.width + pixel.x;
     vec4 sum = accum[index];
-    for (uint k = 0u; k < pass.sampleCount; ++k) addSample(sum, pixelSample(pixel, pass.sampleIndex + k));
+    uint end = pass.sampleIndex + pass.sampleCount;
+    for (uint s = firstSampleOf(sum); s < end; ++s) {
+        vec3 radiance = pixelSample(pixel, s);
+        // A sample whose loops were cut may be wrong: a later pass takes it up again.
+        if (loopsWereCut()) break;
+        addSample(sum, radiance);
+    }
     accum[index] = sum;
 }
 #endif
@@ -110,7 +136,9 @@ void addPixelSamples(uvec2 pixel) {
 // instead of waiting: lavapipe hands each thread a fixed range of a dispatch's workgroups.
 // A pixel's samples do not depend on who renders it, so the image is the same bit for bit.
 // Without it, workgroup (x, y) renders tile (x, y) of the band, one pixel per invocation.
-// When counting, the invocation then hands its ray tally to the counters.
+// When counting, the invocation then hands its ray tally to the counters. An invocation
+// whose loops were cut short says so, for the host to render what it left
+// (Renderer::renderAll): the pixel it had taken last, with the queue, and samples of it.
 void main() {
     bool queue = pass.queueTiles > 0u;
     // At most 16384^2 pixels (the film's limit): the counter, which also counts each
@@ -126,6 +154,7 @@ void main() {
         index = queue ? atomicAdd(nextQueuedPixel, 1u) : pixels;
     }
     if (kCountRays != 0u) atomicAdd(rayCount, raysTraced);
+    if (loopsWereCut()) atomicAdd(loopsCut, 1u);
 }
 
 #endif

@@ -28,7 +28,9 @@ using uint = std::uint32_t;
 #define BINDING_LIGHTS 6       // Light[] as a texel buffer (LIGHT_TEXELS texels each)
 #define BINDING_LIGHT_TABLE 7  // AliasEntry[] as a texel buffer: light selection (item = light index)
 #define BINDING_MESH_TABLE 8   // AliasEntry[] as a texel buffer: mesh-light triangles (item = primitive index)
-#define BINDING_COUNTERS 9     // uint[2]: rays traced (when SPEC_COUNT_RAYS is set), the tile queue's next pixel
+// uint[3]: the rays traced (when SPEC_COUNT_RAYS is set), the tile queue's next pixel, and
+// the invocations whose loops the driver cut short (SPEC_LOOPS_MAY_BE_CUT)
+#define BINDING_COUNTERS 9
 #define BINDING_PRIMITIVE_TEXELS 10   // the same Primitive[] as a texel buffer: traversal
 #define BINDING_MATERIAL_TEXTURES 11  // texel buffer: which fields of each material are textured
 #define BINDING_TEXTURE_TEXELS 12     // texel buffer: the texels of every texture
@@ -329,7 +331,8 @@ PENUMBRA_CONST uint SAMPLER_SOBOL = 1u;        // padded Owen-scrambled Sobol' (
 #define INLINE_GROUP_WORDS 7
 #define SPEC_INLINE_GROUP_FIRST (SPEC_INLINE_FIRST + INLINE_MAX_PRIMITIVES * INLINE_PRIMITIVE_WORDS)
 #define SPEC_NODE_READS (SPEC_INLINE_GROUP_FIRST + INLINE_MAX_GROUPS * INLINE_GROUP_WORDS)  // NODE_READS_*
-#define SPEC_COUNT (SPEC_NODE_READS + 1)
+#define SPEC_LOOPS_MAY_BE_CUT (SPEC_NODE_READS + 1)  // 1: the driver may end loops early (render/loop_budget.h)
+#define SPEC_COUNT (SPEC_LOOPS_MAY_BE_CUT + 1)
 // Where the traversal reads a BVH node from (SPEC_NODE_READS): the texel buffer at
 // BINDING_NODES or the storage buffer at BINDING_NODE_WORDS, the same bytes. Which is faster
 // depends on the driver (host/render/node_reads.h says which each gets, and why).
@@ -448,7 +451,12 @@ struct PassConstants {
     // queue's counter (render/tile_queue.h), whatever workgroup they are in.
     uint queueTiles;
     uint tileColumns;
+    // LOOP_PROBE_TRIPS, the trips of the loop that tells whether the driver has cut this
+    // invocation's loops short (integrators/kernel_common.glsl, loopsWereCut): a constant the
+    // compiler cannot see, so that the loop stays a loop.
+    uint loopProbeTrips;
 };
+#define LOOP_PROBE_TRIPS 2u
 
 // ---- Preview tone map (shaders/preview/tonemap.comp) ------------------------------------
 #define TONEMAP_BINDING_ACCUM 0   // the render kernels' accumulation buffer, read only
