@@ -284,7 +284,9 @@ void Renderer::recordDispatches(VkCommandBuffer cmd, const gpu::Kernel& kernel, 
     const uint32_t tileColumns = tilesFor(columnCount), tileRows = tilesFor(rowCount);
     // allocateStacks made them for every kernel that reads nodes by address.
     const bool stacks = m_options.nodeReads == NODE_READS_ADDRESS;
-    if (usesTileQueue(m_workerThreads)) {
+    // Not where the driver may cut loops short (render/loop_budget.h): the queue's few
+    // workgroups would have the loop budget of a few SIMD groups for a whole band.
+    if (usesTileQueue(m_workerThreads) && !m_options.loopsMayBeCut) {
         gpu::PassConstants pass = passConstants(first, firstRow, rowCount, firstColumn, count);
         pass.queueTiles = tileColumns * tileRows;
         pass.tileColumns = tileColumns;
@@ -371,18 +373,19 @@ uint32_t Renderer::takeLoopCuts() {
 
 void Renderer::renderSamplesCutLoopsLeft(uint32_t samples, const std::atomic<bool>* cancel) {
     // The kernels counted the invocations whose loops were cut (kernel_common.glsl, main)
-    // since the counters were cleared. Each left its pixel short, and with the tile queue the
-    // pixel it had taken next unrendered; passes over the whole film up to `samples` give
-    // every pixel the rest, from its own count, until none is cut. Each pass renders at least
-    // one sample more, unless a single sample runs longer than the driver's loops may.
+    // since the counters were cleared. Each left its pixel short; passes over the whole film
+    // up to `samples` give every pixel the rest, from its own count, until every pixel has
+    // them all. Each pass renders at least one sample more, unless a single sample runs
+    // longer than the driver's loops may.
     if (!m_options.loopsMayBeCut) return;
     auto samplesDone = [&] {
         double sum = 0.0;
         for (const glm::vec4& s : m_accum.read<glm::vec4>()) sum += s.w;
         return sum;
     };
+    const double all = double(m_params.width) * m_params.height * samples;
     double done = samplesDone();
-    while (takeLoopCuts() > 0) {
+    while (takeLoopCuts() > 0 && done < all) {
         if (cancel && cancel->load()) throw std::runtime_error("render interrupted");
         m_context.submitAndWait(
             [&](VkCommandBuffer cmd) { recordPasses(cmd, 0, samples, 0, m_params.height, 0, m_params.width); });
