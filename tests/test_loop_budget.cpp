@@ -99,20 +99,24 @@ TEST(LoopBudget, CutLoopsLeaveNoSampleOut) {
     // 2048 samples, each of four light and four BRDF samples, of 37 x 35 pixels in one
     // dispatch: on lavapipe 22.3 some SIMD groups run out of loop iterations before their
     // pixels have every sample (368 invocations measured), so the render cuts loops and
-    // renderAll must render what they left. The reference adds at most 64 samples per pixel
-    // per dispatch, with the checks off: an eighth of the 512 that 22.3 rendered in one
-    // dispatch without a cut, and every pixel must have every sample.
+    // renderAll must render what they left. The reference adds 64 samples per pixel per
+    // dispatch over the whole film, one pixel per invocation, with the checks off: an eighth
+    // of the 512 that 22.3 rendered in one dispatch without a cut, and every pixel must have
+    // every sample. (renderAll's bands would not do: within a bound on pixel samples, a band
+    // of few rows may take many samples.)
     const uint32_t spp = 2048;
     json doc = test::litFloorOnOddFilmScene(spp, 5);
     doc["integrator"]["light_samples"] = 4;
     doc["integrator"]["bsdf_samples"] = 4;
     doc["shapes"].push_back({{"type", "sphere"}, {"center", {-0.4, 0.3, 0}}, {"radius", 0.3}});
     const Scene scene = test::sceneFromJson(doc, "loop-budget-cut");
-    Renderer bands(test::gpuContext(), scene);
-    bands.setInlineGeometry(InlineGeometry::Off);
-    bands.setLoopChecks(false);
-    bands.renderAll({}, nullptr, RenderPacing{1.0, 37 * 35 * 64});
-    const Render reference = result(bands);
+    Renderer inSteps(test::gpuContext(), scene);
+    inSteps.setInlineGeometry(InlineGeometry::Off);
+    inSteps.setLoopChecks(false);
+    inSteps.setWorkerThreads(1);  // one pixel per invocation: no tile queue, whose loops run long
+    for (uint32_t first = 0; first < spp; first += 64)
+        test::gpuContext().submitAndWait([&](VkCommandBuffer cmd) { inSteps.recordPasses(cmd, first, 64, 0, 35); });
+    const Render reference = result(inSteps);
     for (const glm::vec4& s : reference.sums) ASSERT_EQ(s.w, float(spp)) << "the reference lost samples";
     for (bool forced : {false, true}) {
         SCOPED_TRACE(forced ? "checks on" : "checks as the device needs");
