@@ -107,8 +107,9 @@ void addSample(inout vec4 sum, vec3 radiance) {
 // Adds the pass's samples of `pixel` (from firstSampleOf to sampleIndex + sampleCount) to
 // its sums, in sample order and in a register, so that the sums are the same, bit for bit,
 // as with one dispatch per sample, without a dispatch's fixed cost per sample (on lavapipe,
-// waking and waiting for its worker threads). A kernel that defines PENUMBRA_KERNEL_SAMPLE_LOOP brings its own, with the same
-// contract (integrators/direct.comp, where it traces rays of two samples together).
+// waking and waiting for its worker threads). A kernel that defines
+// PENUMBRA_KERNEL_SAMPLE_LOOP brings its own, with the same contract
+// (integrators/direct.comp, where it traces rays of two samples together).
 #ifdef PENUMBRA_KERNEL_SAMPLE_LOOP
 void addPixelSamples(uvec2 pixel);
 #else
@@ -137,8 +138,8 @@ void addPixelSamples(uvec2 pixel) {
 // A pixel's samples do not depend on who renders it, so the image is the same bit for bit.
 // Without it, workgroup (x, y) renders tile (x, y) of the band, one pixel per invocation.
 // When counting, the invocation then hands its ray tally to the counters. An invocation
-// whose loops were cut short says so, for the host to render what it left
-// (Renderer::renderAll): the pixel it had taken last, with the queue, and samples of it.
+// whose loops were cut short says so, for the host to render the samples it left
+// (Renderer::renderAll; such drivers get no tile queue).
 void main() {
     bool queue = pass.queueTiles > 0u;
     // At most 16384^2 pixels (the film's limit): the counter, which also counts each
