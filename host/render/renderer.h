@@ -82,8 +82,8 @@ public:
     // unless set (tests turn the checks on where loops are whole, to compare).
     void setLoopChecks(bool on);
     // The worker threads the dispatches are shaped for (render/tile_queue.h: more than 1
-    // makes each dispatch a tile queue); what workerThreadsFor says for the device unless
-    // set (tests compare several, min 1).
+    // makes each dispatch a tile queue, except with the loop checks on); what
+    // workerThreadsFor says for the device unless set (tests compare several, min 1).
     void setWorkerThreads(uint32_t workers) { m_workerThreads = std::max<uint32_t>(workers, 1); }
     // How many invocations' traversal stacks the "_address" kernels' buffer holds, which
     // bounds their dispatches (render/traversal_stacks.h); stackInvocationsFor the film

@@ -14,6 +14,8 @@
 // not depend on which invocation renders it, so the image is the same bit for bit
 // (TileQueue.EveryWorkerCountGivesTheSameImage).
 // GPUs hand workgroups to cores as they become free, so there one workgroup renders one tile.
+// So do lavapipes before Mesa 25, which end a SIMD group's loops after 65535 iterations: the
+// queue's few workgroups would have that budget for a whole band (render/loop_budget.h).
 #pragma once
 
 #include <cstdint>
