@@ -18,6 +18,15 @@ std::filesystem::path outputPath(const std::string& name);
 // build/test-output/<group>/<name>, emptied and created.
 std::filesystem::path freshOutputDir(const std::string& group, const std::string& name);
 
+// A device known only by its driver's name and version string (VkPhysicalDeviceDriverProperties),
+// for the rules that choose by them.
+inline gpu::DeviceInfo deviceWithDriver(const std::string& driverName, const std::string& driverInfo = "") {
+    gpu::DeviceInfo info;
+    info.driverName = driverName;
+    info.driverInfo = driverInfo;
+    return info;
+}
+
 // `path` in single quotes for a shell command line (test paths hold no quotes).
 std::string shellQuoted(const std::filesystem::path& path);
 

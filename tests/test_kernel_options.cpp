@@ -102,9 +102,7 @@ TEST(NodeReads, DriverPicksWhereNodesComeFrom) {
     EXPECT_EQ(mesaMajorVersion(""), 0);
     auto device = [](const std::string& driverName, const std::string& driverInfo, bool int64 = false,
                      bool address = false) {
-        gpu::DeviceInfo info;
-        info.driverName = driverName;
-        info.driverInfo = driverInfo;
+        gpu::DeviceInfo info = test::deviceWithDriver(driverName, driverInfo);
         info.shaderInt64 = int64;
         info.bufferDeviceAddress = address;
         return info;

@@ -18,13 +18,6 @@ using nlohmann::json;
 
 namespace {
 
-gpu::DeviceInfo device(const std::string& driverName, const std::string& driverInfo) {
-    gpu::DeviceInfo info;
-    info.driverName = driverName;
-    info.driverInfo = driverInfo;
-    return info;
-}
-
 // The odd film with two spheres, so that the pixels differ. The renders that must loop long
 // trace it through the BVH: inline primitives would leave the traversal's loops out.
 Scene sceneWithSpheres(uint32_t spp) {
@@ -56,13 +49,15 @@ void expectSameRender(const Render& r, const Render& reference, float spp) {
 }  // namespace
 
 TEST(LoopBudget, OldLavapipesAreChecked) {
-    EXPECT_TRUE(loopsMayBeCutFor(device("llvmpipe", "Mesa 22.3.6 (LLVM 15.0.6)"))) << "measured to cut";
-    EXPECT_TRUE(loopsMayBeCutFor(device("llvmpipe", "Mesa 24.2.8-1 (LLVM 19.1.4)"))) << "not measured: checked";
-    EXPECT_TRUE(loopsMayBeCutFor(device("llvmpipe", ""))) << "a version it does not name: checked";
-    EXPECT_FALSE(loopsMayBeCutFor(device("llvmpipe", "Mesa 25.0.7-1~bpo12+1 (LLVM 15.0.6)"))) << "measured whole";
-    EXPECT_FALSE(loopsMayBeCutFor(device("llvmpipe", "Mesa 26.0.1 (LLVM 19.1.7)")));
-    EXPECT_FALSE(loopsMayBeCutFor(device("NVIDIA", "580.95.05")));
-    EXPECT_FALSE(loopsMayBeCutFor(device("radv", "Mesa 22.3.6"))) << "only llvmpipe has the limit";
+    EXPECT_TRUE(loopsMayBeCutFor(test::deviceWithDriver("llvmpipe", "Mesa 22.3.6 (LLVM 15.0.6)"))) << "measured to cut";
+    EXPECT_TRUE(loopsMayBeCutFor(test::deviceWithDriver("llvmpipe", "Mesa 24.2.8-1 (LLVM 19.1.4)")))
+        << "not measured: checked";
+    EXPECT_TRUE(loopsMayBeCutFor(test::deviceWithDriver("llvmpipe", ""))) << "a version it does not name: checked";
+    EXPECT_FALSE(loopsMayBeCutFor(test::deviceWithDriver("llvmpipe", "Mesa 25.0.7-1~bpo12+1 (LLVM 15.0.6)")))
+        << "measured whole";
+    EXPECT_FALSE(loopsMayBeCutFor(test::deviceWithDriver("llvmpipe", "Mesa 26.0.1 (LLVM 19.1.7)")));
+    EXPECT_FALSE(loopsMayBeCutFor(test::deviceWithDriver("NVIDIA", "580.95.05")));
+    EXPECT_FALSE(loopsMayBeCutFor(test::deviceWithDriver("radv", "Mesa 22.3.6"))) << "only llvmpipe has the limit";
 }
 
 TEST(LoopBudget, APixelLeftShortTakesUpItsSamplesWhereItStopped) {

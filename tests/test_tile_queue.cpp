@@ -15,15 +15,7 @@
 using namespace penumbra;
 using nlohmann::json;
 
-namespace {
-
-gpu::DeviceInfo deviceWithDriver(const std::string& driverName) {
-    gpu::DeviceInfo device;
-    device.driverName = driverName;
-    return device;
-}
-
-}  // namespace
+using test::deviceWithDriver;
 
 TEST(TileQueue, WorkerThreadsFollowLavapipes) {
     const gpu::DeviceInfo lavapipe = deviceWithDriver("llvmpipe");

@@ -175,7 +175,7 @@ void Renderer::setNodeReads(NodeReads mode) {
 }
 
 void Renderer::setLoopChecks(bool on) {
-    m_loopChecks = on ? 1 : 0;
+    m_loopChecks = on;
     updateKernel();
 }
 
@@ -187,7 +187,7 @@ void Renderer::setInlineGeometry(InlineGeometry mode) {
 KernelOptions Renderer::kernelOptions() const {
     KernelOptions options = makeKernelOptions(m_scene, m_arrays, m_emitterFirst, m_inlineGeometry);
     options.nodeReads = nodeReadsValue(m_nodeReads, m_context.info());
-    options.loopsMayBeCut = m_loopChecks >= 0 ? uint32_t(m_loopChecks) : loopsMayBeCutFor(m_context.info()) ? 1 : 0;
+    options.loopsMayBeCut = m_loopChecks.value_or(loopsMayBeCutFor(m_context.info())) ? 1 : 0;
     return options;
 }
 

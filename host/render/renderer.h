@@ -8,6 +8,7 @@
 #include <climits>
 #include <functional>
 #include <memory>
+#include <optional>
 
 #include "gpu/buffer.h"
 #include "gpu/context.h"
@@ -166,7 +167,7 @@ private:
     EmitterFirst m_emitterFirst = EmitterFirst::Rule;
     InlineGeometry m_inlineGeometry = InlineGeometry::Rule;
     NodeReads m_nodeReads = NodeReads::Device;
-    int m_loopChecks = -1;  // -1: as the device needs (loopsMayBeCutFor), else 0 or 1
+    std::optional<bool> m_loopChecks;  // unset: as the device needs (loopsMayBeCutFor)
     uint64_t m_loopCuts = 0;
     KernelOptions m_options;
     uint32_t m_workerThreads = 1;     // render/tile_queue.h
