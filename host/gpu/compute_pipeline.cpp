@@ -2,22 +2,16 @@
 // renderer's kernels and the micro-benchmarks.
 #include "gpu/compute_pipeline.h"
 
+#include "core/phases.h"
+#include "gpu/spirv_specialization.h"
 #include "gpu/vk_check.h"
 
 namespace penumbra::gpu {
 
-ComputePipelineObjects createComputePipeline(VkDevice device, std::span<const uint32_t> spirv,
-                                             const std::vector<VkDescriptorSetLayoutBinding>& bindings,
-                                             uint32_t pushConstantBytes, const std::vector<uint32_t>& specialization,
-                                             const std::string& what) {
+ComputePipelineObjects createComputeLayouts(VkDevice device, const std::vector<VkDescriptorSetLayoutBinding>& bindings,
+                                            uint32_t pushConstantBytes, const std::string& what) {
     ComputePipelineObjects made;
     try {
-        VkShaderModuleCreateInfo moduleInfo{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-        moduleInfo.codeSize = spirv.size_bytes();
-        moduleInfo.pCode = spirv.data();
-        vkCheck(vkCreateShaderModule(device, &moduleInfo, nullptr, &made.module),
-                ("create shader module" + what).c_str());
-
         VkDescriptorSetLayoutCreateInfo setInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
         setInfo.bindingCount = uint32_t(bindings.size());
         setInfo.pBindings = bindings.data();
@@ -32,19 +26,40 @@ ComputePipelineObjects createComputePipeline(VkDevice device, std::span<const ui
         layoutInfo.pPushConstantRanges = &range;
         vkCheck(vkCreatePipelineLayout(device, &layoutInfo, nullptr, &made.layout),
                 ("create pipeline layout" + what).c_str());
+    } catch (...) {
+        destroyComputePipeline(device, made);
+        throw;
+    }
+    return made;
+}
 
-        std::vector<VkSpecializationMapEntry> entries;
-        for (uint32_t i = 0; i < specialization.size(); ++i)
-            entries.push_back({i, uint32_t(i * sizeof(uint32_t)), sizeof(uint32_t)});
-        VkSpecializationInfo specInfo{uint32_t(entries.size()), entries.data(),
-                                      specialization.size() * sizeof(uint32_t), specialization.data()};
+ComputePipelineObjects createComputePipeline(VkDevice device, std::span<const uint32_t> spirv,
+                                             const std::vector<VkDescriptorSetLayoutBinding>& bindings,
+                                             uint32_t pushConstantBytes, const std::vector<uint32_t>& specialization,
+                                             const std::string& what) {
+    ComputePipelineObjects made = createComputeLayouts(device, bindings, pushConstantBytes, what);
+    try {
+        // The constants are applied before the driver sees the module (spirv_specialization.h),
+        // so the pipeline gets none of its own.
+        std::vector<uint32_t> specialized;
+        if (!specialization.empty()) {
+            Phase phase("specialize_spirv");
+            specialized = specializeSpirv(spirv, specialization);
+            spirv = specialized;
+        }
+        VkShaderModuleCreateInfo moduleInfo{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+        moduleInfo.codeSize = spirv.size_bytes();
+        moduleInfo.pCode = spirv.data();
+        vkCheck(vkCreateShaderModule(device, &moduleInfo, nullptr, &made.module),
+                ("create shader module" + what).c_str());
+
         VkComputePipelineCreateInfo pipelineInfo{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
         pipelineInfo.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
         pipelineInfo.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
         pipelineInfo.stage.module = made.module;
         pipelineInfo.stage.pName = "main";
-        pipelineInfo.stage.pSpecializationInfo = entries.empty() ? nullptr : &specInfo;
         pipelineInfo.layout = made.layout;
+        Phase phase("create_pipeline");  // on lavapipe: SPIR-V to NIR, and NIR's passes
         vkCheck(vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &pipelineInfo, nullptr, &made.pipeline),
                 ("create compute pipeline" + what).c_str());
     } catch (...) {

@@ -20,8 +20,13 @@ struct ComputePipelineObjects {
     VkPipeline pipeline = VK_NULL_HANDLE;
 };
 
+// The set layout and the pipeline layout alone (for kernels that are shader objects:
+// gpu/shader_objects.h); failures as below.
+ComputePipelineObjects createComputeLayouts(VkDevice device, const std::vector<VkDescriptorSetLayoutBinding>& bindings,
+                                            uint32_t pushConstantBytes, const std::string& what = {});
+
 // Creates them in that order, the stage of `spirv` entered at "main" with constant_id i =
-// specialization[i]. On failure destroys those already made and throws GpuError ("create
+// specialization[i] (applied to the SPIR-V before the driver sees it: gpu/spirv_specialization.h). On failure destroys those already made and throws GpuError ("create
 // shader module" and so on, followed by `what`, e.g. " for shader NAME").
 ComputePipelineObjects createComputePipeline(VkDevice device, std::span<const uint32_t> spirv,
                                              const std::vector<VkDescriptorSetLayoutBinding>& bindings,
