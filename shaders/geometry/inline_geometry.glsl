@@ -67,24 +67,41 @@ INLINE_GROUP_BOX(3) INLINE_GROUP_BOX(4) INLINE_GROUP_BOX(5)
 #error "inline_geometry.glsl declares six groups of eight slots, seven words each"
 #endif
 
-// Primitive `index` (leaf order) of type `type` tested against the ray; a hit nearer than hit.t
-// replaces hit (selects, not branches: every lane runs every test anyway).
-void inlineTest(uint index, uint type, vec3 p0, vec3 p1, vec3 p2, vec3 origin, vec3 dir, uint ignore, inout Hit hit) {
-    float t;
-    vec2 uv;
-    bool found = intersectShape(type, p0, p1, p2, origin, dir, hit.t, t, uv) && index != ignore;
+// Records a test's hit of primitive `index` (leaf order) where it is nearer than hit.t
+// (selects, not branches: every lane runs every test anyway).
+void inlineRecord(bool found, uint index, float t, vec2 uv, inout Hit hit) {
     hit.t = found ? t : hit.t;
     hit.primitive = found ? index : hit.primitive;
     hit.uv = found ? uv : hit.uv;
 }
 
+// Slot i's PRIM_* type and leaf-order index, and its points (Primitive's p0, p1, p2).
+#define INLINE_TYPE(i) (kInlineType##i & INLINE_SLOT_TYPE_MASK)
+#define INLINE_INDEX(i) (kInlineType##i >> INLINE_SLOT_INDEX_SHIFT)
+#define INLINE_P0(i) vec3(kInline##i##_1, kInline##i##_2, kInline##i##_3)
+#define INLINE_P1(i) vec3(kInline##i##_4, kInline##i##_5, kInline##i##_6)
+#define INLINE_P2(i) vec3(kInline##i##_7, kInline##i##_8, kInline##i##_9)
+
 // Slot i's test, compiled out past kInlineCount and for an empty slot (constant conditions).
+// The shape's own test is chosen here, by the slot's constant type, rather than through
+// intersectShape's dispatch on a parameter: the host folds these constants before the driver
+// sees the kernel (host/gpu/spirv_specialization.h), so each slot hands the driver one test
+// instead of all three to inline and prune. The same tests, in the same operations, as
+// intersectShape runs for that type.
 #define INLINE_TEST(i)                                                                                        \
-    if ((i) < kInlineCount && (kInlineType##i & INLINE_SLOT_TYPE_MASK) != INLINE_SLOT_EMPTY)                  \
-        inlineTest(kInlineType##i >> INLINE_SLOT_INDEX_SHIFT, kInlineType##i & INLINE_SLOT_TYPE_MASK,        \
-                   vec3(kInline##i##_1, kInline##i##_2, kInline##i##_3),                                      \
-                   vec3(kInline##i##_4, kInline##i##_5, kInline##i##_6),                                      \
-                   vec3(kInline##i##_7, kInline##i##_8, kInline##i##_9), origin, dir, ignore, hit);
+    if ((i) < kInlineCount && INLINE_TYPE(i) != INLINE_SLOT_EMPTY) {                                          \
+        float t = 0.0;                                                                                        \
+        vec2 uv = vec2(0.0);                                                                                  \
+        bool found;                                                                                           \
+        if (INLINE_TYPE(i) == PRIM_SPHERE)                                                                    \
+            found = intersectSphere(INLINE_P0(i), kInline##i##_4, origin, dir, hit.t, t);                     \
+        else if (INLINE_TYPE(i) == PRIM_QUAD)                                                                 \
+            found = intersectFlat(INLINE_P0(i), INLINE_P1(i), INLINE_P2(i), true, origin, dir, hit.t, t, uv); \
+        else                                                                                                  \
+            found = intersectFlat(INLINE_P0(i), INLINE_P1(i) - INLINE_P0(i), INLINE_P2(i) - INLINE_P0(i), false, \
+                                  origin, dir, hit.t, t, uv);                                                 \
+        inlineRecord(found && INLINE_INDEX(i) != ignore, INLINE_INDEX(i), t, uv, hit);                        \
+    }
 
 // Group g's slots, compiled out past kInlineCount, behind its box where the host asks for
 // the box test (constant conditions). The box is tested as the BVH tests its nodes
