@@ -5,6 +5,7 @@
 #include <string>
 
 #include "gpu/llvmpipe_width.h"
+#include "gpu/shader_objects.h"
 #include "gpu/vk_check.h"
 
 namespace penumbra::gpu {
@@ -35,7 +36,11 @@ VkInstance createInstance(const std::vector<const char*>& extensions) {
     VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
     app.pApplicationName = "penumbra";
     app.pEngineName = "penumbra";
-    app.apiVersion = VK_API_VERSION_1_1;
+    // 1.3 where the loader has it, for VK_EXT_shader_object (gpu/shader_objects.h), which
+    // needs dynamic rendering, core in 1.3; the kernels themselves need only 1.1.
+    uint32_t loader = VK_API_VERSION_1_0;
+    if (vkEnumerateInstanceVersion(&loader) != VK_SUCCESS) loader = VK_API_VERSION_1_0;
+    app.apiVersion = loader >= VK_API_VERSION_1_3 ? VK_API_VERSION_1_3 : VK_API_VERSION_1_1;
     VkInstanceCreateInfo info{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
     info.pApplicationInfo = &app;
     info.enabledExtensionCount = uint32_t(extensions.size());
@@ -105,6 +110,20 @@ DeviceInfo describe(VkPhysicalDevice device, uint32_t index) {
         features2.pNext = &address;
         vkGetPhysicalDeviceFeatures2(device, &features2);
         info.bufferDeviceAddress = address.bufferDeviceAddress == VK_TRUE;
+    }
+    if (props.apiVersion >= VK_API_VERSION_1_3 && hasDeviceExtension(device, VK_EXT_SHADER_OBJECT_EXTENSION_NAME)) {
+        VkPhysicalDeviceShaderObjectFeaturesEXT shaderObject{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_OBJECT_FEATURES_EXT};
+        VkPhysicalDeviceFeatures2 features2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+        features2.pNext = &shaderObject;
+        vkGetPhysicalDeviceFeatures2(device, &features2);
+        info.shaderObject = shaderObject.shaderObject == VK_TRUE;
+        VkPhysicalDeviceShaderObjectPropertiesEXT binary{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_OBJECT_PROPERTIES_EXT};
+        VkPhysicalDeviceProperties2 props2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+        props2.pNext = &binary;
+        vkGetPhysicalDeviceProperties2(device, &props2);
+        std::copy(std::begin(binary.shaderBinaryUUID), std::end(binary.shaderBinaryUUID),
+                  info.shaderBinaryUuid.begin());
+        info.shaderBinaryVersion = binary.shaderBinaryVersion;
     }
     if (hasDeviceExtension(device, VK_KHR_DRIVER_PROPERTIES_EXTENSION_NAME)) {
         VkPhysicalDeviceDriverPropertiesKHR driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES_KHR};
@@ -251,6 +270,15 @@ Context::Context(const ContextOptions& options) {
     if (m_info.bufferDeviceAddress) deviceExtensions.push_back(VK_KHR_BUFFER_DEVICE_ADDRESS_EXTENSION_NAME);
     VkDeviceCreateInfo deviceInfo{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
     if (m_info.bufferDeviceAddress) deviceInfo.pNext = &addressFeatures;
+    const bool shaderObjects = kernelsAsShaderObjects(m_info);
+    VkPhysicalDeviceShaderObjectFeaturesEXT shaderObjectFeatures{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_OBJECT_FEATURES_EXT};
+    shaderObjectFeatures.shaderObject = VK_TRUE;
+    if (shaderObjects) {
+        deviceExtensions.push_back(VK_EXT_SHADER_OBJECT_EXTENSION_NAME);
+        shaderObjectFeatures.pNext = const_cast<void*>(deviceInfo.pNext);
+        deviceInfo.pNext = &shaderObjectFeatures;
+    }
     VkPhysicalDeviceFeatures enabledFeatures{};
     enabledFeatures.shaderInt64 = m_info.shaderInt64 ? VK_TRUE : VK_FALSE;
     deviceInfo.pEnabledFeatures = &enabledFeatures;
@@ -261,6 +289,15 @@ Context::Context(const ContextOptions& options) {
     vkCheck(vkCreateDevice(m_physicalDevice, &deviceInfo, nullptr, &m_device),
             ("create a logical device on " + m_info.name).c_str());
     vkGetDeviceQueue(m_device, m_queueFamily, 0, &m_queue);
+    if (shaderObjects) {
+        ShaderObjectFunctions f;
+        f.create = reinterpret_cast<PFN_vkCreateShadersEXT>(vkGetDeviceProcAddr(m_device, "vkCreateShadersEXT"));
+        f.destroy = reinterpret_cast<PFN_vkDestroyShaderEXT>(vkGetDeviceProcAddr(m_device, "vkDestroyShaderEXT"));
+        f.binaryData =
+            reinterpret_cast<PFN_vkGetShaderBinaryDataEXT>(vkGetDeviceProcAddr(m_device, "vkGetShaderBinaryDataEXT"));
+        f.bind = reinterpret_cast<PFN_vkCmdBindShadersEXT>(vkGetDeviceProcAddr(m_device, "vkCmdBindShadersEXT"));
+        if (f.create && f.destroy && f.binaryData && f.bind) m_shaderObjects = f;
+    }
 
     VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
     poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;

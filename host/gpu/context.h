@@ -4,12 +4,16 @@
 // first device (lavapipe on a machine without a GPU).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <vulkan/vulkan.h>
+
+#include "gpu/vk_shader_object.h"
 
 namespace penumbra::gpu {
 
@@ -30,6 +34,20 @@ struct DeviceInfo {
     // The bufferDeviceAddress feature (VK_KHR_buffer_device_address), which the Context
     // enables where the device has it (the "_address" kernels read nodes through it).
     bool bufferDeviceAddress = false;
+    // The shaderObject feature (VK_EXT_shader_object, device API 1.3 or later), and the
+    // UUID and version its binaries carry: where gpu/shader_objects.h uses shader objects,
+    // the Context enables it.
+    bool shaderObject = false;
+    std::array<uint8_t, VK_UUID_SIZE> shaderBinaryUuid{};
+    uint32_t shaderBinaryVersion = 0;
+};
+
+// The VK_EXT_shader_object entry points, loaded where the Context enables the extension.
+struct ShaderObjectFunctions {
+    PFN_vkCreateShadersEXT create = nullptr;
+    PFN_vkDestroyShaderEXT destroy = nullptr;
+    PFN_vkGetShaderBinaryDataEXT binaryData = nullptr;
+    PFN_vkCmdBindShadersEXT bind = nullptr;
 };
 
 struct ContextOptions {
@@ -60,6 +78,9 @@ public:
     VkCommandPool commandPool() const { return m_commandPool; }
     VkSurfaceKHR surface() const { return m_surface; }
     const DeviceInfo& info() const { return m_info; }
+    // The shader-object entry points where kernels are shader objects (gpu/shader_objects.h),
+    // else null.
+    const ShaderObjectFunctions* shaderObjects() const { return m_shaderObjects ? &*m_shaderObjects : nullptr; }
     const VkPhysicalDeviceLimits& limits() const { return m_limits; }
     // maxMemoryAllocationSize (Vulkan 1.1): the largest single allocation; 0 if not reported.
     VkDeviceSize maxAllocationSize() const { return m_maxAllocationSize; }
@@ -86,6 +107,7 @@ private:
     VkCommandPool m_commandPool = VK_NULL_HANDLE;
     VkFence m_fence = VK_NULL_HANDLE;
     DeviceInfo m_info;
+    std::optional<ShaderObjectFunctions> m_shaderObjects;
     VkPhysicalDeviceLimits m_limits{};
     VkDeviceSize m_maxAllocationSize = 0;
     VkPhysicalDeviceMemoryProperties m_memory{};

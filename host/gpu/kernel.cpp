@@ -2,6 +2,7 @@
 #include "gpu/kernel.h"
 
 #include "gpu/compute_pipeline.h"
+#include "gpu/shader_objects.h"
 #include "gpu/shaders.h"
 #include "gpu/vk_check.h"
 
@@ -13,17 +14,35 @@ Pipeline::Pipeline(const Context& context, std::string_view shaderName, std::vec
     std::vector<VkDescriptorSetLayoutBinding> layoutBindings;
     for (uint32_t i = 0; i < m_bindings.size(); ++i)
         layoutBindings.push_back({i, m_bindings[i], 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
-    ComputePipelineObjects made = createComputePipeline(context.device(), shaderCode(shaderName), layoutBindings,
-                                                        m_pushBytes, specialization, " for shader " + m_name);
-    m_module = made.module;
+    const std::string what = " for shader " + m_name;
+    if (!context.shaderObjects()) {
+        ComputePipelineObjects made = createComputePipeline(context.device(), shaderCode(shaderName), layoutBindings,
+                                                            m_pushBytes, specialization, what);
+        m_module = made.module;
+        m_setLayout = made.setLayout;
+        m_pipelineLayout = made.layout;
+        m_pipeline = made.pipeline;
+        return;
+    }
+    // A shader object instead of a pipeline (gpu/shader_objects.h); the layouts serve
+    // binding its descriptor set and push constants all the same.
+    ComputePipelineObjects made = createComputeLayouts(context.device(), layoutBindings, m_pushBytes, what);
     m_setLayout = made.setLayout;
     m_pipelineLayout = made.layout;
-    m_pipeline = made.pipeline;
+    try {
+        m_shader = createComputeShaderObject(context, shaderCode(shaderName), specialization, m_setLayout, m_pushBytes,
+                                             what, &m_source);
+    } catch (...) {
+        destroy();
+        throw;
+    }
 }
 
 Pipeline::~Pipeline() { destroy(); }
 
 void Pipeline::destroy() {
+    if (m_shader) m_context.shaderObjects()->destroy(m_context.device(), m_shader, nullptr);
+    m_shader = VK_NULL_HANDLE;
     ComputePipelineObjects objects{m_module, m_setLayout, m_pipelineLayout, m_pipeline};
     destroyComputePipeline(m_context.device(), objects);
     m_pipeline = VK_NULL_HANDLE;
@@ -101,7 +120,13 @@ void Kernel::bind(uint32_t binding, const Buffer& buffer) {
 void Kernel::record(VkCommandBuffer cmd, uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ,
                     const void* push) const {
     const Pipeline& p = *m_pipeline;
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.handle());
+    if (p.shader()) {
+        const VkShaderStageFlagBits stage = VK_SHADER_STAGE_COMPUTE_BIT;
+        const VkShaderEXT shader = p.shader();
+        m_context.shaderObjects()->bind(cmd, 1, &stage, &shader);
+    } else {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.handle());
+    }
     if (m_set) vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout(), 0, 1, &m_set, 0, nullptr);
     if (p.pushBytes() && push)
         vkCmdPushConstants(cmd, p.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, p.pushBytes(), push);

@@ -14,11 +14,13 @@
 
 #include "gpu/buffer.h"
 #include "gpu/context.h"
+#include "gpu/shader_objects.h"
 
 namespace penumbra::gpu {
 
-// The immutable, costly part of a kernel: shader module, layouts and compute pipeline.
-// Holds no buffers, so any number of Kernels may share one.
+// The immutable, costly part of a kernel: layouts and either a shader module with a compute
+// pipeline or, on devices where kernels are shader objects (gpu/shader_objects.h), a shader
+// object. Holds no buffers, so any number of Kernels may share one.
 class Pipeline {
 public:
     Pipeline(const Context& context, std::string_view shaderName, std::vector<VkDescriptorType> bindings,
@@ -32,7 +34,10 @@ public:
     uint32_t pushBytes() const { return m_pushBytes; }
     VkDescriptorSetLayout setLayout() const { return m_setLayout; }
     VkPipelineLayout layout() const { return m_pipelineLayout; }
-    VkPipeline handle() const { return m_pipeline; }
+    VkPipeline handle() const { return m_pipeline; }  // null for a shader object
+    VkShaderEXT shader() const { return m_shader; }   // null for a pipeline
+    // For a shader object: whether its binary came from disk (gpu/kernel_binaries.h).
+    bool fromDisk() const { return m_shader && m_source == ShaderObjectSource::FromDisk; }
 
 private:
     void destroy();
@@ -45,6 +50,8 @@ private:
     VkDescriptorSetLayout m_setLayout = VK_NULL_HANDLE;
     VkPipelineLayout m_pipelineLayout = VK_NULL_HANDLE;
     VkPipeline m_pipeline = VK_NULL_HANDLE;
+    VkShaderEXT m_shader = VK_NULL_HANDLE;
+    ShaderObjectSource m_source = ShaderObjectSource::Compiled;
 };
 
 class Kernel {
