@@ -6,8 +6,10 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 
 #include "cli/commands.h"
+#include "core/phases.h"
 #include "gpu/context.h"
 #include "image/image.h"
 #include "image/output_check.h"
@@ -27,7 +29,10 @@ void printNotes(const std::vector<std::string>& notes, bool quiet) {
 }
 
 int renderCommand(const RenderOptions& options) {
-    Scene scene = loadScene(options.scene, options.overrides);
+    Scene scene = [&] {
+        Phase phase("load");
+        return loadScene(options.scene, options.overrides);
+    }();
     std::filesystem::path output = options.output.empty() ? std::filesystem::path(scene.name + ".exr")
                                                            : std::filesystem::path(options.output);
     // Every output is checked before the render, against the scene and each other.
@@ -38,13 +43,20 @@ int renderCommand(const RenderOptions& options) {
 
     gpu::ContextOptions contextOptions;
     contextOptions.deviceIndex = options.device;
+    std::optional<Phase> contextPhase(std::in_place, "context");
     gpu::Context context(contextOptions);
+    contextPhase.reset();
 
     const bool showProgress = !options.quiet && isatty(STDERR_FILENO);
+    std::optional<Phase> rendererPhase(std::in_place, "renderer");
     Renderer renderer(context, scene);
+    rendererPhase.reset();
     // penumbra:render_seconds is the time spent rendering samples: scene upload, BVH and
     // the driver's shader compilation come before it (README, "render_seconds").
-    renderer.compileKernel();
+    {
+        Phase phase("first_dispatch");  // on lavapipe, NIR to LLVM and the JIT
+        renderer.compileKernel();
+    }
     auto start = std::chrono::steady_clock::now();
     const uint64_t pixels = uint64_t(scene.film.width) * scene.film.height;
     auto progress = [&](const RenderProgress& p) {
@@ -67,12 +79,16 @@ int renderCommand(const RenderOptions& options) {
             std::signal(SIGTERM, sigterm);
         }
     } restore{previousInt, previousTerm};
-    renderer.renderAll(progress, &g_interrupted);
+    {
+        Phase phase("render");
+        renderer.renderAll(progress, &g_interrupted);
+    }
     double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (showProgress) std::fprintf(stderr, "\rpenumbra: %u spp in %.2f s%40s\n", scene.sampler.spp, seconds, "");
 
     Image image = renderer.readback(seconds);
     if (g_interrupted) throw std::runtime_error("render interrupted");
+    Phase writePhase("write");
     writeExr(output, image);
     if (!options.png.empty()) writePng(options.png, image);
     return 0;
