@@ -14,6 +14,7 @@
 
 #include "batch/job_file.h"
 #include "cli/commands.h"
+#include "cli/slow_step_notice.h"
 #include "core/errors.h"
 #include "gpu/context.h"
 #include "gpu/kernel_cache.h"
@@ -118,6 +119,7 @@ TaskShare taskShare(const BatchOptions& options) {
 class Ticker {
 public:
     explicit Ticker(bool enabled) : m_enabled(enabled) {}
+    bool enabled() const { return m_enabled; }
     void show(const std::string& tag, const RenderProgress& p, double pixels) {
         if (!m_enabled) return;
         end();
@@ -192,7 +194,6 @@ JobTimes renderJob(Device& device, const BatchJob& job, const Scene& scene, cons
                    Clock::time_point jobStart, Totals& totals) {
     const double pixels = double(scene.film.width) * scene.film.height;
     auto progress = [&](const RenderProgress& p) { ticker.show(tag, p, pixels); };
-    device.renderer->compileKernel();  // start-up, not rendering (as in penumbra render)
     const auto renderStart = Clock::now();
     try {
         device.renderer->renderAll(progress, &g_stop);
@@ -219,7 +220,7 @@ void printSummary(const Totals& totals, size_t jobsOfTask, size_t jobsInFile, co
     if (share.tasks > 1) std::snprintf(scope, sizeof scope, "task %zu of %zu, ", share.task, share.tasks);
     std::fprintf(stderr,
                  "penumbra: batch %s: rendered %zu, skipped %zu, failed %zu, not run %zu, of %zu jobs (%s%zu in the "
-                 "file) in %.2f s; %.2f M samples/s while rendering; scene uploads %zu, reused %zu; pipelines "
+                 "file) in %.2f s in all; %.2f M samples/s while rendering; scene uploads %zu, reused %zu; pipelines "
                  "created %zu, reused %zu\n",
                  g_stop ? "interrupted" : "done", totals.rendered, totals.skipped, failed, totals.notRun, jobsOfTask,
                  scope, jobsInFile, secondsSince(start),
@@ -285,15 +286,20 @@ int batchCommand(const BatchOptions& options) {
                 break;
             }
             const auto jobStart = Clock::now();
+            std::optional<SlowStepNotice> compiling(std::in_place, "compiling kernels...", ticker.enabled());
             const bool reuse = device.prepare(job, scene);
+            device.renderer->compileKernel();  // start-up, not rendering (as in penumbra render)
+            compiling.reset();
             ++(reuse ? totals.uploadsReused : totals.uploads);
             const JobTimes times = renderJob(device, job, scene, tag, ticker, jobStart, totals);
             ticker.end();
             const double pixelSamples = double(scene.film.width) * scene.film.height * scene.sampler.spp;
             if (progressLines)
-                std::fprintf(stderr, "penumbra: %s: rendered %u spp in %.2f s (%.2f M samples/s; %s%s)\n", tag.c_str(),
-                             scene.sampler.spp, times.seconds,
-                             times.renderSeconds > 0 ? pixelSamples / times.renderSeconds * 1e-6 : 0.0,
+                std::fprintf(stderr,
+                             "penumbra: %s: rendered %u spp in %.2f s of rendering (%.2f M samples/s); %.2f s in all "
+                             "(%s%s)\n",
+                             tag.c_str(), scene.sampler.spp, times.renderSeconds,
+                             times.renderSeconds > 0 ? pixelSamples / times.renderSeconds * 1e-6 : 0.0, times.seconds,
                              reuse ? "scene upload reused" : "scene uploaded",
                              why == "missing" ? "" : ("; replaced output: " + why).c_str());
         } catch (const InputError& e) {

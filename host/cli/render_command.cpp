@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "cli/commands.h"
+#include "cli/slow_step_notice.h"
 #include "core/phases.h"
 #include "gpu/context.h"
 #include "image/image.h"
@@ -29,6 +30,7 @@ void printNotes(const std::vector<std::string>& notes, bool quiet) {
 }
 
 int renderCommand(const RenderOptions& options) {
+    const auto commandStart = std::chrono::steady_clock::now();
     Scene scene = [&] {
         Phase phase("load");
         return loadScene(options.scene, options.overrides);
@@ -48,6 +50,7 @@ int renderCommand(const RenderOptions& options) {
     contextPhase.reset();
 
     const bool showProgress = !options.quiet && isatty(STDERR_FILENO);
+    std::optional<SlowStepNotice> compiling(std::in_place, "compiling kernels...", showProgress);
     std::optional<Phase> rendererPhase(std::in_place, "renderer");
     Renderer renderer(context, scene);
     rendererPhase.reset();
@@ -57,6 +60,7 @@ int renderCommand(const RenderOptions& options) {
         Phase phase("first_dispatch");  // on lavapipe, NIR to LLVM and the JIT
         renderer.compileKernel();
     }
+    compiling.reset();
     auto start = std::chrono::steady_clock::now();
     const uint64_t pixels = uint64_t(scene.film.width) * scene.film.height;
     auto progress = [&](const RenderProgress& p) {
@@ -84,13 +88,22 @@ int renderCommand(const RenderOptions& options) {
         renderer.renderAll(progress, &g_interrupted);
     }
     double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (showProgress) std::fprintf(stderr, "\rpenumbra: %u spp in %.2f s%40s\n", scene.sampler.spp, seconds, "");
 
     Image image = renderer.readback(seconds);
     if (g_interrupted) throw std::runtime_error("render interrupted");
-    Phase writePhase("write");
-    writeExr(output, image);
-    if (!options.png.empty()) writePng(options.png, image);
+    {
+        Phase writePhase("write");
+        writeExr(output, image);
+        if (!options.png.empty()) writePng(options.png, image);
+    }
+    if (showProgress) {
+        std::fprintf(stderr, "\r%78s\r", "");  // the progress line
+        // Both times named: the rate is over the rendering alone, "in all" is the whole command.
+        const double all = std::chrono::duration<double>(std::chrono::steady_clock::now() - commandStart).count();
+        std::fprintf(stderr, "penumbra: %u spp in %.2f s of rendering (%.2f M samples/s); %.2f s in all\n",
+                     scene.sampler.spp, seconds, seconds > 0 ? double(pixels) * scene.sampler.spp / seconds * 1e-6 : 0.0,
+                     all);
+    }
     return 0;
 }
 
