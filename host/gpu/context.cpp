@@ -270,7 +270,7 @@ Context::Context(const ContextOptions& options) {
     if (m_info.bufferDeviceAddress) deviceExtensions.push_back(VK_KHR_BUFFER_DEVICE_ADDRESS_EXTENSION_NAME);
     VkDeviceCreateInfo deviceInfo{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
     if (m_info.bufferDeviceAddress) deviceInfo.pNext = &addressFeatures;
-    const bool shaderObjects = kernelsAsShaderObjects(m_info);
+    const bool shaderObjects = options.shaderObjects && kernelsAsShaderObjects(m_info);
     VkPhysicalDeviceShaderObjectFeaturesEXT shaderObjectFeatures{
         VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_OBJECT_FEATURES_EXT};
     shaderObjectFeatures.shaderObject = VK_TRUE;

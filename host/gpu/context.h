@@ -57,6 +57,9 @@ struct ContextOptions {
     // If set, called once the instance exists; the queue family must then also be able to
     // present to the returned surface, and VK_KHR_swapchain is enabled on the device.
     std::function<VkSurfaceKHR(VkInstance)> createSurface;
+    // Kernels as shader objects where gpu/shader_objects.h says they pay; false keeps compute
+    // pipelines everywhere (the tests compare the two).
+    bool shaderObjects = true;
 };
 
 class Context {

@@ -94,14 +94,15 @@ void KernelBinaries::store(const std::string& key, const std::vector<uint8_t>& b
     std::vector<std::pair<std::filesystem::file_time_type, std::filesystem::path>> files;
     std::filesystem::directory_iterator it(*m_folder, error), end;
     for (; !error && it != end; it.increment(error)) {
-        if (it->path().extension() != ".bin") continue;
+        // The file just written always stays: mtimes tick coarsely, so it may tie with older ones.
+        if (it->path().extension() != ".bin" || it->path() == target) continue;
         std::error_code timeError;
         auto time = it->last_write_time(timeError);
         if (!timeError) files.emplace_back(time, it->path());
     }
-    if (files.size() <= kMaxFiles) return;
+    if (files.size() < kMaxFiles) return;
     std::sort(files.begin(), files.end());
-    for (size_t i = 0; i + kMaxFiles < files.size(); ++i) std::filesystem::remove(files[i].second, error);
+    for (size_t i = 0; i + kMaxFiles - 1 < files.size(); ++i) std::filesystem::remove(files[i].second, error);
 }
 
 }  // namespace penumbra::gpu
