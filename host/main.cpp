@@ -29,6 +29,12 @@ void addRenderOptions(CLI::App* cmd, RenderOptions& options, std::vector<std::st
     cmd->add_option("--height", height, "film height (= --set film.height=H)");
     cmd->add_option("--device", options.device, "Vulkan device index (see 'penumbra devices'; or PENUMBRA_DEVICE)");
     cmd->add_flag("--quiet", options.quiet, "no progress or notes on stderr");
+    cmd->add_option("--exposure", options.look.exposure, "PNG and preview: radiance times 2^EV (default 0)")
+        ->check(CLI::Range(-64.0f, 64.0f));
+    cmd->add_option_function<std::string>(
+           "--tonemap", [&options](const std::string& name) { options.look.curve = *toneCurveFromName(name); },
+           "PNG and preview: clamp (default) or filmic (ACES fit)")
+        ->check(CLI::IsMember({"clamp", "filmic"}));
 }
 
 std::vector<Override> collectOverrides(const std::vector<std::string>& sets, const std::string& spp,
@@ -53,7 +59,8 @@ int main(int argc, char** argv) {
     std::string spp, seed, width, height;
     CLI::App* renderCmd = app.add_subcommand("render", "render a scene or glTF model to OpenEXR");
     addRenderOptions(renderCmd, render, sets, spp, seed, width, height);
-    renderCmd->add_option("-o,--output", render.output, "output EXR (default: SCENE-stem.exr here)");
+    renderCmd->add_option("-o,--output", render.output,
+                          "output .exr, or .png for an sRGB PNG alone (default: SCENE-stem.exr here)");
     renderCmd->add_option("--png", render.png, "also write an sRGB 8-bit PNG");
 
     BatchOptions batch;

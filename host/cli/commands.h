@@ -5,14 +5,16 @@
 #include <string>
 #include <vector>
 
+#include "image/tone_map.h"
 #include "scene/load.h"
 
 namespace penumbra {
 
 struct RenderOptions {
     std::string scene;
-    std::string output;     // empty: <scene stem>.exr in the working directory
+    std::string output;     // .exr or .png (image/output_format.h); empty: <scene stem>.exr here
     std::string png;        // empty: no PNG
+    ToneLook look;          // --exposure and --tonemap, for PNGs and the preview (never the EXR)
     std::vector<Override> overrides;
     int device = -1;
     bool quiet = false;

@@ -1,4 +1,5 @@
-// `penumbra render`: load, render on the GPU with progress on stderr, write EXR (+ PNG).
+// `penumbra render`: load, render on the GPU with progress on stderr, write the output (EXR,
+// or a PNG alone when -o ends in .png) and the --png one.
 #include <unistd.h>
 #include <atomic>
 #include <chrono>
@@ -8,9 +9,11 @@
 #include <iostream>
 
 #include "cli/commands.h"
+#include "core/errors.h"
 #include "gpu/context.h"
 #include "image/image.h"
 #include "image/output_check.h"
+#include "image/output_format.h"
 #include "render/renderer.h"
 
 namespace penumbra {
@@ -27,6 +30,12 @@ void printNotes(const std::vector<std::string>& notes, bool quiet) {
 }
 
 int renderCommand(const RenderOptions& options) {
+    // Bad usage before bad input: a misnamed output is known without reading the scene.
+    std::optional<OutputFormat> format = OutputFormat::Exr;
+    if (!options.output.empty()) {
+        format = outputFormatOf(options.output);
+        if (!format) throw InputError("-o " + outputFormatProblem(options.output));
+    }
     Scene scene = loadScene(options.scene, options.overrides);
     std::filesystem::path output = options.output.empty() ? std::filesystem::path(scene.name + ".exr")
                                                            : std::filesystem::path(options.output);
@@ -73,8 +82,9 @@ int renderCommand(const RenderOptions& options) {
 
     Image image = renderer.readback(seconds);
     if (g_interrupted) throw std::runtime_error("render interrupted");
-    writeExr(output, image);
-    if (!options.png.empty()) writePng(options.png, image);
+    if (*format == OutputFormat::Png) writePng(output, image, options.look);
+    else writeExr(output, image);
+    if (!options.png.empty()) writePng(options.png, image, options.look);
     return 0;
 }
 
