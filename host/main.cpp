@@ -52,7 +52,9 @@ std::vector<Override> collectOverrides(const std::vector<std::string>& sets, con
 
 int main(int argc, char** argv) {
     CLI::App app{"penumbra: direct illumination on Vulkan compute"};
-    app.require_subcommand(1);
+    app.require_subcommand(0, 1);
+    bool version = false;
+    app.add_flag("--version", version, "print the version and the Vulkan driver, one line");
 
     RenderOptions render;
     std::vector<std::string> sets;
@@ -110,6 +112,11 @@ int main(int argc, char** argv) {
         return 2;
     }
 
+    if (version) return runReportingErrors("penumbra", versionCommand);
+    if (app.get_subcommands().empty()) {
+        printError("a command is required: render, preview, batch, merge, compare or devices (see penumbra --help)");
+        return 2;
+    }
     setAllowAnyPath(anyPath);
     return runReportingErrors("penumbra", [&]() -> int {
         if (renderCmd->parsed()) {

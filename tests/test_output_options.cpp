@@ -1,5 +1,9 @@
 // The output options of SCENE_FORMAT.md "Output" (v3) from the outside: -o picks EXR or PNG
-// by extension (render and batch), --exposure and --tonemap shape PNGs only.
+// by extension (render and batch), --exposure and --tonemap shape PNGs only, a scene that
+// nothing lights gets a note, both outputs may go to /dev/null, and --version.
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -8,6 +12,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "gpu/context.h"
 #include "gpu_fixture.h"
 #include "image/image.h"
 #include "image/tone_map.h"
@@ -132,6 +137,63 @@ TEST(OutputOptions, ExposureAndTonemapShapeThePngOnly) {
             << bad;
         EXPECT_FALSE(fs::exists(dir / "bad.png"));
     }
+}
+
+TEST(OutputOptions, SceneWithNothingEmittingGetsANote) {
+    const fs::path dir = freshDir("unlit");
+    json unlit = test::floorAndSphereScene({.width = 8, .height = 6, .spp = 1});
+    unlit.erase("lights");
+    ASSERT_FALSE(unlit.contains("lights"));
+    const fs::path scene = writeJson(dir / "unlit.json", unlit);
+    std::string err;
+    ASSERT_EQ(test::runPenumbra("render " + q(scene) + " -o " + q(dir / "a.exr"), &err), 0) << err;
+    EXPECT_NE(err.find("unlit.json: no lights and no emitting shapes"), std::string::npos) << err;
+    ASSERT_EQ(test::runPenumbra("render " + q(scene) + " --quiet -o " + q(dir / "b.exr"), &err), 0) << err;
+    EXPECT_EQ(err, "");
+    // A light, an emitting shape, or ambient occlusion (which needs no light): no note.
+    for (const char* set : {"lights[0]={\\\"type\\\":\\\"point\\\",\\\"position\\\":[0,3,0],\\\"power\\\":10}",
+                            "shapes[1].emission=[1,1,1]", "integrator.type=ao"}) {
+        ASSERT_EQ(test::runPenumbra("render " + q(scene) + " -o " + q(dir / "c.exr") + " --set \"" + set + "\"", &err),
+                  0)
+            << set << ": " << err;
+        EXPECT_EQ(err.find("no lights"), std::string::npos) << set << ": " << err;
+    }
+}
+
+TEST(OutputOptions, BothOutputsMayGoToDevNull) {
+    const fs::path dir = freshDir("devnull");
+    const fs::path scene = writeJson(dir / "scene.json", litScene());
+    std::string err;
+    EXPECT_EQ(test::runPenumbra("render " + q(scene) + " --quiet -o /dev/null --png /dev/null", &err), 0) << err;
+    EXPECT_TRUE(fs::is_character_file("/dev/null"));
+    // A private node of /dev/null's device, so that the check cannot be passed by its name.
+    const fs::path null = dir / "null";
+    if (::mknod(null.c_str(), S_IFCHR | 0666, makedev(1, 3)) != 0) GTEST_SKIP() << "mknod needs root";
+    EXPECT_EQ(test::runPenumbra("render " + q(scene) + " --quiet -o " + q(null) + " --png " + q(null), &err), 0) << err;
+    EXPECT_TRUE(fs::is_character_file(null));
+    // Two regular files that are one file stay refused.
+    EXPECT_EQ(test::runPenumbra("render " + q(scene) + " --quiet -o " + q(dir / "x.png") + " --png " + q(dir / "x.png"),
+                                &err),
+              2)
+        << err;
+}
+
+TEST(OutputOptions, VersionPrintsOneLineWithTheDriver) {
+    std::string err, out;
+    ASSERT_EQ(test::runPenumbra("--version", &err, &out), 0) << err;
+    EXPECT_EQ(err, "");
+    ASSERT_FALSE(out.empty());
+    EXPECT_EQ(out.find('\n'), out.size() - 1) << "not one line: " << out;
+    EXPECT_EQ(out.rfind("penumbra 0.", 0), 0u) << out;
+    int chosen = -1;
+    const auto devices = gpu::Context::listDevices(&chosen);
+    ASSERT_GE(chosen, 0);
+    const gpu::DeviceInfo& d = devices[size_t(chosen)];
+    EXPECT_NE(out.find(d.name), std::string::npos) << out;
+    ASSERT_FALSE(d.driverName.empty()) << "lavapipe reports its driver";
+    EXPECT_NE(out.find("driver " + d.driverName + " " + d.driverInfo), std::string::npos) << out;
+    // Without a command and without --version: bad usage.
+    EXPECT_EQ(test::runPenumbra("", &err), 2);
 }
 
 TEST(OutputOptions, BatchOutputsFollowTheSameRule) {

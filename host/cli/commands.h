@@ -49,6 +49,9 @@ std::string previewHelp();
 int mergeCommand(const std::vector<std::string>& inputs, const std::string& output);
 int compareCommand(const std::string& a, const std::string& b);
 int devicesCommand();
+// `penumbra --version`: one line on stdout, the version and the Vulkan device and driver
+// the automatic choice (or PENUMBRA_DEVICE) would use.
+int versionCommand();
 
 // Prints one-line notes to stderr unless quiet (e.g. "model.glb: no lights ...").
 void printNotes(const std::vector<std::string>& notes, bool quiet);

@@ -82,6 +82,7 @@ public:
             for (size_t i = 0; i < lights->size(); ++i) readLight((*lights)[i]);
         readCamera(root.find("camera"));
         if (m_modelAlone) litModelFallback();
+        else noteUnlitScene();
     }
 
 private:
@@ -451,6 +452,15 @@ private:
         if (!m_scene.lights.empty() || emissive) return;
         m_scene.lights.push_back(Light{LightType::Environment, glm::vec3(0.0f), glm::vec3(0.0f), glm::vec3(1.0f)});
         m_scene.notes.push_back(m_label + ": no lights or emissive materials; lit by a constant white environment (radiance 1)");
+    }
+
+    // SCENE_FORMAT.md "Output": a scene file with nothing that emits renders black; say so.
+    // Ambient occlusion needs no lights, so it gets no note.
+    void noteUnlitScene() {
+        if (m_scene.integrator.type != IntegratorType::Direct || !m_scene.lights.empty()) return;
+        if (std::any_of(m_scene.shapes.begin(), m_scene.shapes.end(), [](const Shape& s) { return s.isEmitter(); }))
+            return;
+        m_scene.notes.push_back(m_label + ": no lights and no emitting shapes; the image will be black");
     }
 
     Scene& m_scene;
