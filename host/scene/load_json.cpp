@@ -18,6 +18,7 @@
 #include "scene/load.h"
 #include "scene/material_parse.h"
 #include "scene/material_textures.h"
+#include "scene/mesh_file.h"
 #include "scene/scene_input_file.h"
 
 namespace penumbra {
@@ -169,19 +170,22 @@ private:
     void readShape(const JsonReader& r) {
         std::string type = r.at("type").choice({"sphere", "quad", "mesh", "gltf"});
         if (type == "sphere") r.expectKeys({"type", "center", "radius", "material", "emission", "power"}, "a sphere");
-        if (type == "quad") r.expectKeys({"type", "origin", "edge_u", "edge_v", "material", "emission", "power", "two_sided"}, "a quad");
+        if (type == "quad")
+            r.expectKeys({"type", "origin", "edge_u", "edge_v", "material", "emission", "power", "two_sided"},
+                         "a quad");
         if (type == "mesh")
-            r.expectKeys(
-                {"type", "positions", "indices", "normals", "uvs", "material", "emission", "power", "two_sided"},
-                "a mesh");
-        if (type == "gltf") r.expectKeys({"type", "file", "material", "emission", "power", "two_sided"}, "a gltf shape");
+            r.expectKeys({"type", "positions", "indices", "normals", "uvs", "file", "material", "emission", "power",
+                          "two_sided"},
+                         "a mesh");
+        if (type == "gltf")
+            r.expectKeys({"type", "file", "material", "emission", "power", "two_sided"}, "a gltf shape");
         if (r.has("emission") && r.has("power")) r.fail("has both \"emission\" and \"power\"; give one");
 
         Shape s;
         s.material = materialOf(r);
         s.twoSided = r.has("two_sided") && r.at("two_sided").boolean();
         if (type == "gltf") return readGltfShape(r, s);
-        float area = 0.0f;
+        if (type == "mesh" && r.has("file")) return readMeshFileShape(r, s);
         if (type == "sphere") {
             s.type = ShapeType::Sphere;
             s.center = coordinates(r.at("center"));
@@ -193,27 +197,33 @@ private:
             s.origin = coordinates(r.at("origin"));
             s.edgeU = coordinates(r.at("edge_u"));
             s.edgeV = coordinates(r.at("edge_v"));
-            area = glm::length(glm::cross(s.edgeU, s.edgeV));
+            const float area = glm::length(glm::cross(s.edgeU, s.edgeV));
             if (!(area > 0.0f) || !std::isfinite(area))
                 r.fail("quad has zero or non-finite area (edge_u and edge_v must be non-zero and not parallel)");
         } else {
             readMesh(r, s);
-            area = meshArea(s);
         }
-        if (auto e = r.find("emission")) s.emission = radiometric(*e, e->color(), "radiance");
-        if (auto p = r.find("power")) {
-            glm::vec3 power = p->color();
-            // Uniform emitters, SCENE_FORMAT.md: P = Le * pi * A per emitting face (cosine-weighted
-            // hemisphere integral), so Le = P/(pi A), or P/(2 pi A) with two faces; a sphere
-            // (A = 4 pi r^2, one outward face) gives Le = P/(4 pi^2 r^2).
-            float denominator = s.type == ShapeType::Sphere ? 4.0f * kPi * kPi * s.radius * s.radius
-                                                           : (s.twoSided ? 2.0f : 1.0f) * kPi * area;
-            s.emission = power / denominator;
-            if (!std::isfinite(s.emission.x + s.emission.y + s.emission.z))
-                p->fail("radiance from this power is not finite (the shape is too small)");
-            radiometric(*p, s.emission, "the radiance from this power");
-        }
+        // The emitting area.
+        const float area = s.type == ShapeType::Quad   ? glm::length(glm::cross(s.edgeU, s.edgeV))
+                           : s.type == ShapeType::Mesh ? meshArea(s)
+                                                       : 0.0f;
+        s.emission = s.type == ShapeType::Sphere ? emissionOf(r, 4.0f * kPi * kPi * s.radius * s.radius)
+                                                 : emissionOf(r, (s.twoSided ? 2.0f : 1.0f) * kPi * area);
         m_scene.shapes.push_back(std::move(s));
+    }
+
+    // A shape's radiance: its `emission`, or its `power` over `powerPerRadiance`. Uniform
+    // emitters, SCENE_FORMAT.md: P = Le * pi * A per emitting face (cosine-weighted hemisphere
+    // integral), so Le = P/(pi A), or P/(2 pi A) with two faces; a sphere (A = 4 pi r^2, one
+    // outward face) gives Le = P/(4 pi^2 r^2). Neither: 0.
+    static glm::vec3 emissionOf(const JsonReader& r, float powerPerRadiance) {
+        if (auto e = r.find("emission")) return radiometric(*e, e->color(), "radiance");
+        auto p = r.find("power");
+        if (!p) return glm::vec3(0.0f);
+        const glm::vec3 emission = p->color() / powerPerRadiance;
+        if (!std::isfinite(emission.x + emission.y + emission.z))
+            p->fail("radiance from this power is not finite (the shape is too small)");
+        return radiometric(*p, emission, "the radiance from this power");
     }
 
     void readMesh(const JsonReader& r, Shape& s) {
@@ -239,21 +249,18 @@ private:
                 indices[i].fail("index " + std::to_string(index) + " out of range (" + std::to_string(vertices) + " vertices)");
             s.indices[i] = uint32_t(index);
         }
-        for (size_t t = 0; t < n; t += 3) {
-            glm::vec3 a = s.positions[s.indices[t]], b = s.positions[s.indices[t + 1]], c = s.positions[s.indices[t + 2]];
-            float area = 0.5f * glm::length(glm::cross(b - a, c - a));
-            if (!(area > 0.0f) || !std::isfinite(area))
+        for (size_t t = 0; t < n; t += 3)
+            if (triangleProblem(s.positions[s.indices[t]], s.positions[s.indices[t + 1]],
+                                s.positions[s.indices[t + 2]]))
                 indices.fail("triangle " + std::to_string(t / 3) + " has zero or non-finite area");
-        }
         if (auto normals = r.find("normals")) {
             std::vector<float> nv = normals->numbers();
             if (nv.size() != p.size())
                 normals->fail("has " + std::to_string(nv.size()) + " numbers, positions has " + std::to_string(p.size()));
             for (size_t v = 0; v < vertices; ++v) {
-                glm::vec3 normal(nv[3 * v], nv[3 * v + 1], nv[3 * v + 2]);
-                float len = glm::length(normal);
-                if (!(len > 0.0f) || !std::isfinite(len)) (*normals)[3 * v].fail("normal " + std::to_string(v) + " has zero length");
-                s.normals.push_back(normal / len);
+                auto unit = unitNormal(glm::vec3(nv[3 * v], nv[3 * v + 1], nv[3 * v + 2]));
+                if (!unit) (*normals)[3 * v].fail("normal " + std::to_string(v) + " has zero length");
+                s.normals.push_back(*unit);
             }
         }
         if (auto uvs = r.find("uvs")) {
@@ -263,6 +270,28 @@ private:
                 uvs->fail("has " + std::to_string(uv.size()) + " numbers, expected 2 per vertex (" +
                           std::to_string(2 * vertices) + ")");
             for (size_t v = 0; v < vertices; ++v) s.uvs.emplace_back(uv[2 * v], uv[2 * v + 1]);
+        }
+    }
+
+    // SCENE_FORMAT.md "Mesh files": the file's parts (one per OBJ usemtl name) become mesh
+    // shapes, each with the scene material of its usemtl name where the scene has one, else
+    // the shape's own; emission and power as for one mesh over the parts' total area.
+    void readMeshFileShape(const JsonReader& r, const Shape& settings) {
+        for (const char* key : {"positions", "indices", "normals", "uvs"})
+            if (r.has(key)) r.at(key).fail("a mesh with \"file\" takes its data from the file; give one or the other");
+        JsonReader fileField = r.at("file");
+        fs::path file = sceneRelativeInputFile(fileField, m_baseDir);
+        std::vector<MeshPart> parts = readMeshFile(file, file.string());
+        float area = 0.0f;
+        for (const MeshPart& part : parts) area += meshArea(part.shape);
+        const glm::vec3 emission = emissionOf(r, (settings.twoSided ? 2.0f : 1.0f) * kPi * area);
+        for (MeshPart& part : parts) {
+            Shape& s = part.shape;
+            auto named = m_materialIndex.find(part.material);
+            s.material = !part.material.empty() && named != m_materialIndex.end() ? named->second : settings.material;
+            s.emission = emission;
+            s.twoSided = settings.twoSided;
+            m_scene.shapes.push_back(std::move(s));
         }
     }
 
