@@ -325,7 +325,8 @@ private:
                 uint64_t n = listCount(p, at);
                 for (uint64_t j = 0; j < n; ++j) value(p.type, at);
             }
-            glm::vec3 pos(float(values[size_t(l.x)]), float(values[size_t(l.y)]), float(values[size_t(l.z)]));
+            // Braces: with parentheses this reads as a function declaration (the most vexing parse).
+            const glm::vec3 pos{float(values[size_t(l.x)]), float(values[size_t(l.y)]), float(values[size_t(l.z)])};
             if (!coordinateInRange(pos)) fail(at, "position must be finite and within [-1e8, 1e8] (README: ranges)");
             s.positions.push_back(pos);
             if (normals) {
@@ -335,7 +336,8 @@ private:
                 s.normals.push_back(*unit);
             }
             if (uvs) {
-                glm::vec2 uv(float(values[size_t(l.u)]), 1.0f - float(values[size_t(l.v)]));  // v up (mesh_file.h)
+                const glm::vec2 uv{float(values[size_t(l.u)]),
+                                   1.0f - float(values[size_t(l.v)])};  // v up (mesh_file.h)
                 if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) fail(at, "texture coordinate is not finite");
                 s.uvs.push_back(uv);
             }
