@@ -20,6 +20,7 @@
 #include "scene/material_textures.h"
 #include "scene/mesh_file.h"
 #include "scene/scene_input_file.h"
+#include "scene/transform.h"
 
 namespace penumbra {
 namespace {
@@ -169,16 +170,18 @@ private:
 
     void readShape(const JsonReader& r) {
         std::string type = r.at("type").choice({"sphere", "quad", "mesh", "gltf"});
-        if (type == "sphere") r.expectKeys({"type", "center", "radius", "material", "emission", "power"}, "a sphere");
+        if (type == "sphere")
+            r.expectKeys({"type", "center", "radius", "material", "emission", "power", "to_world"}, "a sphere");
         if (type == "quad")
-            r.expectKeys({"type", "origin", "edge_u", "edge_v", "material", "emission", "power", "two_sided"},
-                         "a quad");
+            r.expectKeys(
+                {"type", "origin", "edge_u", "edge_v", "material", "emission", "power", "two_sided", "to_world"},
+                "a quad");
         if (type == "mesh")
             r.expectKeys({"type", "positions", "indices", "normals", "uvs", "file", "material", "emission", "power",
-                          "two_sided"},
+                          "two_sided", "to_world"},
                          "a mesh");
         if (type == "gltf")
-            r.expectKeys({"type", "file", "material", "emission", "power", "two_sided"}, "a gltf shape");
+            r.expectKeys({"type", "file", "material", "emission", "power", "two_sided", "to_world"}, "a gltf shape");
         if (r.has("emission") && r.has("power")) r.fail("has both \"emission\" and \"power\"; give one");
 
         Shape s;
@@ -203,7 +206,8 @@ private:
         } else {
             readMesh(r, s);
         }
-        // The emitting area.
+        applyToWorld(r, s);
+        // The emitting area in the world, after to_world.
         const float area = s.type == ShapeType::Quad   ? glm::length(glm::cross(s.edgeU, s.edgeV))
                            : s.type == ShapeType::Mesh ? meshArea(s)
                                                        : 0.0f;
@@ -224,6 +228,53 @@ private:
         if (!std::isfinite(emission.x + emission.y + emission.z))
             p->fail("radiance from this power is not finite (the shape is too small)");
         return radiometric(*p, emission, "the radiance from this power");
+    }
+
+    // SCENE_FORMAT.md "to_world": the shape's data moved into the world when it loads (the
+    // renderer never sees a transform), then checked again as the moved shape: ranges,
+    // areas, and a sphere's only allowed map, a uniform scale with rotation and translation.
+    void applyToWorld(const JsonReader& r, Shape& s) const {
+        auto field = r.find("to_world");
+        if (!field) return;
+        const Affine m = readToWorld(*field);
+        auto fail = [&](const std::string& why) { field->fail(why); };
+        if (s.type == ShapeType::Sphere) {
+            auto scale = uniformScaleOf(m);
+            if (!scale) {
+                const bool parts = field->json().is_object() && field->has("scale");
+                (parts ? field->at("scale") : *field)
+                    .fail("a sphere takes only a uniform scale (besides rotation and translation)");
+            }
+            // A sphere has no orientation: the GPU maps its texture coordinates from world
+            // directions, so a turned textured sphere would show its texture unturned.
+            if (!turnsNothing(m) && !m_scene.materials[s.material].textures.empty())
+                fail(
+                    "rotates or mirrors a textured sphere, whose texture stays aligned with the world axes; "
+                    "turn the texture's image or use a mesh");
+            s.center = transformPoint(m, s.center);
+            s.radius = float(*scale * double(s.radius));
+            if (!coordinateInRange(s.center) || !(s.radius > 0.0f) || s.radius > float(kMaxCoordinate))
+                fail("moves the sphere outside [-1e8, 1e8] (README: ranges)");
+        } else if (s.type == ShapeType::Quad) {
+            transformQuad(m, s);
+            if (!coordinateInRange(s.origin) || !coordinateInRange(s.edgeU) || !coordinateInRange(s.edgeV))
+                fail("moves the quad outside [-1e8, 1e8] (README: ranges)");
+            const float area = glm::length(glm::cross(s.edgeU, s.edgeV));
+            if (!(area > 0.0f) || !std::isfinite(area)) fail("leaves the quad with zero or non-finite area");
+        } else {
+            transformMesh(m, s);
+            checkMovedMesh(*field, s);
+        }
+    }
+
+    // A mesh after its to_world: every position in range, every triangle still of some area.
+    static void checkMovedMesh(const JsonReader& field, const Shape& s) {
+        for (glm::vec3 p : s.positions)
+            if (!coordinateInRange(p)) field.fail("moves the mesh outside [-1e8, 1e8] (README: ranges)");
+        for (size_t t = 0; t + 2 < s.indices.size(); t += 3)
+            if (auto why = triangleProblem(s.positions[s.indices[t]], s.positions[s.indices[t + 1]],
+                                           s.positions[s.indices[t + 2]]))
+                field.fail("leaves triangle " + std::to_string(t / 3) + " with zero or non-finite area");
     }
 
     void readMesh(const JsonReader& r, Shape& s) {
@@ -282,6 +333,7 @@ private:
         JsonReader fileField = r.at("file");
         fs::path file = sceneRelativeInputFile(fileField, m_baseDir);
         std::vector<MeshPart> parts = readMeshFile(file, file.string());
+        for (MeshPart& part : parts) applyToWorld(r, part.shape);
         float area = 0.0f;
         for (const MeshPart& part : parts) area += meshArea(part.shape);
         const glm::vec3 emission = emissionOf(r, (settings.twoSided ? 2.0f : 1.0f) * kPi * area);
@@ -301,6 +353,17 @@ private:
         // names must lie in the scene's folder (README, "glTF file access").
         fs::path file = sceneRelativeInputFile(fileField, m_baseDir, !m_modelAlone);
         GltfImport model = importGltf(file, file.string());
+        // to_world comes after the file's own node transforms, which importGltf applied, and
+        // moves the file's lights with its meshes.
+        for (Shape& s : model.shapes) applyToWorld(r, s);
+        if (auto field = r.find("to_world")) {
+            const Affine m = readToWorld(*field);
+            for (Light& light : model.lights) {
+                transformLight(m, light);
+                if (!coordinateInRange(light.position))
+                    field->fail("moves a light of the model outside [-1e8, 1e8] (README: ranges)");
+            }
+        }
 
         // The file's materials join the scene unless the shape names its own.
         uint32_t firstMaterial = uint32_t(m_scene.materials.size());
