@@ -29,6 +29,12 @@ void addRenderOptions(CLI::App* cmd, RenderOptions& options, std::vector<std::st
     cmd->add_option("--height", height, "film height (= --set film.height=H)");
     cmd->add_option("--device", options.device, "Vulkan device index (see 'penumbra devices'; or PENUMBRA_DEVICE)");
     cmd->add_flag("--quiet", options.quiet, "no progress or notes on stderr");
+    cmd->add_option("--exposure", options.look.exposure, "PNG and preview: radiance times 2^EV (default 0)")
+        ->check(CLI::Range(-64.0f, 64.0f));
+    cmd->add_option_function<std::string>(
+           "--tonemap", [&options](const std::string& name) { options.look.curve = *toneCurveFromName(name); },
+           "PNG and preview: clamp (default) or filmic (ACES fit)")
+        ->check(CLI::IsMember({"clamp", "filmic"}));
 }
 
 std::vector<Override> collectOverrides(const std::vector<std::string>& sets, const std::string& spp,
@@ -46,14 +52,17 @@ std::vector<Override> collectOverrides(const std::vector<std::string>& sets, con
 
 int main(int argc, char** argv) {
     CLI::App app{"penumbra: direct illumination on Vulkan compute"};
-    app.require_subcommand(1);
+    app.require_subcommand(0, 1);
+    bool version = false;
+    app.add_flag("--version", version, "print the version and the Vulkan driver, one line");
 
     RenderOptions render;
     std::vector<std::string> sets;
     std::string spp, seed, width, height;
     CLI::App* renderCmd = app.add_subcommand("render", "render a scene or glTF model to OpenEXR");
     addRenderOptions(renderCmd, render, sets, spp, seed, width, height);
-    renderCmd->add_option("-o,--output", render.output, "output EXR (default: SCENE-stem.exr here)");
+    renderCmd->add_option("-o,--output", render.output,
+                          "output .exr, or .png for an sRGB PNG alone (default: SCENE-stem.exr here)");
     renderCmd->add_option("--png", render.png, "also write an sRGB 8-bit PNG");
 
     BatchOptions batch;
@@ -103,6 +112,11 @@ int main(int argc, char** argv) {
         return 2;
     }
 
+    if (version) return runReportingErrors("penumbra", versionCommand);
+    if (app.get_subcommands().empty()) {
+        printError("a command is required: render, preview, batch, merge, compare or devices (see penumbra --help)");
+        return 2;
+    }
     setAllowAnyPath(anyPath);
     return runReportingErrors("penumbra", [&]() -> int {
         if (renderCmd->parsed()) {

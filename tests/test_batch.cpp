@@ -154,7 +154,7 @@ TEST(Batch, JobFileErrorsNameFileAndJsonPath) {
     };
     expectJobFileError(dir, "unknown-key.json", {{"jobs", {job({{"spp", 4}})}}}, "jobs[0]");
     expectJobFileError(dir, "no-output.json", {{"jobs", {{{"scene", "s.json"}}}}}, "jobs[0]: missing required field \"output\"");
-    expectJobFileError(dir, "not-exr.json", {{"jobs", {job({{"output", "o.png"}})}}}, "jobs[0].output");
+    expectJobFileError(dir, "not-exr.json", {{"jobs", {job({{"output", "o.jpg"}})}}}, "jobs[0].output");
     expectJobFileError(dir, "bad-set.json", {{"jobs", {job({}), job({{"output", "p.exr"}, {"set", {"spp"}}})}}},
                        "jobs[1].set[0]");
     expectJobFileError(dir, "bad-set-path.json", {{"jobs", {job({{"set", {{"lights[x].power", 1}}}})}}},

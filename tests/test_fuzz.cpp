@@ -1,5 +1,5 @@
 // A seeded mutation fuzzer over the committed corpus (tests/fuzz/corpus): every mutant goes
-// through the scene, job-file or glTF reader (fuzz/fuzz_inputs.h) and must be read or
+// through the scene, job-file, glTF or mesh-file reader (fuzz/fuzz_inputs.h) and must be read or
 // refused with an InputError; a crash fails the whole test binary. The seed is fixed, so
 // a run is reproducible; tools/fuzz runs the same readers under libFuzzer, ASan and UBSan
 // for as long as wanted. Bounded by a number of mutants and a wall-clock cap (~1 minute),
@@ -35,7 +35,8 @@ std::vector<std::string> loadCorpus() {
     return corpus;
 }
 
-// Tokens that reach the readers' interesting branches: limits, types, glTF fields, paths.
+// Tokens that reach the readers' interesting branches: limits, types, glTF fields, paths,
+// OBJ and PLY statements.
 const std::vector<std::string> kTokens = {"[",
                                           "]",
                                           "{",
@@ -78,7 +79,16 @@ const std::vector<std::string> kTokens = {"[",
                                           "\"version\"",
                                           "\"1.0\"",
                                           "\\u0000",
-                                          "\\\""};
+                                          "\\\"",
+                                          "\nf ",
+                                          "\nv ",
+                                          "/",
+                                          "//",
+                                          "-2147483649",
+                                          "\nusemtl ",
+                                          "\nelement face ",
+                                          "\nproperty list uint int vertex_indices",
+                                          "\nend_header\n"};
 
 std::string mutate(std::string s, std::mt19937_64& rng) {
     auto pick = [&](size_t n) { return n == 0 ? size_t(0) : size_t(rng() % n); };

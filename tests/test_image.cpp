@@ -396,7 +396,7 @@ TEST(ImagePng, WrittenPixelsReadBack) {
     }
     image.pixel(0, 0)[0] = 1.0f;  // channel order: a red top-left pixel stays red
     writePng(dir / "plain.png", image);
-    writePng(dir / "exposed.png", image, 1.0f);
+    writePng(dir / "exposed.png", image, {.exposure = 1.0f});
     EXPECT_EQ(fileCount(dir), 2u) << "a temporary file was left behind";
 
     for (const char* name : {"plain.png", "exposed.png"}) {

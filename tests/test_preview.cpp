@@ -445,6 +445,27 @@ TEST(PreviewProgram, ScreenshotMatchesRenderPng) {
     EXPECT_LE(maxLevelDifference(shown, rendered), 1) << "see " << dir;
 }
 
+TEST(PreviewProgram, ExposureAndTonemapOptionsMatchRenderPng) {
+    REQUIRE_XVFB();
+    fs::path dir = freshDir("screenshot-tonemap");
+    const std::string look = " --exposure 1.5 --tonemap filmic";
+    std::string err;
+    int status =
+        runIn(dir, displayEnv(), "preview " + smallCornell() + look + " --frames 200 --screenshot shown.png", &err);
+    ASSERT_EQ(status, 0) << err;
+    EXPECT_NE(err.find("preview: 16/16 spp"), std::string::npos) << err;
+    status = runIn(dir, "", "render " + smallCornell() + look + " -o looked.png --quiet", &err);
+    ASSERT_EQ(status, 0) << err;
+    status = runIn(dir, "", "render " + smallCornell() + " -o plain.png --quiet", &err);
+    ASSERT_EQ(status, 0) << err;
+    Png shown = readPng(dir / "shown.png"), looked = readPng(dir / "looked.png"), plain = readPng(dir / "plain.png");
+    ASSERT_EQ(looked.pixels.size(), shown.pixels.size());
+    ASSERT_EQ(plain.pixels.size(), shown.pixels.size());
+    // The GPU's curve is the host's (within the GPU's pow and division), and it shows.
+    EXPECT_LE(maxLevelDifference(shown, looked), 1) << "see " << dir;
+    EXPECT_GT(maxLevelDifference(shown, plain), 16) << "see " << dir;
+}
+
 // The preview of `scene` (a file in `dir`) matches `penumbra render` of it within one level
 // (same samples in the same order; only the GPU's pow and division may differ), and differs
 // by more than 64 levels somewhere from the render of `without`, the same scene without the

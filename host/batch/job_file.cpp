@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "core/errors.h"
+#include "image/output_format.h"
 #include "scene/json_reader.h"
 
 namespace penumbra {
@@ -192,7 +193,8 @@ std::vector<BatchJob> loadJobFile(const fs::path& file) {
         if (scene.empty()) entry.at("scene").fail("empty file name");
         JsonReader outputAt = entry.at("output");
         const std::string output = outputAt.string();
-        if (!hasExtension(output, ".exr")) outputAt.fail("\"" + output + "\" does not end in .exr (outputs are OpenEXR)");
+        const std::optional<OutputFormat> format = outputFormatOf(output);
+        if (!format) outputAt.fail(outputFormatProblem(output));
         std::vector<Override> set = common;
         if (auto own = entry.find("set")) {
             auto more = readSet(*own);
@@ -200,6 +202,9 @@ std::vector<BatchJob> loadJobFile(const fs::path& file) {
         }
         std::optional<JsonReader> pngAt = entry.find("png");
         std::string png;
+        // An output ending in .png is the PNG alone (SCENE_FORMAT.md "Output"), as for render -o.
+        if (pngAt && *format == OutputFormat::Png)
+            pngAt->fail("the output \"" + output + "\" is a PNG already; give \"png\" only with an .exr output");
         if (pngAt && pngAt->json().is_boolean()) {
             // true: the output's name with .png
             if (pngAt->boolean()) png = fs::path(output).replace_extension(".png").string();

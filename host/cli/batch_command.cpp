@@ -19,7 +19,9 @@
 #include "gpu/context.h"
 #include "gpu/kernel_cache.h"
 #include "image/image.h"
+#include "image/image_file.h"
 #include "image/output_check.h"
+#include "image/output_format.h"
 #include "render/renderer.h"
 #include "scene/enum_names.h"
 #include "scene/integrator_json.h"
@@ -49,6 +51,17 @@ std::string oneLine(std::string text) {
 std::string incompleteReason(const fs::path& output, const Scene& scene) {
     std::error_code ec;
     if (!fs::exists(output, ec)) return "missing";
+    if (outputFormatOf(output) == OutputFormat::Png) {
+        // A PNG records no render settings: one that decodes at the film's size is taken
+        // as this job's (docs/BATCH.md); writes are atomic, so it is whole.
+        try {
+            const ImageFile png = readImageFile(output, ColorDecode::Linear);
+            if (png.width != scene.film.width || png.height != scene.film.height) return "other film size";
+            return {};
+        } catch (const std::exception&) {
+            return "unreadable";
+        }
+    }
     Image image;
     try {
         image = readExr(output);
@@ -205,7 +218,8 @@ JobTimes renderJob(Device& device, const BatchJob& job, const Scene& scene, cons
     const double renderSeconds = secondsSince(renderStart);
     const double seconds = secondsSince(jobStart);
     Image image = device.renderer->readback(seconds);
-    writeExr(job.output, image);
+    if (outputFormatOf(job.output) == OutputFormat::Png) writePng(job.output, image);
+    else writeExr(job.output, image);
     if (!job.png.empty()) writePng(job.png, image);
     ++totals.rendered;
     totals.renderSeconds += renderSeconds;

@@ -5,14 +5,16 @@
 #include <string>
 #include <vector>
 
+#include "image/tone_map.h"
 #include "scene/load.h"
 
 namespace penumbra {
 
 struct RenderOptions {
     std::string scene;
-    std::string output;     // empty: <scene stem>.exr in the working directory
+    std::string output;     // .exr or .png (image/output_format.h); empty: <scene stem>.exr here
     std::string png;        // empty: no PNG
+    ToneLook look;          // --exposure and --tonemap, for PNGs and the preview (never the EXR)
     std::vector<Override> overrides;
     int device = -1;
     bool quiet = false;
@@ -47,6 +49,9 @@ std::string previewHelp();
 int mergeCommand(const std::vector<std::string>& inputs, const std::string& output);
 int compareCommand(const std::string& a, const std::string& b);
 int devicesCommand();
+// `penumbra --version`: one line on stdout, the version and the Vulkan device and driver
+// the automatic choice (or PENUMBRA_DEVICE) would use.
+int versionCommand();
 
 // Prints one-line notes to stderr unless quiet (e.g. "model.glb: no lights ...").
 void printNotes(const std::vector<std::string>& notes, bool quiet);

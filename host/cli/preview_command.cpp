@@ -31,6 +31,7 @@ int previewCommand(const PreviewOptions& options) {
     settings.rowsPerFrame = options.rowsPerFrame;
     settings.deviceIndex = base.device;
     settings.quiet = base.quiet;
+    settings.look = base.look;
     if (!settings.screenshot.empty()) {
         std::vector<RunFile> inputs{{base.scene, "the scene"}};
         if (!options.script.empty()) inputs.push_back({options.script, "--script"});

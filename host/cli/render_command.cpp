@@ -1,4 +1,5 @@
-// `penumbra render`: load, render on the GPU with progress on stderr, write EXR (+ PNG).
+// `penumbra render`: load, render on the GPU with progress on stderr, write the output (EXR,
+// or a PNG alone when -o ends in .png) and the --png one.
 #include <unistd.h>
 #include <atomic>
 #include <chrono>
@@ -10,10 +11,12 @@
 
 #include "cli/commands.h"
 #include "cli/slow_step_notice.h"
+#include "core/errors.h"
 #include "core/phases.h"
 #include "gpu/context.h"
 #include "image/image.h"
 #include "image/output_check.h"
+#include "image/output_format.h"
 #include "render/renderer.h"
 
 namespace penumbra {
@@ -31,6 +34,12 @@ void printNotes(const std::vector<std::string>& notes, bool quiet) {
 
 int renderCommand(const RenderOptions& options) {
     const auto commandStart = std::chrono::steady_clock::now();
+    // Bad usage before bad input: a misnamed output is known without reading the scene.
+    std::optional<OutputFormat> format = OutputFormat::Exr;
+    if (!options.output.empty()) {
+        format = outputFormatOf(options.output);
+        if (!format) throw InputError("-o " + outputFormatProblem(options.output));
+    }
     Scene scene = [&] {
         Phase phase("load");
         return loadScene(options.scene, options.overrides);
@@ -93,8 +102,9 @@ int renderCommand(const RenderOptions& options) {
     if (g_interrupted) throw std::runtime_error("render interrupted");
     {
         Phase writePhase("write");
-        writeExr(output, image);
-        if (!options.png.empty()) writePng(options.png, image);
+        if (*format == OutputFormat::Png) writePng(output, image, options.look);
+        else writeExr(output, image);
+        if (!options.png.empty()) writePng(options.png, image, options.look);
     }
     if (showProgress) {
         std::fprintf(stderr, "\r%78s\r", "");  // the progress line

@@ -10,6 +10,8 @@
 #include <string_view>
 #include <vector>
 
+#include "image/tone_map.h"
+
 namespace penumbra {
 
 // A run of sample indices of one seed, [first, end): a render of spp samples with
@@ -69,8 +71,9 @@ Image decodeExr(std::string_view bytes, const std::string& name);
 // RGBA reader (image_file.cpp) then holds no RGB copy of a large image.
 Image decodeExrRgba(std::string_view bytes, const std::string& name, std::vector<float>& rgba,
                     const std::function<void(uint32_t, uint32_t)>& acceptSize);
-// sRGB 8-bit PNG of exposure-scaled, clamped radiance; atomic like writeExr.
-void writePng(const std::filesystem::path& path, const Image& image, float exposure = 0.0f);
+// sRGB 8-bit PNG of radiance times 2^look.exposure through look.curve (tone_map.h);
+// atomic like writeExr.
+void writePng(const std::filesystem::path& path, const Image& image, ToneLook look = {});
 // 8-bit sRGB encoding of one linear value (clamped), shared with the preview's tone map.
 uint8_t linearToSrgb8(float linear);
 // A PNG of already encoded 8-bit sRGB bytes (width * height * 3, row-major, top row first),

@@ -74,6 +74,10 @@ void checkDistinctFiles(const std::vector<RunFile>& outputs, const std::vector<R
         const std::string id = cache.identity(out.path);
         if (auto it = seen.find(id); it != seen.end())
             refuse(out, *it->second, "an output must not overwrite an input");
+        // A character device (/dev/null) is written through, never replaced (atomic_file.h):
+        // two outputs sent to it clobber nothing, so `-o /dev/null --png /dev/null` is fine.
+        std::error_code ec;
+        if (fs::is_character_file(out.path, ec)) continue;
         auto [it, fresh] = written.emplace(id, &out);
         if (!fresh) refuse(out, *it->second, "every output must be a file of its own");
     }

@@ -23,7 +23,8 @@ std::string fileIdentity(const std::filesystem::path& path);
 
 // Throws InputError (exit 2) when an output is the same file as an input or as another
 // output: `prefix` + "ROLE \"PATH\" is the same file as ROLE \"PATH\"; ...". Every output
-// must differ; inputs may repeat.
+// must differ, except that several may go to one character device (/dev/null); inputs may
+// repeat.
 void checkDistinctFiles(const std::vector<RunFile>& outputs, const std::vector<RunFile>& inputs,
                         const std::string& prefix = "");
 

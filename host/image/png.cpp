@@ -1,5 +1,6 @@
-// 8-bit sRGB PNG output for a quick look at a render: radiance times 2^exposure,
-// clamped to [0, 1], encoded with the exact sRGB transfer function (IEC 61966-2-1).
+// 8-bit sRGB PNG output for a quick look at a render: radiance times 2^exposure, through
+// the tone curve (tone_map.h: clamp or filmic) into [0, 1], encoded with the exact sRGB
+// transfer function (IEC 61966-2-1).
 // EXR stays the real output; this one is lossy by design.
 #include <cmath>
 #include <stdexcept>
@@ -28,12 +29,13 @@ uint8_t linearToSrgb8(float linear) {
     return uint8_t(std::floor(encoded * 255.0 + 0.5));  // round to nearest code value
 }
 
-void writePng(const std::filesystem::path& path, const Image& image, float exposure) {
+void writePng(const std::filesystem::path& path, const Image& image, ToneLook look) {
     if (image.rgb.size() != size_t(image.width) * image.height * 3)
         throw std::runtime_error("failed to write " + path.string() + ": pixel buffer does not match the image size");
-    const float scale = std::exp2(exposure);
+    const float scale = std::exp2(look.exposure);
     std::vector<uint8_t> bytes(image.rgb.size());
-    for (size_t i = 0; i < bytes.size(); ++i) bytes[i] = linearToSrgb8(image.rgb[i] * scale);
+    for (size_t i = 0; i < bytes.size(); ++i)
+        bytes[i] = linearToSrgb8(applyToneCurve(image.rgb[i] * scale, look.curve));
     writePngRgb8(path, image.width, image.height, bytes);
 }
 

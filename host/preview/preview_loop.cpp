@@ -145,7 +145,8 @@ Preview::Preview(const Scene& scene, const PreviewSettings& settings)
       m_settings(settings),
       m_scheduler(scene.film.height, scene.sampler.spp),
       m_camera(scene.camera),
-      m_integrator(scene.integrator) {
+      m_integrator(scene.integrator),
+      m_exposure(settings.look.exposure) {  // --exposure: where the +/- keys start
     const uint32_t width = scene.film.width, height = scene.film.height;
     VkExtent2D size = initialWindowSize(width, height, m_glfw.workArea());
     m_window.emplace("penumbra preview: " + scene.name, int(size.width), int(size.height));
@@ -209,7 +210,7 @@ void Preview::run() {
             barrier.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
             vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                                  VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &barrier, 0, nullptr, 0, nullptr);
-            m_toneMapper->record(cmd, m_exposure);
+            m_toneMapper->record(cmd, {m_exposure, m_settings.look.curve});
             // The tone map's pixel writes -> the host's read of them after the wait.
             VkMemoryBarrier toHost{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
             toHost.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
@@ -341,7 +342,7 @@ uint64_t Preview::recordPassesAndToneMap(VkCommandBuffer cmd, bool render) {
             pixelSamples += uint64_t(slice.count) * slice.rowCount * m_scene.film.width;
         }
     }
-    m_toneMapper->record(cmd, m_exposure);
+    m_toneMapper->record(cmd, {m_exposure, m_settings.look.curve});
     return pixelSamples;
 }
 
@@ -421,7 +422,7 @@ void Preview::save() {
     Image image = m_renderer->readback(secondsSince(m_restartTime));
     image.meta.spp = int(m_scheduler.samplesDone());  // rows ahead of that hold one sample more
     writeExr(exr, image);
-    writePng(png, image, m_exposure);
+    writePng(png, image, {m_exposure, m_settings.look.curve});
     std::fprintf(stderr, "preview: saved %s and %s (%u spp)\n", exr.string().c_str(), png.string().c_str(),
                  m_scheduler.samplesDone());
 }

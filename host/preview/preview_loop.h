@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <vector>
 
+#include "image/tone_map.h"
 #include "preview/input_script.h"
 #include "scene/scene.h"
 
@@ -20,6 +21,7 @@ struct PreviewSettings {
     uint32_t rowsPerFrame = 0;         // rows of one-sample work per frame; 0: adaptive (~40 ms a frame)
     int deviceIndex = -1;              // as --device; -1: PENUMBRA_DEVICE or the automatic choice
     bool quiet = false;                // no notes and no final "preview: D/T spp" line on stderr
+    ToneLook look;                     // --exposure (where the +/- keys start) and --tonemap
 };
 
 // Opens the window and runs until it is closed, Q / Esc, or settings.frames frames. Throws

@@ -68,8 +68,8 @@ ToneMapper::~ToneMapper() {
     if (m_memory) vkFreeMemory(device, m_memory, nullptr);
 }
 
-void ToneMapper::record(VkCommandBuffer cmd, float exposure) const {
-    gpu::ToneMapConstants constants{m_width, m_height, std::exp2(exposure), 0};
+void ToneMapper::record(VkCommandBuffer cmd, ToneLook look) const {
+    gpu::ToneMapConstants constants{m_width, m_height, std::exp2(look.exposure), uint32_t(look.curve)};
     m_kernel.record(cmd, (m_width + 7) / 8, (m_height + 7) / 8, 1, &constants);
 
     // The tone map's writes to the pixel buffer -> the copy's transfer reads.

@@ -12,6 +12,7 @@
 #include "gpu/buffer.h"
 #include "gpu/context.h"
 #include "gpu/kernel.h"
+#include "image/tone_map.h"
 
 namespace penumbra::preview {
 
@@ -27,10 +28,10 @@ public:
     ToneMapper(const ToneMapper&) = delete;
     ToneMapper& operator=(const ToneMapper&) = delete;
 
-    // Records the tone map (times 2^exposure) and the copy into the display image, which
+    // Records the tone map (times 2^look.exposure, then look.curve) and the copy into the display image, which
     // ends in TRANSFER_SRC_OPTIMAL. The accumulation's writes must already be visible to
     // compute-shader reads (Renderer::recordPasses ends with that barrier).
-    void record(VkCommandBuffer cmd, float exposure) const;
+    void record(VkCommandBuffer cmd, ToneLook look) const;
     // Records a blit of the display image (after record()) into `target`, which must be in
     // TRANSFER_DST_OPTIMAL, filling the rectangle at `offset` of `size` pixels.
     void recordBlit(VkCommandBuffer cmd, VkImage target, VkOffset2D offset, VkExtent2D size) const;

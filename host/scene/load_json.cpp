@@ -18,7 +18,9 @@
 #include "scene/load.h"
 #include "scene/material_parse.h"
 #include "scene/material_textures.h"
+#include "scene/mesh_file.h"
 #include "scene/scene_input_file.h"
+#include "scene/transform.h"
 
 namespace penumbra {
 namespace {
@@ -82,6 +84,7 @@ public:
             for (size_t i = 0; i < lights->size(); ++i) readLight((*lights)[i]);
         readCamera(root.find("camera"));
         if (m_modelAlone) litModelFallback();
+        else noteUnlitScene();
     }
 
 private:
@@ -167,20 +170,25 @@ private:
 
     void readShape(const JsonReader& r) {
         std::string type = r.at("type").choice({"sphere", "quad", "mesh", "gltf"});
-        if (type == "sphere") r.expectKeys({"type", "center", "radius", "material", "emission", "power"}, "a sphere");
-        if (type == "quad") r.expectKeys({"type", "origin", "edge_u", "edge_v", "material", "emission", "power", "two_sided"}, "a quad");
-        if (type == "mesh")
+        if (type == "sphere")
+            r.expectKeys({"type", "center", "radius", "material", "emission", "power", "to_world"}, "a sphere");
+        if (type == "quad")
             r.expectKeys(
-                {"type", "positions", "indices", "normals", "uvs", "material", "emission", "power", "two_sided"},
-                "a mesh");
-        if (type == "gltf") r.expectKeys({"type", "file", "material", "emission", "power", "two_sided"}, "a gltf shape");
+                {"type", "origin", "edge_u", "edge_v", "material", "emission", "power", "two_sided", "to_world"},
+                "a quad");
+        if (type == "mesh")
+            r.expectKeys({"type", "positions", "indices", "normals", "uvs", "file", "material", "emission", "power",
+                          "two_sided", "to_world"},
+                         "a mesh");
+        if (type == "gltf")
+            r.expectKeys({"type", "file", "material", "emission", "power", "two_sided", "to_world"}, "a gltf shape");
         if (r.has("emission") && r.has("power")) r.fail("has both \"emission\" and \"power\"; give one");
 
         Shape s;
         s.material = materialOf(r);
         s.twoSided = r.has("two_sided") && r.at("two_sided").boolean();
         if (type == "gltf") return readGltfShape(r, s);
-        float area = 0.0f;
+        if (type == "mesh" && r.has("file")) return readMeshFileShape(r, s);
         if (type == "sphere") {
             s.type = ShapeType::Sphere;
             s.center = coordinates(r.at("center"));
@@ -192,27 +200,81 @@ private:
             s.origin = coordinates(r.at("origin"));
             s.edgeU = coordinates(r.at("edge_u"));
             s.edgeV = coordinates(r.at("edge_v"));
-            area = glm::length(glm::cross(s.edgeU, s.edgeV));
+            const float area = glm::length(glm::cross(s.edgeU, s.edgeV));
             if (!(area > 0.0f) || !std::isfinite(area))
                 r.fail("quad has zero or non-finite area (edge_u and edge_v must be non-zero and not parallel)");
         } else {
             readMesh(r, s);
-            area = meshArea(s);
         }
-        if (auto e = r.find("emission")) s.emission = radiometric(*e, e->color(), "radiance");
-        if (auto p = r.find("power")) {
-            glm::vec3 power = p->color();
-            // Uniform emitters, SCENE_FORMAT.md: P = Le * pi * A per emitting face (cosine-weighted
-            // hemisphere integral), so Le = P/(pi A), or P/(2 pi A) with two faces; a sphere
-            // (A = 4 pi r^2, one outward face) gives Le = P/(4 pi^2 r^2).
-            float denominator = s.type == ShapeType::Sphere ? 4.0f * kPi * kPi * s.radius * s.radius
-                                                           : (s.twoSided ? 2.0f : 1.0f) * kPi * area;
-            s.emission = power / denominator;
-            if (!std::isfinite(s.emission.x + s.emission.y + s.emission.z))
-                p->fail("radiance from this power is not finite (the shape is too small)");
-            radiometric(*p, s.emission, "the radiance from this power");
-        }
+        applyToWorld(r, s);
+        // The emitting area in the world, after to_world.
+        const float area = s.type == ShapeType::Quad   ? glm::length(glm::cross(s.edgeU, s.edgeV))
+                           : s.type == ShapeType::Mesh ? meshArea(s)
+                                                       : 0.0f;
+        s.emission = s.type == ShapeType::Sphere ? emissionOf(r, 4.0f * kPi * kPi * s.radius * s.radius)
+                                                 : emissionOf(r, (s.twoSided ? 2.0f : 1.0f) * kPi * area);
         m_scene.shapes.push_back(std::move(s));
+    }
+
+    // A shape's radiance: its `emission`, or its `power` over `powerPerRadiance`. Uniform
+    // emitters, SCENE_FORMAT.md: P = Le * pi * A per emitting face (cosine-weighted hemisphere
+    // integral), so Le = P/(pi A), or P/(2 pi A) with two faces; a sphere (A = 4 pi r^2, one
+    // outward face) gives Le = P/(4 pi^2 r^2). Neither: 0.
+    static glm::vec3 emissionOf(const JsonReader& r, float powerPerRadiance) {
+        if (auto e = r.find("emission")) return radiometric(*e, e->color(), "radiance");
+        auto p = r.find("power");
+        if (!p) return glm::vec3(0.0f);
+        const glm::vec3 emission = p->color() / powerPerRadiance;
+        if (!std::isfinite(emission.x + emission.y + emission.z))
+            p->fail("radiance from this power is not finite (the shape is too small)");
+        return radiometric(*p, emission, "the radiance from this power");
+    }
+
+    // SCENE_FORMAT.md "to_world": the shape's data moved into the world when it loads (the
+    // renderer never sees a transform), then checked again as the moved shape: ranges,
+    // areas, and a sphere's only allowed map, a uniform scale with rotation and translation.
+    void applyToWorld(const JsonReader& r, Shape& s) const {
+        auto field = r.find("to_world");
+        if (!field) return;
+        const Affine m = readToWorld(*field);
+        auto fail = [&](const std::string& why) { field->fail(why); };
+        if (s.type == ShapeType::Sphere) {
+            auto scale = uniformScaleOf(m);
+            if (!scale) {
+                const bool parts = field->json().is_object() && field->has("scale");
+                (parts ? field->at("scale") : *field)
+                    .fail("a sphere takes only a uniform scale (besides rotation and translation)");
+            }
+            // A sphere has no orientation: the GPU maps its texture coordinates from world
+            // directions, so a turned textured sphere would show its texture unturned.
+            if (!turnsNothing(m) && !m_scene.materials[s.material].textures.empty())
+                fail(
+                    "rotates or mirrors a textured sphere, whose texture stays aligned with the world axes; "
+                    "turn the texture's image or use a mesh");
+            s.center = transformPoint(m, s.center);
+            s.radius = float(*scale * double(s.radius));
+            if (!coordinateInRange(s.center) || !(s.radius > 0.0f) || s.radius > float(kMaxCoordinate))
+                fail("moves the sphere outside [-1e8, 1e8] (README: ranges)");
+        } else if (s.type == ShapeType::Quad) {
+            transformQuad(m, s);
+            if (!coordinateInRange(s.origin) || !coordinateInRange(s.edgeU) || !coordinateInRange(s.edgeV))
+                fail("moves the quad outside [-1e8, 1e8] (README: ranges)");
+            const float area = glm::length(glm::cross(s.edgeU, s.edgeV));
+            if (!(area > 0.0f) || !std::isfinite(area)) fail("leaves the quad with zero or non-finite area");
+        } else {
+            transformMesh(m, s);
+            checkMovedMesh(*field, s);
+        }
+    }
+
+    // A mesh after its to_world: every position in range, every triangle still of some area.
+    static void checkMovedMesh(const JsonReader& field, const Shape& s) {
+        for (glm::vec3 p : s.positions)
+            if (!coordinateInRange(p)) field.fail("moves the mesh outside [-1e8, 1e8] (README: ranges)");
+        for (size_t t = 0; t + 2 < s.indices.size(); t += 3)
+            if (auto why = triangleProblem(s.positions[s.indices[t]], s.positions[s.indices[t + 1]],
+                                           s.positions[s.indices[t + 2]]))
+                field.fail("leaves triangle " + std::to_string(t / 3) + " with zero or non-finite area");
     }
 
     void readMesh(const JsonReader& r, Shape& s) {
@@ -238,21 +300,18 @@ private:
                 indices[i].fail("index " + std::to_string(index) + " out of range (" + std::to_string(vertices) + " vertices)");
             s.indices[i] = uint32_t(index);
         }
-        for (size_t t = 0; t < n; t += 3) {
-            glm::vec3 a = s.positions[s.indices[t]], b = s.positions[s.indices[t + 1]], c = s.positions[s.indices[t + 2]];
-            float area = 0.5f * glm::length(glm::cross(b - a, c - a));
-            if (!(area > 0.0f) || !std::isfinite(area))
+        for (size_t t = 0; t < n; t += 3)
+            if (triangleProblem(s.positions[s.indices[t]], s.positions[s.indices[t + 1]],
+                                s.positions[s.indices[t + 2]]))
                 indices.fail("triangle " + std::to_string(t / 3) + " has zero or non-finite area");
-        }
         if (auto normals = r.find("normals")) {
             std::vector<float> nv = normals->numbers();
             if (nv.size() != p.size())
                 normals->fail("has " + std::to_string(nv.size()) + " numbers, positions has " + std::to_string(p.size()));
             for (size_t v = 0; v < vertices; ++v) {
-                glm::vec3 normal(nv[3 * v], nv[3 * v + 1], nv[3 * v + 2]);
-                float len = glm::length(normal);
-                if (!(len > 0.0f) || !std::isfinite(len)) (*normals)[3 * v].fail("normal " + std::to_string(v) + " has zero length");
-                s.normals.push_back(normal / len);
+                auto unit = unitNormal(glm::vec3(nv[3 * v], nv[3 * v + 1], nv[3 * v + 2]));
+                if (!unit) (*normals)[3 * v].fail("normal " + std::to_string(v) + " has zero length");
+                s.normals.push_back(*unit);
             }
         }
         if (auto uvs = r.find("uvs")) {
@@ -265,12 +324,46 @@ private:
         }
     }
 
+    // SCENE_FORMAT.md "Mesh files": the file's parts (one per OBJ usemtl name) become mesh
+    // shapes, each with the scene material of its usemtl name where the scene has one, else
+    // the shape's own; emission and power as for one mesh over the parts' total area.
+    void readMeshFileShape(const JsonReader& r, const Shape& settings) {
+        for (const char* key : {"positions", "indices", "normals", "uvs"})
+            if (r.has(key)) r.at(key).fail("a mesh with \"file\" takes its data from the file; give one or the other");
+        JsonReader fileField = r.at("file");
+        fs::path file = sceneRelativeInputFile(fileField, m_baseDir);
+        std::vector<MeshPart> parts = readMeshFile(file, file.string());
+        for (MeshPart& part : parts) applyToWorld(r, part.shape);
+        float area = 0.0f;
+        for (const MeshPart& part : parts) area += meshArea(part.shape);
+        const glm::vec3 emission = emissionOf(r, (settings.twoSided ? 2.0f : 1.0f) * kPi * area);
+        for (MeshPart& part : parts) {
+            Shape& s = part.shape;
+            auto named = m_materialIndex.find(part.material);
+            s.material = !part.material.empty() && named != m_materialIndex.end() ? named->second : settings.material;
+            s.emission = emission;
+            s.twoSided = settings.twoSided;
+            m_scene.shapes.push_back(std::move(s));
+        }
+    }
+
     void readGltfShape(const JsonReader& r, const Shape& settings) {
         JsonReader fileField = r.at("file");
         // A model given on the command line is the user's own choice; one that a scene
         // names must lie in the scene's folder (README, "glTF file access").
         fs::path file = sceneRelativeInputFile(fileField, m_baseDir, !m_modelAlone);
         GltfImport model = importGltf(file, file.string());
+        // to_world comes after the file's own node transforms, which importGltf applied, and
+        // moves the file's lights with its meshes.
+        for (Shape& s : model.shapes) applyToWorld(r, s);
+        if (auto field = r.find("to_world")) {
+            const Affine m = readToWorld(*field);
+            for (Light& light : model.lights) {
+                transformLight(m, light);
+                if (!coordinateInRange(light.position))
+                    field->fail("moves a light of the model outside [-1e8, 1e8] (README: ranges)");
+            }
+        }
 
         // The file's materials join the scene unless the shape names its own.
         uint32_t firstMaterial = uint32_t(m_scene.materials.size());
@@ -451,6 +544,15 @@ private:
         if (!m_scene.lights.empty() || emissive) return;
         m_scene.lights.push_back(Light{LightType::Environment, glm::vec3(0.0f), glm::vec3(0.0f), glm::vec3(1.0f)});
         m_scene.notes.push_back(m_label + ": no lights or emissive materials; lit by a constant white environment (radiance 1)");
+    }
+
+    // SCENE_FORMAT.md "Output": a scene file with nothing that emits renders black; say so.
+    // Ambient occlusion needs no lights, so it gets no note.
+    void noteUnlitScene() {
+        if (m_scene.integrator.type != IntegratorType::Direct || !m_scene.lights.empty()) return;
+        if (std::any_of(m_scene.shapes.begin(), m_scene.shapes.end(), [](const Shape& s) { return s.isEmitter(); }))
+            return;
+        m_scene.notes.push_back(m_label + ": no lights and no emitting shapes; the image will be black");
     }
 
     Scene& m_scene;

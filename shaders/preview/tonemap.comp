@@ -1,6 +1,7 @@
 // The preview's tone map: the mean of each pixel's accumulated samples (sum / count),
-// times 2^exposure, clamped and encoded with the exact sRGB OETF (IEC 61966-2-1, the same
-// formula and rounding as linearToSrgb8 in host/image/png.cpp), packed as RGBA8 bytes.
+// times 2^exposure, through the clamp or filmic curve (host/image/tone_map.cpp, the same
+// operations), encoded with the exact sRGB OETF (IEC 61966-2-1, the same formula and
+// rounding as linearToSrgb8 in host/image/png.cpp), packed as RGBA8 bytes.
 // The host copies the packed pixels into an image and blits that to the window.
 #version 450
 #extension GL_GOOGLE_include_directive : require
@@ -20,6 +21,22 @@ uint linearToSrgb8(float linear) {
     return min(uint(floor(encoded * 255.0 + 0.5)), 255u);
 }
 
+// Narkowicz's ACES fit, as acesFilmic in host/image/tone_map.cpp (cited there).
+float acesFilmic(float x) {
+    if (!(x > 0.0)) return 0.0;
+    if (x > 1e10) return 1.0;
+    float y = (x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14);
+    return clamp(y, 0.0, 1.0);
+}
+
+float applyToneCurve(float linear, uint curve) {
+    if (curve == 1u) return acesFilmic(linear);
+    if (!(linear > 0.0)) return 0.0;
+    return min(linear, 1.0);
+}
+
+uint encode(float linear, uint curve) { return linearToSrgb8(applyToneCurve(linear, curve)); }
+
 void main() {
     uvec2 pixel = gl_GlobalInvocationID.xy;
     if (pixel.x >= toneMap.width || pixel.y >= toneMap.height) return;
@@ -27,6 +44,6 @@ void main() {
     vec4 sum = accum[index];
     vec3 mean = sum.w > 0.0 ? sum.rgb / sum.w : vec3(0.0);
     vec3 scaled = mean * toneMap.scale;
-    pixels[index] = linearToSrgb8(scaled.r) | (linearToSrgb8(scaled.g) << 8) | (linearToSrgb8(scaled.b) << 16) |
-                    (255u << 24);
+    uint c = toneMap.curve;
+    pixels[index] = encode(scaled.r, c) | (encode(scaled.g, c) << 8) | (encode(scaled.b, c) << 16) | (255u << 24);
 }

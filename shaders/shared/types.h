@@ -466,8 +466,8 @@ struct PassConstants {
 struct ToneMapConstants {
     uint width;
     uint height;
-    float scale;  // 2^exposure, applied to the linear mean before encoding
-    uint pad;
+    float scale;  // 2^exposure, applied to the linear mean before the curve
+    uint curve;   // 0 clamp, 1 filmic (host/image/tone_map.h, ToneCurve)
 };
 
 #ifdef __cplusplus

@@ -1,5 +1,6 @@
-// The fuzz target's body: one input through the scene, job-file or glTF reader, exactly
-// as `penumbra render` and `penumbra batch` read them (loadScene, loadJobFile).
+// The fuzz target's body: one input through the scene, job-file, glTF or mesh-file reader,
+// exactly as `penumbra render` and `penumbra batch` read them (loadScene, loadJobFile,
+// readMeshFile).
 #include "fuzz_inputs.h"
 
 #include <unistd.h>
@@ -11,6 +12,7 @@
 #include "batch/job_file.h"
 #include "core/errors.h"
 #include "scene/load.h"
+#include "scene/mesh_file.h"
 
 namespace penumbra::fuzz {
 namespace {
@@ -40,12 +42,16 @@ std::string readOne(const uint8_t* data, size_t size) {
     std::string body(reinterpret_cast<const char*>(data + 1), size - 1);
     const char* name = kind == 'j'   ? "jobs.json"
                        : kind == 'g' ? (body.rfind("glTF", 0) == 0 ? "model.glb" : "model.gltf")
+                       : kind == 'o' ? "mesh.obj"
+                       : kind == 'p' ? "mesh.ply"
                                      : "scene.json";
     fs::path file = folder() / name;
     std::ofstream(file, std::ios::binary | std::ios::trunc) << body;
     try {
         if (kind == 'j') {
             loadJobFile(file);
+        } else if (kind == 'o' || kind == 'p') {
+            readMeshFile(file, file.string());
         } else {
             loadScene(file);
         }
