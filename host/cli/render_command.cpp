@@ -1,17 +1,15 @@
 // `penumbra render`: load, render on the GPU with progress on stderr, write EXR (+ PNG).
 #include <unistd.h>
 #include <atomic>
-#include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 
 #include "cli/commands.h"
-#include "gpu/context.h"
 #include "image/image.h"
 #include "image/output_check.h"
-#include "render/renderer.h"
+#include "session/render_session.h"
 
 namespace penumbra {
 namespace {
@@ -36,16 +34,13 @@ int renderCommand(const RenderOptions& options) {
     checkOutputs(outputs, {{options.scene, "the scene"}});
     printNotes(scene.notes, options.quiet);
 
-    gpu::ContextOptions contextOptions;
-    contextOptions.deviceIndex = options.device;
-    gpu::Context context(contextOptions);
+    RenderSession session;
+    session.open(options.device);
+    // penumbra:render_seconds is the time spent rendering samples: scene upload, BVH and
+    // the driver's shader compilation come before it, here (README, "render_seconds").
+    session.prepare(scene, false);
 
     const bool showProgress = !options.quiet && isatty(STDERR_FILENO);
-    Renderer renderer(context, scene);
-    // penumbra:render_seconds is the time spent rendering samples: scene upload, BVH and
-    // the driver's shader compilation come before it (README, "render_seconds").
-    renderer.compileKernel();
-    auto start = std::chrono::steady_clock::now();
     const uint64_t pixels = uint64_t(scene.film.width) * scene.film.height;
     auto progress = [&](const RenderProgress& p) {
         if (!showProgress) return;
@@ -67,11 +62,11 @@ int renderCommand(const RenderOptions& options) {
             std::signal(SIGTERM, sigterm);
         }
     } restore{previousInt, previousTerm};
-    renderer.renderAll(progress, &g_interrupted);
-    double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (showProgress) std::fprintf(stderr, "\rpenumbra: %u spp in %.2f s%40s\n", scene.sampler.spp, seconds, "");
+    Image image = session.render(progress, &g_interrupted);
+    if (showProgress)
+        std::fprintf(stderr, "\rpenumbra: %u spp in %.2f s%40s\n", scene.sampler.spp,
+                     image.meta.renderSeconds.value_or(0.0), "");
 
-    Image image = renderer.readback(seconds);
     if (g_interrupted) throw std::runtime_error("render interrupted");
     writeExr(output, image);
     if (!options.png.empty()) writePng(options.png, image);
