@@ -38,6 +38,7 @@ from ._penumbra import (  # noqa: E402  (Layers first: the extension builds them
     devices,
     read_exr,
     write_exr,
+    write_png,
 )
 
 
@@ -51,4 +52,4 @@ def render(scene, spp=None, seed=None, width=None, height=None, set=None, device
     return renderer.render()
 
 
-__all__ = ["Layers", "Renderer", "RenderError", "SceneError", "devices", "read_exr", "render", "write_exr"]
+__all__ = ["Layers", "Renderer", "RenderError", "SceneError", "devices", "read_exr", "render", "write_exr", "write_png"]

@@ -178,6 +178,15 @@ PYBIND11_MODULE(_penumbra, m) {
         },
         py::arg("path"), py::arg("layers"), "Writes layers (and layers.meta) as penumbra render writes its EXR.");
     m.def(
+        "write_png",
+        [](const std::filesystem::path& path, const py::handle& layers, float exposure) {
+            Image image = imageFromLayers(layers);
+            py::gil_scoped_release release;
+            writePng(path, image, exposure);
+        },
+        py::arg("path"), py::arg("layers"), py::arg("exposure") = 0.0f,
+        "Writes layers[\"rgb\"] as the 8-bit sRGB PNG of penumbra render --png (times 2^exposure, clamped).");
+    m.def(
         "read_exr",
         [](const std::filesystem::path& path) {
             Image image;

@@ -99,3 +99,14 @@ def test_devices():
     devices = penumbra.devices()
     assert devices and sum(d["chosen"] for d in devices) == 1
     assert {"index", "name", "type", "vulkan", "driver"} <= set(devices[0])
+
+
+def test_write_png_writes_the_cli_png(cornell, cli, tmp_path):
+    """write_png encodes as `penumbra render --png` does (same pixels, same bytes)."""
+    done = cli("render", cornell, "--spp", 2, "--seed", 1, "--width", 16, "--height", 12, "--quiet",
+               "-o", tmp_path / "cli.exr", "--png", tmp_path / "cli.png")
+    assert done.returncode == 0, done.stderr
+    penumbra.write_png(tmp_path / "ours.png", penumbra.read_exr(tmp_path / "cli.exr"))
+    assert (tmp_path / "ours.png").read_bytes() == (tmp_path / "cli.png").read_bytes()
+    penumbra.write_png(tmp_path / "brighter.png", penumbra.read_exr(tmp_path / "cli.exr"), exposure=1)
+    assert (tmp_path / "brighter.png").read_bytes() != (tmp_path / "cli.png").read_bytes()
