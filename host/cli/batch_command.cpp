@@ -15,9 +15,9 @@
 #include "core/errors.h"
 #include "image/image.h"
 #include "image/output_check.h"
-#include "session/render_session.h"
 #include "scene/enum_names.h"
 #include "scene/integrator_json.h"
+#include "session/render_session.h"
 
 namespace penumbra {
 namespace {

@@ -36,10 +36,10 @@ nlohmann::json readJsonFile(const std::filesystem::path& file, const std::string
 // A scene document before validation, with what its messages and files are relative to.
 struct SceneDocument {
     nlohmann::json doc;
-    std::string label;                 // names the scene in messages: the file as given
-    std::filesystem::path baseDir;     // files the scene names are relative to (and inside)
-    std::string name;                  // the file's stem (Scene::name)
-    bool modelAlone = false;           // a glTF model given on its own (see loadScene)
+    std::string label;              // names the scene in messages: the file as given
+    std::filesystem::path baseDir;  // files the scene names are relative to (and inside)
+    std::string name;               // the file's stem (Scene::name)
+    bool modelAlone = false;        // a glTF model given on its own (see loadScene)
 };
 
 // The document of `file`: *.json read as a scene file, *.gltf / *.glb wrapped in the scene

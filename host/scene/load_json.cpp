@@ -478,7 +478,8 @@ SceneDocument readSceneDocument(const fs::path& file) {
     // A glTF model given on its own (not a scene file that names one).
     document.modelAlone = ext == ".gltf" || ext == ".glb";
     if (document.modelAlone) {
-        if (auto problem = openProblem(file)) throwInputError(document.label, "", "cannot open file (" + *problem + ")");
+        if (auto problem = openProblem(file))
+            throwInputError(document.label, "", "cannot open file (" + *problem + ")");
         document.doc = {{"shapes", json::array({{{"type", "gltf"}, {"file", file.filename().string()}}})}};
     } else {
         document.doc = readJsonFile(file, document.label);

@@ -54,11 +54,11 @@ ImageMetadata metaFromPython(py::handle meta) {
 }
 
 // A float32 array of `shape` that owns `values` (moved, not copied).
-py::array_t<float> ownedArray(std::vector<float>&& values, std::vector<py::ssize_t> shape) {
+py::array_t<float> ownedArray(std::vector<float>&& values, const std::vector<py::ssize_t>& shape) {
     auto owner = std::make_unique<std::vector<float>>(std::move(values));
     float* data = owner->data();
-    py::capsule free(owner.get(), [](void* p) { delete static_cast<std::vector<float>*>(p); });
-    owner.release();
+    // The capsule owns the vector from here on: the array frees it with its last reference.
+    py::capsule free(owner.release(), [](void* p) { delete static_cast<std::vector<float>*>(p); });
     return py::array_t<float>(shape, data, free);
 }
 

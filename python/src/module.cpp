@@ -85,14 +85,13 @@ int deviceIndexOf(const py::object& device) {
 }
 
 SceneRenderer* makeRenderer(const py::object& scene, const py::object& spp, const py::object& seed,
-                       const py::object& width, const py::object& height, const py::object& set,
-                       const py::object& device) {
+                            const py::object& width, const py::object& height, const py::object& set,
+                            const py::object& device) {
     SceneDocument document = sceneDocument(scene);
     std::vector<JsonOverride> overrides = overridesOf(set, spp, seed, width, height);
     const int index = deviceIndexOf(device);
-    return runInterruptible([&](const std::atomic<bool>&) {
-        return new SceneRenderer(std::move(document), std::move(overrides), index);
-    });
+    return runInterruptible(
+        [&](const std::atomic<bool>&) { return new SceneRenderer(std::move(document), std::move(overrides), index); });
 }
 
 py::object renderWith(SceneRenderer& renderer, const py::object& spp, const py::object& seed, const py::object& width,
@@ -139,7 +138,8 @@ PYBIND11_MODULE(_penumbra, m) {
     static PyObject* renderError = PyErr_NewException("penumbra.RenderError", PyExc_RuntimeError, nullptr);
     m.add_object("SceneError", py::handle(sceneError));
     m.add_object("RenderError", py::handle(renderError));
-    py::register_exception_translator([](std::exception_ptr p) {
+    // pybind11's translator type takes the exception_ptr by value.
+    py::register_exception_translator([](std::exception_ptr p) {  // NOLINT(performance-unnecessary-value-param)
         try {
             if (p) std::rethrow_exception(p);
         } catch (const py::error_already_set&) {
@@ -155,18 +155,30 @@ PYBIND11_MODULE(_penumbra, m) {
 
     const auto scene = py::arg("scene");
     py::class_<SceneRenderer>(m, "Renderer",
-                         "Keeps the device, the uploaded scene and the compiled kernels across renders.")
-        .def(py::init(&makeRenderer), scene, py::kw_only(), py::arg("spp") = py::none(),
-             py::arg("seed") = py::none(), py::arg("width") = py::none(), py::arg("height") = py::none(),
-             py::arg("set") = py::none(), py::arg("device") = py::none())
+                              "Keeps the device, the uploaded scene and the compiled kernels across renders.")
+        .def(py::init(&makeRenderer), scene, py::kw_only(), py::arg("spp") = py::none(), py::arg("seed") = py::none(),
+             py::arg("width") = py::none(), py::arg("height") = py::none(), py::arg("set") = py::none(),
+             py::arg("device") = py::none())
         .def("render", &renderWith, py::kw_only(), py::arg("spp") = py::none(), py::arg("seed") = py::none(),
              py::arg("width") = py::none(), py::arg("height") = py::none(), py::arg("set") = py::none(),
              "Renders with these overrides on top of the constructor's; returns Layers.")
-        .def_property_readonly("kernel_compilations", &SceneRenderer::kernelCompilations,
-                               py::call_guard<py::gil_scoped_release>(),
-                               "Kernels compiled so far (driver compilations; the first render makes one).")
-        .def_property_readonly("scene_uploads", &SceneRenderer::sceneUploads, py::call_guard<py::gil_scoped_release>(),
-                               "Times the scene was uploaded to the device (the constructor's included).")
+        // The counts wait for a render under way (SceneRenderer's mutex): without the GIL,
+        // so that other Python threads run meanwhile. (A lambda: pybind11 >= 2.11 refuses
+        // call_guard on properties.)
+        .def_property_readonly(
+            "kernel_compilations",
+            [](const SceneRenderer& r) {
+                py::gil_scoped_release release;
+                return r.kernelCompilations();
+            },
+            "Kernels compiled so far (driver compilations; the first render makes one).")
+        .def_property_readonly(
+            "scene_uploads",
+            [](const SceneRenderer& r) {
+                py::gil_scoped_release release;
+                return r.sceneUploads();
+            },
+            "Times the scene was uploaded to the device (the constructor's included).")
         .def_property_readonly("device", &SceneRenderer::deviceName, "The Vulkan device's name.");
 
     m.def(
