@@ -83,4 +83,7 @@ ${names}  };
 ")
   add_library(${target} STATIC ${registry} ${headers})
   target_include_directories(${target} PRIVATE ${out_dir})
+  if(PENUMBRA_PYTHON)  # linked into the Python module (cmake/Python.cmake)
+    set_target_properties(${target} PROPERTIES POSITION_INDEPENDENT_CODE ON)
+  endif()
 endfunction()

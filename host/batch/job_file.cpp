@@ -258,6 +258,10 @@ bool sharesSceneUpload(const BatchJob& previous, const BatchJob& next) {
     std::error_code ec1, ec2;
     fs::path a = fs::weakly_canonical(previous.scene, ec1), b = fs::weakly_canonical(next.scene, ec2);
     if (ec1 || ec2 || a != b) return false;
+    return overridesShareSceneUpload(previous.overrides, next.overrides);
+}
+
+bool overridesShareSceneUpload(const std::vector<Override>& previous, const std::vector<Override>& next) {
     auto uploaded = [](const std::vector<Override>& overrides) {
         std::vector<std::pair<std::string, std::string>> kept;
         for (const Override& o : overrides) {
@@ -266,7 +270,7 @@ bool sharesSceneUpload(const BatchJob& previous, const BatchJob& next) {
         }
         return kept;
     };
-    return uploaded(previous.overrides) == uploaded(next.overrides);
+    return uploaded(previous) == uploaded(next);
 }
 
 }  // namespace penumbra

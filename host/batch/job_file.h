@@ -35,6 +35,10 @@ std::vector<BatchJob> loadJobFile(const std::filesystem::path& file);
 // integrator.light_selection still changes the light tables; the caller checks it on the
 // loaded scenes.)
 bool sharesSceneUpload(const BatchJob& previous, const BatchJob& next);
+// The overrides' part of that rule, for renders of one scene document (the Python module's
+// Renderer too): the same overrides once those of camera.*, sampler.* and integrator.* are
+// left out, in the same order.
+bool overridesShareSceneUpload(const std::vector<Override>& previous, const std::vector<Override>& next);
 
 // The root key of an override path: "camera" for "camera.eye", "lights" for "lights[0].power".
 std::string overrideSection(const std::string& path);

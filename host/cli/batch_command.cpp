@@ -9,22 +9,18 @@
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
-#include <memory>
-#include <optional>
 
 #include "batch/job_file.h"
 #include "cli/commands.h"
 #include "cli/slow_step_notice.h"
 #include "core/errors.h"
-#include "gpu/context.h"
-#include "gpu/kernel_cache.h"
 #include "image/image.h"
 #include "image/image_file.h"
 #include "image/output_check.h"
 #include "image/output_format.h"
-#include "render/renderer.h"
 #include "scene/enum_names.h"
 #include "scene/integrator_json.h"
+#include "session/render_session.h"
 
 namespace penumbra {
 namespace {
@@ -160,38 +156,15 @@ void skipCompleteJob(const BatchJob& job, const std::string& tag, bool progressL
                      pngMissing ? " (PNG written from it)" : "");
 }
 
-// The device side of a batch, kept across jobs: the context, the pipeline cache and the
-// renderer with the last job's scene uploaded. Declaration order is teardown order in
-// reverse: renderer, then cache, then context.
+// The device side of a batch, kept across jobs (session/render_session.h), and the job
+// last prepared (after a failure the session holds no scene, and uploads the next anew).
 struct Device {
-    std::optional<gpu::Context> context;
-    std::optional<gpu::KernelCache> kernels;
-    std::unique_ptr<Renderer> renderer;
-    const BatchJob* uploaded = nullptr;  // the job whose scene the renderer holds
+    RenderSession session;
+    const BatchJob* uploaded = nullptr;
 
-    // Creates the context on first use; throws when there is no device.
-    void open(int deviceIndex) {
-        if (context) return;
-        gpu::ContextOptions contextOptions;
-        contextOptions.deviceIndex = deviceIndex;
-        context.emplace(contextOptions);
-        kernels.emplace(*context);
-    }
-
-    // Makes `scene` the renderer's: retargeted when it shares the uploaded scene, else
-    // uploaded anew. True when the upload was reused.
+    // Makes the job's scene the next render; true when the upload was reused.
     bool prepare(const BatchJob& job, const Scene& scene) {
-        const bool reuse = renderer && uploaded && sharesSceneUpload(*uploaded, job) &&
-                           renderer->scene().integrator.lightSelection == scene.integrator.lightSelection &&
-                           renderer->scene().film.width == scene.film.width &&
-                           renderer->scene().film.height == scene.film.height;
-        uploaded = nullptr;
-        if (reuse) {
-            renderer->retarget(scene);
-        } else {
-            renderer.reset();  // free the previous scene's device memory first
-            renderer = std::make_unique<Renderer>(*context, scene, &*kernels);
-        }
+        const bool reuse = session.prepare(scene, uploaded && sharesSceneUpload(*uploaded, job));
         uploaded = &job;
         return reuse;
     }
@@ -202,22 +175,14 @@ struct JobTimes {
     double renderSeconds;  // rendering alone
 };
 
-// Renders `scene` into the job's outputs (the renderer must hold it) and counts it in `totals`.
+// Renders `scene` into the job's outputs (the session must hold it) and counts it in `totals`.
 JobTimes renderJob(Device& device, const BatchJob& job, const Scene& scene, const std::string& tag, Ticker& ticker,
                    Clock::time_point jobStart, Totals& totals) {
     const double pixels = double(scene.film.width) * scene.film.height;
     auto progress = [&](const RenderProgress& p) { ticker.show(tag, p, pixels); };
-    const auto renderStart = Clock::now();
-    try {
-        device.renderer->renderAll(progress, &g_stop);
-    } catch (...) {
-        device.renderer.reset();  // state unknown after a failed or interrupted render
-        device.uploaded = nullptr;
-        throw;
-    }
-    const double renderSeconds = secondsSince(renderStart);
+    Image image = device.session.render(progress, &g_stop);
+    const double renderSeconds = image.meta.renderSeconds.value_or(0.0);
     const double seconds = secondsSince(jobStart);
-    Image image = device.renderer->readback(seconds);
     if (outputFormatOf(job.output) == OutputFormat::Png) writePng(job.output, image);
     else writeExr(job.output, image);
     if (!job.png.empty()) writePng(job.png, image);
@@ -239,8 +204,7 @@ void printSummary(const Totals& totals, size_t jobsOfTask, size_t jobsInFile, co
                  g_stop ? "interrupted" : "done", totals.rendered, totals.skipped, failed, totals.notRun, jobsOfTask,
                  scope, jobsInFile, secondsSince(start),
                  totals.renderSeconds > 0 ? totals.samples / totals.renderSeconds * 1e-6 : 0.0, totals.uploads,
-                 totals.uploadsReused, device.kernels ? device.kernels->pipelinesCreated() : size_t(0),
-                 device.kernels ? device.kernels->pipelinesReused() : size_t(0));
+                 totals.uploadsReused, device.session.pipelinesCreated(), device.session.pipelinesReused());
 }
 
 }  // namespace
@@ -291,7 +255,7 @@ int batchCommand(const BatchOptions& options) {
             printNotes(scene.notes, options.quiet);
 
             try {
-                device.open(options.device);
+                device.session.open(options.device);
             } catch (const std::exception& e) {
                 // No device for this job means none for the others: stop here.
                 std::fprintf(stderr, "penumbra: %s: failed: %s\n", tag.c_str(), oneLine(e.what()).c_str());
@@ -301,8 +265,7 @@ int batchCommand(const BatchOptions& options) {
             }
             const auto jobStart = Clock::now();
             std::optional<SlowStepNotice> compiling(std::in_place, "compiling kernels...", ticker.enabled());
-            const bool reuse = device.prepare(job, scene);
-            device.renderer->compileKernel();  // start-up, not rendering (as in penumbra render)
+            const bool reuse = device.prepare(job, scene);  // compiles the kernel: start-up, not rendering
             compiling.reset();
             ++(reuse ? totals.uploadsReused : totals.uploads);
             const JobTimes times = renderJob(device, job, scene, tag, ticker, jobStart, totals);

@@ -13,11 +13,10 @@
 #include "cli/slow_step_notice.h"
 #include "core/errors.h"
 #include "core/phases.h"
-#include "gpu/context.h"
 #include "image/image.h"
 #include "image/output_check.h"
 #include "image/output_format.h"
-#include "render/renderer.h"
+#include "session/render_session.h"
 
 namespace penumbra {
 namespace {
@@ -52,25 +51,19 @@ int renderCommand(const RenderOptions& options) {
     checkOutputs(outputs, {{options.scene, "the scene"}});
     printNotes(scene.notes, options.quiet);
 
-    gpu::ContextOptions contextOptions;
-    contextOptions.deviceIndex = options.device;
-    std::optional<Phase> contextPhase(std::in_place, "context");
-    gpu::Context context(contextOptions);
-    contextPhase.reset();
-
-    const bool showProgress = !options.quiet && isatty(STDERR_FILENO);
-    std::optional<SlowStepNotice> compiling(std::in_place, "compiling kernels...", showProgress);
-    std::optional<Phase> rendererPhase(std::in_place, "renderer");
-    Renderer renderer(context, scene);
-    rendererPhase.reset();
-    // penumbra:render_seconds is the time spent rendering samples: scene upload, BVH and
-    // the driver's shader compilation come before it (README, "render_seconds").
+    RenderSession session;
     {
-        Phase phase("first_dispatch");  // on lavapipe, NIR to LLVM and the JIT
-        renderer.compileKernel();
+        Phase phase("context");
+        session.open(options.device);
     }
-    compiling.reset();
-    auto start = std::chrono::steady_clock::now();
+    const bool showProgress = !options.quiet && isatty(STDERR_FILENO);
+    {
+        // penumbra:render_seconds is the time spent rendering samples: scene upload, BVH and
+        // the driver's shader compilation come before it, here (README, "render_seconds").
+        SlowStepNotice compiling("compiling kernels...", showProgress);
+        Phase phase("prepare");  // upload, kernel creation and its first dispatch (the JIT)
+        session.prepare(scene, false);
+    }
     const uint64_t pixels = uint64_t(scene.film.width) * scene.film.height;
     auto progress = [&](const RenderProgress& p) {
         if (!showProgress) return;
@@ -92,13 +85,11 @@ int renderCommand(const RenderOptions& options) {
             std::signal(SIGTERM, sigterm);
         }
     } restore{previousInt, previousTerm};
-    {
-        Phase phase("render");
-        renderer.renderAll(progress, &g_interrupted);
-    }
-    double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::optional<Phase> renderPhase(std::in_place, "render");
+    Image image = session.render(progress, &g_interrupted);
+    renderPhase.reset();
+    const double seconds = image.meta.renderSeconds.value_or(0.0);
 
-    Image image = renderer.readback(seconds);
     if (g_interrupted) throw std::runtime_error("render interrupted");
     {
         Phase writePhase("write");

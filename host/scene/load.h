@@ -25,10 +25,29 @@ Override parseOverride(const std::string& text);
 // Sets `doc` at `override.path` to the override's value, creating missing objects on the
 // way (and appending when an index equals the array's size). Throws InputError.
 void applyOverride(nlohmann::json& doc, const Override& override);
+// The same with a value that is JSON already (the Python module's `set=`); `override.value`
+// only names it in messages.
+void applyOverrideValue(nlohmann::json& doc, const Override& override, nlohmann::json value);
 
 // Reads and parses a JSON file; InputError names `label` and, for a syntax error, the line
 // and column (shared by scene files and penumbra batch job files).
 nlohmann::json readJsonFile(const std::filesystem::path& file, const std::string& label);
+
+// A scene document before validation, with what its messages and files are relative to.
+struct SceneDocument {
+    nlohmann::json doc;
+    std::string label;              // names the scene in messages: the file as given
+    std::filesystem::path baseDir;  // files the scene names are relative to (and inside)
+    std::string name;               // the file's stem (Scene::name)
+    bool modelAlone = false;        // a glTF model given on its own (see loadScene)
+};
+
+// The document of `file`: *.json read as a scene file, *.gltf / *.glb wrapped in the scene
+// document {"shapes": [{"type": "gltf", "file": ...}]}, so that overrides work on it
+// exactly as on a scene file. Throws InputError.
+SceneDocument readSceneDocument(const std::filesystem::path& file);
+// Validates `document` and converts it into a Scene (SCENE_FORMAT.md); throws InputError.
+Scene buildScene(const SceneDocument& document);
 
 // Loads a scene: *.json as a scene file, *.gltf / *.glb as a glTF model rendered on its
 // own (SCENE_FORMAT.md "glTF input"). Overrides are applied to the JSON document before

@@ -570,34 +570,42 @@ json readJsonFile(const fs::path& file, const std::string& label) {
     return parseJsonText(readInputFile(file, label, kMaxJsonFileBytes), label);
 }
 
-Scene loadScene(const fs::path& file, const std::vector<Override>& overrides) {
-    std::string label = file.string();
+SceneDocument readSceneDocument(const fs::path& file) {
+    SceneDocument document;
+    document.label = file.string();
+    document.baseDir = file.parent_path();
+    document.name = file.stem().string();
     std::string ext = file.extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
     // A glTF model given on its own (not a scene file that names one).
-    bool modelAlone = ext == ".gltf" || ext == ".glb";
-
-    json doc;
-    if (modelAlone) {
-        // A model on its own is the scene {"shapes": [{"type": "gltf", "file": ...}]}, so that
-        // --set works on it exactly as on a scene file.
-        if (auto problem = openProblem(file)) throwInputError(label, "", "cannot open file (" + *problem + ")");
-        doc = {{"shapes", json::array({{{"type", "gltf"}, {"file", file.filename().string()}}})}};
+    document.modelAlone = ext == ".gltf" || ext == ".glb";
+    if (document.modelAlone) {
+        if (auto problem = openProblem(file))
+            throwInputError(document.label, "", "cannot open file (" + *problem + ")");
+        document.doc = {{"shapes", json::array({{{"type", "gltf"}, {"file", file.filename().string()}}})}};
     } else {
-        doc = readJsonFile(file, label);
+        document.doc = readJsonFile(file, document.label);
     }
-    for (const Override& o : overrides) applyOverride(doc, o);
+    return document;
+}
 
+Scene buildScene(const SceneDocument& document) {
     Scene scene;
-    scene.path = label;
-    scene.name = file.stem().string();
+    scene.path = document.label;
+    scene.name = document.name;
     try {
-        SceneBuilder(scene, label, file.parent_path(), modelAlone).build(doc);
+        SceneBuilder(scene, document.label, document.baseDir, document.modelAlone).build(document.doc);
     } catch (const json::exception& e) {
         // Not expected (JsonReader checks types first); still bad input, never a crash.
-        throwInputError(label, "", e.what());
+        throwInputError(document.label, "", e.what());
     }
     return scene;
+}
+
+Scene loadScene(const fs::path& file, const std::vector<Override>& overrides) {
+    SceneDocument document = readSceneDocument(file);
+    for (const Override& o : overrides) applyOverride(document.doc, o);
+    return buildScene(document);
 }
 
 }  // namespace penumbra

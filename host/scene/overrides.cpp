@@ -78,7 +78,10 @@ void applyOverride(nlohmann::json& doc, const Override& o) {
     char* end = nullptr;
     double number = numeric && value.is_string() ? std::strtod(o.value.c_str(), &end) : 0.0;
     if (end && *end == '\0' && std::isinf(number)) value = number;
+    applyOverrideValue(doc, o, std::move(value));
+}
 
+void applyOverrideValue(nlohmann::json& doc, const Override& o, nlohmann::json value) {
     nlohmann::json* node = &doc;
     std::string where;  // the path walked so far, for messages
     for (const Step& step : splitPath(o)) {
