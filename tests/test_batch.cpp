@@ -11,6 +11,7 @@
 #include <regex>
 #include <sys/wait.h>
 #include <thread>
+#include <tuple>
 #include <unistd.h>
 
 #include <gtest/gtest.h>
@@ -18,6 +19,7 @@
 
 #include "batch/job_file.h"
 #include "core/errors.h"
+#include "core/input_file.h"
 #include "gpu/kernel_cache.h"
 #include "gpu_fixture.h"
 #include "image/image.h"
@@ -103,7 +105,7 @@ TEST(Batch, SweepsExpandInOrderWithPlaceholdersAndPathsRelativeToTheJobFile) {
            {"output", "out/frame_{i:04}.exr"},
            {"png", "png/{value}.png"},
            {"sweep", {{"path", "camera.eye"}, {"values", {{0, 1, 4}, {1.5, 1, 4}}}}}},
-          {{"scene", "/abs/b.json"},
+          {{"scene", (dir / "abs/b.json").string()},  // absolute, inside the job file's folder
            {"output", "grid/{integrator.strategy}-{sampler.spp}-{i}.exr"},
            {"set", {{"integrator.heuristic", "balance"}}},
            {"sweep",
@@ -133,7 +135,7 @@ TEST(Batch, SweepsExpandInOrderWithPlaceholdersAndPathsRelativeToTheJobFile) {
     const char* expected[] = {"light-4-0", "light-16-1", "light-64-2", "bsdf-4-3", "bsdf-16-4", "bsdf-64-5"};
     for (int k = 0; k < 6; ++k) {
         const BatchJob& job = jobs[3 + k];
-        EXPECT_EQ(job.scene, fs::path("/abs/b.json"));
+        EXPECT_EQ(job.scene, dir / "abs/b.json");
         EXPECT_EQ(job.output, dir / "grid" / (std::string(expected[k]) + ".exr"));
         ASSERT_EQ(job.overrides.size(), 4u);
         EXPECT_EQ(job.overrides[1].value, "\"balance\"");  // JSON, parsed again by applyOverride
@@ -529,4 +531,64 @@ TEST(Batch, MergeOfNPartialsEqualsTheFullRenderAndRefusesMismatches) {
               2);
     EXPECT_NE(err.find("foreign.exr: missing penumbra:spp"), std::string::npos) << err;
     EXPECT_FALSE(fs::exists(dir / "bad.exr"));
+}
+
+TEST(Batch, JobFilePathsStayInsideTheJobFilesFolder) {
+    // As a glTF model's URIs: scenes, outputs and PNGs of a job file lie inside its folder
+    // (after "..", absolute paths and symlinks), unless --allow-any-path.
+    fs::path dir = freshDir("confined");
+    fs::create_directories(dir / "jobs");
+    fs::path jobs = dir / "jobs";
+    auto job = [](json fields) {
+        json j = {{"scene", "s.json"}, {"output", "o.exr"}};
+        for (auto& [k, v] : fields.items()) j[k] = v;
+        return j;
+    };
+    const char* outside = "it is outside the job file's folder";
+    for (auto [name, entry, path] : std::vector<std::tuple<std::string, json, std::string>>{
+             {"scene-up.json", job({{"scene", "../victim/s.json"}}), "[0].scene"},
+             {"scene-abs.json", job({{"scene", "/etc/s.json"}}), "[0].scene"},
+             {"output-up.json", job({{"output", "../victim/photo.exr"}}), "[0].output"},
+             {"png-up.json", job({{"png", "../victim/photo.png"}}), "[0].png"},
+             {"sweep-up.json",
+              job({{"output", "{value}/x.exr"}, {"sweep", {{"path", "sampler.seed"}, {"values", {"a", ".."}}}}}),
+              "[0].output"}}) {
+        fs::path file = writeJson(jobs / name, json::array({entry}));
+        try {
+            loadJobFile(file);
+            // A sweep value ".." becomes "__", a folder name like any other.
+            if (name != "sweep-up.json") ADD_FAILURE() << name << ": accepted";
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find(file.string() + ": " + path + ": refusing to use"), std::string::npos)
+                << e.what();
+            EXPECT_NE(std::string(e.what()).find(outside), std::string::npos) << e.what();
+        }
+    }
+    // A symlinked folder that leads out is outside too.
+    fs::create_directories(dir / "victim");
+    fs::create_directory_symlink(dir / "victim", jobs / "link");
+    expectJobFileError(jobs, "link.json", json::array({job({{"output", "link/photo.exr"}})}), "[0].output");
+    // Opted in: all of them are read as written.
+    penumbra::setAllowAnyPath(true);
+    auto loaded = loadJobFile(writeJson(jobs / "any.json", json::array({job({{"scene", "../victim/s.json"},
+                                                                            {"output", "../victim/photo.exr"}})})));
+    penumbra::setAllowAnyPath(false);
+    ASSERT_EQ(loaded.size(), 1u);
+    EXPECT_EQ(loaded[0].output, dir / "victim/photo.exr");
+}
+
+TEST(Batch, SweepValuesThatAreNoNamesBecomeUnderscores) {
+    // "" gave "out/.exr" and ".." left the folder: both are written as underscores.
+    fs::path dir = freshDir("no-names");
+    json entry = {{"scene", "s.json"},
+                  {"output", "out/{value}.exr"},
+                  {"sweep", {{"path", "sampler.seed"}, {"values", {"", "..", "a.b"}}}}};
+    auto jobs = loadJobFile(writeJson(dir / "jobs.json", json::array({entry})));
+    ASSERT_EQ(jobs.size(), 3u);
+    EXPECT_EQ(jobs[0].output, dir / "out/_.exr");
+    EXPECT_EQ(jobs[1].output, dir / "out/__.exr");
+    EXPECT_EQ(jobs[2].output, dir / "out/a.b.exr");
+    // {i:0N} needs N >= 1 (docs/BATCH.md).
+    expectJobFileError(dir, "pad0.json", json::array({{{"scene", "s.json"}, {"output", "o{i:00}.exr"}}}),
+                       "[0].output: bad placeholder {i:00}");
 }

@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "core/errors.h"
+#include "core/input_file.h"
 #include "scene/json_reader.h"
 
 namespace penumbra {
@@ -93,6 +94,9 @@ std::string fileNamePart(const json& value) {
     }
     for (char& c : text)
         if (!std::isalnum((unsigned char)c) && c != '.' && c != '_' && c != '+' && c != '-') c = '_';
+    // "" and dots alone would make a name that is no name ("out/.exr") or leaves its folder
+    // ("out/{value}/a.exr" with ".."): such a value is written as underscores.
+    if (text.find_first_not_of('.') == std::string::npos) text = std::string(std::max<size_t>(text.size(), 1), '_');
     return text;
 }
 
@@ -129,8 +133,10 @@ std::string expandPattern(const JsonReader& where, const std::string& pattern, s
             out += std::to_string(index);
         } else if (name.rfind("i:", 0) == 0) {
             std::string spec = name.substr(2);
+            // {i:0N} with N = 1..99 (docs/BATCH.md): {i:00} pads to no width at all.
             bool ok = spec.size() >= 2 && spec.size() <= 3 && spec[0] == '0' &&
-                      std::all_of(spec.begin(), spec.end(), [](unsigned char d) { return std::isdigit(d); });
+                      std::all_of(spec.begin(), spec.end(), [](unsigned char d) { return std::isdigit(d); }) &&
+                      std::stoul(spec.substr(1)) >= 1;
             if (!ok) where.fail("bad placeholder {" + name + "} in \"" + pattern + "\": " + forms);
             std::string digits = std::to_string(index);
             size_t width = size_t(std::stoul(spec.substr(1)));
@@ -155,9 +161,16 @@ bool hasExtension(const std::string& name, const std::string& ext) {
     return e == ext;
 }
 
-fs::path resolve(const fs::path& base, const std::string& name) {
+// `name` relative to the job file's folder `base`; unless any path is allowed, it must
+// lie inside that folder, as a glTF model's URIs must lie inside the model's (README,
+// "Job files and their folder"): a job file from elsewhere cannot read or replace files
+// anywhere on the disk, nor create folders there.
+fs::path resolve(const JsonReader& where, const fs::path& base, const std::string& name) {
     fs::path p(name);
-    return (p.is_absolute() ? p : base / p).lexically_normal();
+    fs::path resolved = (p.is_absolute() ? p : base / p).lexically_normal();
+    if (!allowAnyPath() && !isInsideFolder(resolved, base))
+        where.fail("refusing to use \"" + name + "\": it is outside the job file's folder (--allow-any-path allows it)");
+    return resolved;
 }
 
 }  // namespace
@@ -222,9 +235,10 @@ std::vector<BatchJob> loadJobFile(const fs::path& file) {
                 rest /= axes[a].values.size();
             }
             BatchJob job;
-            job.scene = resolve(base, scene);
-            job.output = resolve(base, expandPattern(outputAt, output, index, axes, choice));
-            if (pngAt && !png.empty()) job.png = resolve(base, expandPattern(*pngAt, png, index, axes, choice));
+            job.scene = resolve(entry.at("scene"), base, scene);
+            job.output = resolve(outputAt, base, expandPattern(outputAt, output, index, axes, choice));
+            if (pngAt && !png.empty())
+                job.png = resolve(*pngAt, base, expandPattern(*pngAt, png, index, axes, choice));
             job.overrides = set;
             job.origin = entry.path();
             std::string values;
