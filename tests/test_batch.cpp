@@ -592,3 +592,22 @@ TEST(Batch, SweepValuesThatAreNoNamesBecomeUnderscores) {
     expectJobFileError(dir, "pad0.json", json::array({{{"scene", "s.json"}, {"output", "o{i:00}.exr"}}}),
                        "[0].output: bad placeholder {i:00}");
 }
+
+TEST(Batch, JobCountsAreBoundedWithoutWrapping) {
+    // 64 axes of 2 values: 2^64 jobs wrapped to 0, so the file "expanded" to nothing and
+    // batch exited 0. Refused, as is a total over entries above a million.
+    fs::path dir = freshDir("job-count");
+    json axes = json::array();
+    for (int a = 0; a < 64; ++a) axes.push_back({{"path", "lights[" + std::to_string(a) + "].power"}, {"values", {1, 2}}});
+    expectJobFileError(dir, "wrap.json", json::array({{{"scene", "s.json"}, {"output", "o{i}.exr"}, {"sweep", axes}}}),
+                       "[0].sweep: the job file expands to more than 1000000 jobs");
+    // Two entries of 1000 x 600 combinations: 1.2 million in all.
+    json seeds = json::array(), spps = json::array();
+    for (int v = 0; v < 1000; ++v) seeds.push_back(v);
+    for (int v = 1; v <= 600; ++v) spps.push_back(v);
+    json sweep = {{{"path", "sampler.seed"}, {"values", seeds}}, {{"path", "sampler.spp"}, {"values", spps}}};
+    json entries = json::array();
+    for (const char* name : {"a{i}.exr", "b{i}.exr"})
+        entries.push_back({{"scene", "s.json"}, {"output", name}, {"sweep", sweep}});
+    expectJobFileError(dir, "total.json", entries, "[1].sweep: the job file expands to more than 1000000 jobs");
+}

@@ -17,6 +17,10 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
+// The most jobs a job file may expand to, over all its entries: a million jobs take about
+// 1 GB to hold and list; a larger study is several job files.
+constexpr size_t kMaxJobs = 1000000;
+
 struct SweepAxis {
     std::string path;
     std::vector<json> values;
@@ -196,8 +200,20 @@ std::vector<BatchJob> loadJobFile(const fs::path& file) {
         root.fail("expected {\"jobs\": [...]} or an array of jobs");
     }
 
-    std::vector<BatchJob> jobs;
-    std::map<fs::path, std::string> writers;  // every output file -> the job that writes it
+    // Every entry is read and its jobs counted before any is expanded, so that a file past
+    // the limit is refused at once (8 entries of a million values once took 8 GB and two
+    // minutes to refuse). The count is checked at each factor, so that the product of the
+    // axes cannot wrap (64 axes of 2 values once made 2^64 = 0 jobs, and batch exited 0).
+    struct Entry {
+        JsonReader entry, outputAt;
+        std::string scene, output, png;
+        std::optional<JsonReader> pngAt;
+        std::vector<Override> set;
+        std::vector<SweepAxis> axes;
+        size_t count = 1;
+    };
+    std::vector<Entry> entries;
+    size_t total = 0;
     for (size_t j = 0; j < list->size(); ++j) {
         JsonReader entry = (*list)[j];
         entry.expectKeys({"scene", "output", "png", "set", "sweep"}, "job");
@@ -223,10 +239,24 @@ std::vector<BatchJob> loadJobFile(const fs::path& file) {
         std::vector<SweepAxis> axes;
         if (auto sweep = entry.find("sweep")) axes = readSweep(*sweep);
 
-        // Cartesian product in row-major order: the last axis varies fastest.
         size_t count = 1;
-        for (const SweepAxis& a : axes) count *= a.values.size();
-        if (count > 1000000) entry.at("sweep").fail("expands to more than a million jobs");
+        for (const SweepAxis& a : axes) {
+            count *= a.values.size();
+            if (count > kMaxJobs - total) break;
+        }
+        if (count > kMaxJobs - total)
+            (axes.empty() ? entry : entry.at("sweep"))
+                .fail("the job file expands to more than " + std::to_string(kMaxJobs) + " jobs");
+        total += count;
+        entries.push_back({entry, outputAt, scene, output, png, pngAt, std::move(set), std::move(axes), count});
+    }
+
+    std::vector<BatchJob> jobs;
+    jobs.reserve(total);
+    std::map<fs::path, std::string> writers;  // every output file -> the job that writes it
+    for (const Entry& e : entries) {
+        const auto& [entry, outputAt, scene, output, png, pngAt, set, axes, count] = e;
+        // Cartesian product in row-major order: the last axis varies fastest.
         std::vector<size_t> choice(axes.size(), 0);
         for (size_t index = 0; index < count; ++index) {
             size_t rest = index;
