@@ -61,6 +61,22 @@ struct StbFree {
     void operator()(void* p) const { stbi_image_free(p); }
 };
 
+// Where stb_image's HDR loader starts reading pixels: after the header lines up to the
+// first empty one and the resolution line, each read by stb's own line reader, which also
+// ends a line at 1023 bytes and counts a line that starts with a NUL byte as empty. Found
+// with that reader rather than by searching for "\n\n", so that checkHdrData walks the
+// very bytes stb decodes (a NUL line once made the two disagree, and stb hung).
+size_t hdrPixelDataStart(const std::string& bytes) {
+    stbi__context context;
+    stbi__start_mem(&context, reinterpret_cast<const stbi_uc*>(bytes.data()), int(bytes.size()));
+    char line[STBI__HDR_BUFLEN];
+    stbi__hdr_gettoken(&context, line);  // "#?RADIANCE" or "#?RGBE", checked by stbi__hdr_info
+    while (stbi__hdr_gettoken(&context, line)[0] != 0) {
+    }
+    stbi__hdr_gettoken(&context, line);  // "-Y h +X w"
+    return size_t(context.img_buffer - context.img_buffer_original);
+}
+
 // Walks Radiance HDR pixel data as stb_image will read it, and refuses data that ends early
 // or holds a run of length 0: stb reads past the end as zeros and, in a run-length encoded
 // scanline, loops forever on a count of 0 (a truncated file hung the program). `bytes` is the
@@ -68,10 +84,7 @@ struct StbFree {
 // line, the resolution line, then scanlines, each flat RGBE or "2 2 w_hi w_lo" and runs).
 void checkHdrData(const std::string& bytes, int64_t w, int64_t h, const std::string& label) {
     auto corrupt = [&](const char* why) { throwInputError(label, "", std::string("cannot decode HDR image: ") + why); };
-    size_t blank = bytes.find("\n\n");
-    size_t at = blank == std::string::npos ? std::string::npos : bytes.find('\n', blank + 2);
-    if (at == std::string::npos) corrupt("no resolution line");
-    ++at;
+    size_t at = hdrPixelDataStart(bytes);
     auto left = [&] { return bytes.size() - at; };
     auto byte = [&](size_t i) { return uint8_t(bytes[at + i]); };
     const uint64_t pixels = uint64_t(w) * uint64_t(h);
