@@ -12,6 +12,7 @@
 #include "gltf_builder.h"
 #include "gpu_fixture.h"
 #include "image/image.h"
+#include "image/image_file.h"
 #include "core/errors.h"
 #include "scene/load.h"
 #include "render_helpers.h"
@@ -58,4 +59,90 @@ TEST(HostileInputs, HdrHeaderLineStartingWithNulIsRefusedNotHung) {
     EXPECT_EQ(status, 2) << err;
     EXPECT_NE(err.find("nul.hdr: cannot decode HDR image: "), std::string::npos) << err;
     EXPECT_FALSE(fs::exists(dir / "out.exr"));
+}
+
+namespace {
+
+// A glTF model of one quad and `images.size()` materials, material i textured by image i
+// (each image object as given).
+std::string modelWithImages(const std::vector<json>& images) {
+    penumbra::test::GltfBuilder b;
+    json primitive = {{"attributes", {{"POSITION", b.positions({-1, 0, -1, 1, 0, -1, 1, 0, 1, -1, 0, 1})}}},
+                      {"indices", b.indices({0, 2, 1, 0, 3, 2})},
+                      {"material", 0}};
+    b.addMeshNode(primitive);
+    for (size_t i = 0; i < images.size(); ++i) {
+        b.doc["materials"].push_back({{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", i}}}}}});
+        b.doc["textures"].push_back({{"source", i}});
+        b.doc["images"].push_back(images[i]);
+    }
+    return b.gltf();
+}
+
+// The first bytes of a PNG of `width` x `height` (8-bit RGB): the signature and the IHDR
+// chunk, all that a header reader looks at, then `tail` instead of pixel data.
+std::string pngHeader(uint32_t width, uint32_t height, const std::string& tail) {
+    auto be32 = [](uint32_t v) {
+        return std::string{char(v >> 24), char(v >> 16), char(v >> 8), char(v)};
+    };
+    std::string ihdr = be32(width) + be32(height) + std::string{8, 2, 0, 0, 0};
+    return std::string("\x89PNG\r\n\x1a\n", 8) + be32(13) + "IHDR" + ihdr + be32(0) + tail;
+}
+
+std::string dataUri(const std::string& bytes) {
+    return "data:image/png;base64," + penumbra::test::base64(std::vector<uint8_t>(bytes.begin(), bytes.end()));
+}
+
+}  // namespace
+
+TEST(HostileInputs, GltfImagesOfOneFileAreDecodedOnce) {
+    // 24 images naming one file: one texture (it was decoded and held 24 times).
+    fs::path dir = penumbra::test::freshTempDir();
+    std::vector<uint8_t> rgb(2 * 2 * 3, 128);
+    penumbra::writePngRgb8(dir / "t.png", 2, 2, rgb);
+    penumbra::test::writeFile(dir / "model.gltf", modelWithImages(std::vector<json>(24, {{"uri", "t.png"}})));
+    penumbra::Scene scene = penumbra::loadScene(dir / "model.gltf");
+    EXPECT_EQ(scene.textures.size(), 1u);
+}
+
+TEST(HostileInputs, GltfImagesPastTheTexelLimitAreRefusedBeforeDecoding) {
+    // Three images whose headers claim 8192 x 8192 (2^26 texels each; the limit is 2^27 in
+    // all) and that hold no pixel data: refused by their sizes, naming the third, rather
+    // than decoded (which would fail at the first, or with real data hold gigabytes).
+    fs::path dir = penumbra::test::freshTempDir();
+    std::vector<json> images;
+    for (char tail : {'a', 'b', 'c'}) images.push_back({{"uri", dataUri(pngHeader(8192, 8192, std::string(1, tail)))}});
+    penumbra::test::writeFile(dir / "model.gltf", modelWithImages(images));
+    std::string err;
+    int status = penumbra::test::runPenumbraBounded(
+        "render " + quoted(dir / "model.gltf") + " -o " + quoted(dir / "out.exr") + " --quiet", 30, 1024, &err);
+    EXPECT_EQ(status, 2) << err;
+    EXPECT_NE(err.find("model.gltf: images[2]: the model's textures exceed 134217728 texels in all"),
+              std::string::npos)
+        << err;
+}
+
+TEST(HostileInputs, ImageSizesComeFromTheHeaderBeforeDecoding) {
+    // A scene's texture files offer their size to the scene's limits (AcceptImageSize)
+    // before any pixel is decoded: this file has a header and no pixel data, so only a
+    // refusal by size, not a decoding error, can come out of it.
+    fs::path dir = penumbra::test::freshTempDir();
+    const std::string bytes = pngHeader(8192, 4096, "x");
+    writeBytes(dir / "big.png", bytes);
+    uint32_t width = 0, height = 0;
+    auto refuse = [&](uint32_t w, uint32_t h) {
+        width = w;
+        height = h;
+        throw penumbra::InputError("refused by size");
+    };
+    try {
+        penumbra::readImageFile(dir / "big.png", "big.png", penumbra::ColorDecode::Srgb, penumbra::kMaxImagePixels,
+                                refuse);
+        ADD_FAILURE() << "accepted";
+    } catch (const penumbra::InputError& e) {
+        EXPECT_STREQ(e.what(), "refused by size");
+    }
+    EXPECT_EQ(width, 8192u);
+    EXPECT_EQ(height, 4096u);
+    EXPECT_EQ(penumbra::imageSize(bytes, "big.png"), std::make_pair(8192u, 4096u));
 }

@@ -254,6 +254,7 @@ Material Importer::metallicRoughnessMaterial(const tinygltf::Material& mat, cons
 }
 
 void Importer::loadMaterials() {
+    m_textures.checkLimits();  // from the image headers, before any image is decoded
     for (size_t i = 0; i < m_model.materials.size(); ++i) {
         const tinygltf::Material& mat = m_model.materials[i];
         std::string path = at("materials", i);
