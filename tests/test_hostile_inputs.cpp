@@ -146,3 +146,105 @@ TEST(HostileInputs, ImageSizesComeFromTheHeaderBeforeDecoding) {
     EXPECT_EQ(height, 4096u);
     EXPECT_EQ(penumbra::imageSize(bytes, "big.png"), std::make_pair(8192u, 4096u));
 }
+
+namespace {
+
+// A 4 x 4 render-like image of `value` everywhere, with spp and seed 0 in its header.
+penumbra::Image flatRender(float value, int spp = 4) {
+    penumbra::Image image;
+    image.width = image.height = 4;
+    image.rgb.assign(4 * 4 * 3, value);
+    image.meta.spp = spp;
+    image.meta.seed = 0;
+    image.meta.sampleOffset = 0;
+    return image;
+}
+
+std::string fileBytes(const fs::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+}  // namespace
+
+TEST(HostileInputs, MergeRefusesNanAndNegativePixels) {
+    for (float bad : {std::nanf(""), -0.5f, INFINITY}) {
+        penumbra::Image a = flatRender(1.0f), b = flatRender(1.0f);
+        b.meta.sampleOffset = 4;
+        b.rgb[3 * 6 + 1] = bad;  // pixel (2, 1), green
+        try {
+            penumbra::mergeImages({a, b}, {"a.exr", "b.exr"});
+            ADD_FAILURE() << bad << ": merged";
+        } catch (const penumbra::InputError& e) {
+            EXPECT_NE(std::string(e.what()).find("b.exr: pixel (2, 1) is NaN, infinite or negative"), std::string::npos)
+                << e.what();
+        }
+    }
+}
+
+TEST(HostileInputs, MergeOfManyForgedPiecesIsNotQuadratic) {
+    // Two inputs of 200k interleaved one-sample pieces each (a merge of merges could hold
+    // them): compared pair by pair that took a minute (4 * 10^10 pairs); sorted, under a second.
+    fs::path dir = penumbra::test::freshTempDir();
+    for (int part = 0; part < 2; ++part) {
+        penumbra::Image image = flatRender(1.0f, 200000);
+        image.meta.pieces.emplace();
+        for (int64_t k = 0; k < 200000; ++k) image.meta.pieces->push_back({0, 2 * k + part, 2 * k + part + 1});
+        penumbra::writeExr(dir / ("p" + std::to_string(part) + ".exr"), image);
+    }
+    std::string err;
+    int status = penumbra::test::runPenumbraBounded(
+        "merge " + quoted(dir / "p0.exr") + " " + quoted(dir / "p1.exr") + " -o " + quoted(dir / "m.exr"), 20, 2048,
+        &err);
+    ASSERT_EQ(status, 0) << err;
+    EXPECT_EQ(penumbra::readExr(dir / "m.exr").meta.pieces, (std::vector<penumbra::SamplePiece>{{0, 0, 400000}}));
+    // One more piece that overlaps: still found.
+    penumbra::Image extra = flatRender(1.0f, 1);
+    extra.meta.sampleOffset = 123457;
+    penumbra::writeExr(dir / "x.exr", extra);
+    status = penumbra::test::runPenumbraBounded("merge " + quoted(dir / "p0.exr") + " " + quoted(dir / "p1.exr") + " " +
+                                                    quoted(dir / "x.exr") + " -o " + quoted(dir / "m2.exr"),
+                                                20, 2048, &err);
+    EXPECT_EQ(status, 2) << err;
+    EXPECT_NE(err.find("x.exr: sample indices [123457, 123458) overlap with " + (dir / "p1.exr").string()),
+              std::string::npos)
+        << err;
+}
+
+TEST(HostileInputs, ExrHeaderClaimingAHugeImageCostsNoMemory) {
+    // A 4 x 16384 render whose header is edited to claim a 16384 x 16384 data window (3 GiB
+    // as float RGB) over the same data (its offset table whole, its rows 4 pixels wide):
+    // compare and merge check sizes from the headers and find the data does not fit before
+    // they allocate the image.
+    fs::path dir = penumbra::test::freshTempDir();
+    auto writeHuge = [&](const fs::path& file, int sampleOffset) {
+        penumbra::Image image = flatRender(1.0f);
+        image.height = 16384;
+        image.rgb.assign(size_t(4) * 16384 * 3, 1.0f);
+        image.meta.sampleOffset = sampleOffset;
+        penumbra::writeExr(file, image);
+        std::string bytes = fileBytes(file);
+        const std::string key("dataWindow\0box2i\0", 17);
+        size_t at = bytes.find(key);
+        ASSERT_NE(at, std::string::npos);
+        at += key.size() + 4;  // the attribute's size, then xMin, yMin, xMax, yMax (little-endian int32)
+        const int32_t last = 16383;
+        std::memcpy(&bytes[at + 8], &last, 4);  // xMax
+        writeBytes(file, bytes);
+    };
+    penumbra::writeExr(dir / "small.exr", flatRender(1.0f));
+    writeHuge(dir / "huge.exr", 0);
+    writeHuge(dir / "huge2.exr", 4);
+    std::string err;
+    int status = penumbra::test::runPenumbraBounded("compare " + quoted(dir / "huge.exr") + " " + quoted(dir / "small.exr"),
+                                                    30, 1024, &err);
+    EXPECT_EQ(status, 2) << err;
+    EXPECT_NE(err.find("huge.exr: size 16384x16384 differs from"), std::string::npos) << err;
+    // Two of them agree in size: the missing pixel data is found by the last row's read.
+    status = penumbra::test::runPenumbraBounded(
+        "merge " + quoted(dir / "huge.exr") + " " + quoted(dir / "huge2.exr") + " -o " + quoted(dir / "m.exr"), 30,
+        1024, &err);
+    EXPECT_EQ(status, 2) << err;
+    EXPECT_NE(err.find("huge.exr: cannot read OpenEXR image"), std::string::npos) << err;
+    EXPECT_FALSE(fs::exists(dir / "m.exr"));
+}
