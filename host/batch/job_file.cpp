@@ -173,13 +173,12 @@ fs::path resolve(const JsonReader& where, const fs::path& base, const std::strin
     fs::path p(name);
     fs::path resolved = (p.is_absolute() ? p : base / p).lexically_normal();
     if (!allowAnyPath() && !isInsideFolder(resolved, base))
-        where.fail("refusing to use \"" + name + "\": it is outside the job file's folder (--allow-any-path allows it)");
+        where.fail("refusing to use \"" + name +
+                   "\": it is outside the job file's folder (--allow-any-path allows it)");
     return resolved;
 }
 
 }  // namespace
-
-std::string overrideSection(const std::string& path) { return path.substr(0, path.find_first_of(".[")); }
 
 std::vector<BatchJob> loadJobFile(const fs::path& file) {
     const std::string label = file.string();
@@ -267,8 +266,7 @@ std::vector<BatchJob> loadJobFile(const fs::path& file) {
             BatchJob job;
             job.scene = resolve(entry.at("scene"), base, scene);
             job.output = resolve(outputAt, base, expandPattern(outputAt, output, index, axes, choice));
-            if (pngAt && !png.empty())
-                job.png = resolve(*pngAt, base, expandPattern(*pngAt, png, index, axes, choice));
+            if (pngAt && !png.empty()) job.png = resolve(*pngAt, base, expandPattern(*pngAt, png, index, axes, choice));
             job.overrides = set;
             job.origin = entry.path();
             std::string values;
@@ -291,21 +289,6 @@ std::vector<BatchJob> loadJobFile(const fs::path& file) {
         }
     }
     return jobs;
-}
-
-bool sharesSceneUpload(const BatchJob& previous, const BatchJob& next) {
-    std::error_code ec1, ec2;
-    fs::path a = fs::weakly_canonical(previous.scene, ec1), b = fs::weakly_canonical(next.scene, ec2);
-    if (ec1 || ec2 || a != b) return false;
-    auto uploaded = [](const std::vector<Override>& overrides) {
-        std::vector<std::pair<std::string, std::string>> kept;
-        for (const Override& o : overrides) {
-            std::string section = overrideSection(o.path);
-            if (section != "camera" && section != "sampler" && section != "integrator") kept.emplace_back(o.path, o.value);
-        }
-        return kept;
-    };
-    return uploaded(previous.overrides) == uploaded(next.overrides);
 }
 
 }  // namespace penumbra

@@ -29,14 +29,4 @@ struct BatchJob {
 // found when each job runs.
 std::vector<BatchJob> loadJobFile(const std::filesystem::path& file);
 
-// True when `next` renders the scene `previous` uploaded, so that the GPU buffers can stay
-// and only RenderParams change (Renderer::retarget): the same scene file, and the same
-// overrides once those of camera.*, sampler.* and integrator.* are left out. (Of those,
-// integrator.light_selection still changes the light tables; the caller checks it on the
-// loaded scenes.)
-bool sharesSceneUpload(const BatchJob& previous, const BatchJob& next);
-
-// The root key of an override path: "camera" for "camera.eye", "lights" for "lights[0].power".
-std::string overrideSection(const std::string& path);
-
 }  // namespace penumbra

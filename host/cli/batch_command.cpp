@@ -1,7 +1,8 @@
 // `penumbra batch`: renders the jobs of a job file (batch/job_file.h) in one process with
 // one Vulkan context, skipping jobs whose output is already complete, so that an
 // interrupted batch resumes. Reuse across jobs: compute pipelines always (KernelCache),
-// the uploaded scene when consecutive jobs differ only in camera, sampler or integrator.
+// the uploaded scene when consecutive jobs' scenes, as loaded, differ only in camera,
+// sampler or integrator options (sharesUpload).
 // Exit status rule and summary: docs/BATCH.md.
 #include <unistd.h>
 #include <atomic>
@@ -152,7 +153,6 @@ struct Device {
     std::optional<gpu::Context> context;
     std::optional<gpu::KernelCache> kernels;
     std::unique_ptr<Renderer> renderer;
-    const BatchJob* uploaded = nullptr;  // the job whose scene the renderer holds
 
     // Creates the context on first use; throws when there is no device.
     void open(int deviceIndex) {
@@ -165,19 +165,14 @@ struct Device {
 
     // Makes `scene` the renderer's: retargeted when it shares the uploaded scene, else
     // uploaded anew. True when the upload was reused.
-    bool prepare(const BatchJob& job, const Scene& scene) {
-        const bool reuse = renderer && uploaded && sharesSceneUpload(*uploaded, job) &&
-                           renderer->scene().integrator.lightSelection == scene.integrator.lightSelection &&
-                           renderer->scene().film.width == scene.film.width &&
-                           renderer->scene().film.height == scene.film.height;
-        uploaded = nullptr;
+    bool prepare(const Scene& scene) {
+        const bool reuse = renderer && sharesUpload(renderer->scene(), scene);
         if (reuse) {
             renderer->retarget(scene);
         } else {
             renderer.reset();  // free the previous scene's device memory first
             renderer = std::make_unique<Renderer>(*context, scene, &*kernels);
         }
-        uploaded = &job;
         return reuse;
     }
 };
@@ -198,7 +193,6 @@ JobTimes renderJob(Device& device, const BatchJob& job, const Scene& scene, cons
         device.renderer->renderAll(progress, &g_stop);
     } catch (...) {
         device.renderer.reset();  // state unknown after a failed or interrupted render
-        device.uploaded = nullptr;
         throw;
     }
     const double renderSeconds = secondsSince(renderStart);
@@ -285,7 +279,7 @@ int batchCommand(const BatchOptions& options) {
                 break;
             }
             const auto jobStart = Clock::now();
-            const bool reuse = device.prepare(job, scene);
+            const bool reuse = device.prepare(scene);
             ++(reuse ? totals.uploadsReused : totals.uploads);
             const JobTimes times = renderJob(device, job, scene, tag, ticker, jobStart, totals);
             ticker.end();
