@@ -9,13 +9,13 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "core/errors.h"
 #include "gltf_builder.h"
 #include "gpu_fixture.h"
 #include "image/image.h"
 #include "image/image_file.h"
-#include "core/errors.h"
-#include "scene/load.h"
 #include "render_helpers.h"
+#include "scene/load.h"
 #include "scene_test_util.h"
 
 using nlohmann::json;
@@ -29,11 +29,12 @@ void writeBytes(const fs::path& path, const std::string& bytes) {
 
 // A scene of one quad whose albedo is the texture `texture` (relative to the scene).
 fs::path writeTexturedScene(const fs::path& dir, const std::string& texture) {
-    json doc = {{"materials", {{"m", {{"type", "diffuse"}, {"albedo", {{"texture", texture}}}}}}},
-                {"shapes",
-                 {{{"type", "quad"}, {"origin", {0, 0, 0}}, {"edge_u", {1, 0, 0}}, {"edge_v", {0, 0, 1}}, {"material", "m"}}}},
-                {"film", {{"width", 4}, {"height", 4}}},
-                {"sampler", {{"spp", 1}}}};
+    json doc = {
+        {"materials", {{"m", {{"type", "diffuse"}, {"albedo", {{"texture", texture}}}}}}},
+        {"shapes",
+         {{{"type", "quad"}, {"origin", {0, 0, 0}}, {"edge_u", {1, 0, 0}}, {"edge_v", {0, 0, 1}}, {"material", "m"}}}},
+        {"film", {{"width", 4}, {"height", 4}}},
+        {"sampler", {{"spp", 1}}}};
     return penumbra::test::writeFile(dir / "scene.json", doc.dump());
 }
 
@@ -82,9 +83,7 @@ std::string modelWithImages(const std::vector<json>& images) {
 // The first bytes of a PNG of `width` x `height` (8-bit RGB): the signature and the IHDR
 // chunk, all that a header reader looks at, then `tail` instead of pixel data.
 std::string pngHeader(uint32_t width, uint32_t height, const std::string& tail) {
-    auto be32 = [](uint32_t v) {
-        return std::string{char(v >> 24), char(v >> 16), char(v >> 8), char(v)};
-    };
+    auto be32 = [](uint32_t v) { return std::string{char(v >> 24), char(v >> 16), char(v >> 8), char(v)}; };
     std::string ihdr = be32(width) + be32(height) + std::string{8, 2, 0, 0, 0};
     return std::string("\x89PNG\r\n\x1a\n", 8) + be32(13) + "IHDR" + ihdr + be32(0) + tail;
 }
@@ -117,8 +116,7 @@ TEST(HostileInputs, GltfImagesPastTheTexelLimitAreRefusedBeforeDecoding) {
     int status = penumbra::test::runPenumbraBounded(
         "render " + quoted(dir / "model.gltf") + " -o " + quoted(dir / "out.exr") + " --quiet", 30, 1024, &err);
     EXPECT_EQ(status, 2) << err;
-    EXPECT_NE(err.find("model.gltf: images[2]: the model's textures exceed 134217728 texels in all"),
-              std::string::npos)
+    EXPECT_NE(err.find("model.gltf: images[2]: the model's textures exceed 134217728 texels in all"), std::string::npos)
         << err;
 }
 
@@ -236,8 +234,8 @@ TEST(HostileInputs, ExrHeaderClaimingAHugeImageCostsNoMemory) {
     writeHuge(dir / "huge.exr", 0);
     writeHuge(dir / "huge2.exr", 4);
     std::string err;
-    int status = penumbra::test::runPenumbraBounded("compare " + quoted(dir / "huge.exr") + " " + quoted(dir / "small.exr"),
-                                                    30, 1024, &err);
+    int status = penumbra::test::runPenumbraBounded(
+        "compare " + quoted(dir / "huge.exr") + " " + quoted(dir / "small.exr"), 30, 1024, &err);
     EXPECT_EQ(status, 2) << err;
     EXPECT_NE(err.find("huge.exr: size 16384x16384 differs from"), std::string::npos) << err;
     // Two of them agree in size: the missing pixel data is found by the last row's read.

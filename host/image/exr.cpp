@@ -199,8 +199,8 @@ void checkChunks(Imf::IStream& in, int64_t fileSize, const std::string& name) {
     exr_context_t context = nullptr;
     auto fail = [&](exr_result_t result, const char* what) {
         exr_finish(&context);
-        throwInputError(name, "", std::string("cannot read OpenEXR image: ") + what + ": " +
-                                      exr_get_default_error_message(result));
+        throwInputError(
+            name, "", std::string("cannot read OpenEXR image: ") + what + ": " + exr_get_default_error_message(result));
     };
     exr_result_t result = exr_start_read(&context, name.c_str(), &init);
     if (result != EXR_ERR_SUCCESS) fail(result, "header");
@@ -354,7 +354,6 @@ void writeExr(const std::filesystem::path& path, const Image& image) {
 
 Image readExr(const std::filesystem::path& path) { return readExrFile(path, false); }
 Image readExrHeader(const std::filesystem::path& path) { return readExrFile(path, true); }
-
 
 Image decodeExr(std::string_view bytes, const std::string& name) {
     MemoryIStream stream(bytes, name);

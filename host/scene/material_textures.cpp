@@ -27,7 +27,8 @@ Texture makeTexture(std::string file, bool srgb, uint32_t width, uint32_t height
     return t;
 }
 
-uint32_t TextureTable::add(const std::string& key, bool srgb, const std::function<Texture(const AcceptImageSize&)>& load,
+uint32_t TextureTable::add(const std::string& key, bool srgb,
+                           const std::function<Texture(const AcceptImageSize&)>& load,
                            const std::function<void(const std::string&)>& fail) {
     auto found = m_index.find({key, srgb});
     if (found != m_index.end()) return found->second;
