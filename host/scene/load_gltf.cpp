@@ -266,9 +266,12 @@ void Importer::loadMaterials() {
         auto ext = mat.extensions.find("KHR_materials_emissive_strength");
         if (ext != mat.extensions.end() && ext->second.Has("emissiveStrength")) {
             const tinygltf::Value& strength = ext->second.Get("emissiveStrength");
-            if (!strength.IsNumber())
-                fail(path + ".extensions.KHR_materials_emissive_strength.emissiveStrength", "expected a number");
-            emission *= strength.GetNumberAsDouble();
+            const std::string strengthPath = path + ".extensions.KHR_materials_emissive_strength.emissiveStrength";
+            if (!strength.IsNumber()) fail(strengthPath, "expected a number");
+            // Refused at its own path: folded into the emission, it was reported as emissiveFactor.
+            const double value = strength.GetNumberAsDouble();
+            if (!(value >= 0.0 && std::isfinite(value))) fail(strengthPath, "negative or non-finite strength");
+            emission *= value;
         }
         auto bad = [](glm::dvec3 c) {
             return !(c.x >= 0 && c.y >= 0 && c.z >= 0) || !std::isfinite(c.x + c.y + c.z) ||
