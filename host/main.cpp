@@ -97,12 +97,12 @@ int main(int argc, char** argv) {
 
     CLI::App* devicesCmd = app.add_subcommand("devices", "list Vulkan devices; '*' marks the one used");
 
-    // Files that scenes and glTF models name are read only from inside their own folder
-    // unless the inputs are trusted (README, "glTF file access").
+    // Files that scenes, glTF models and job files name are used only from inside their own
+    // folder unless the inputs are trusted (README, "glTF file access"; docs/BATCH.md).
     bool anyPath = false;
     for (CLI::App* cmd : {renderCmd, batchCmd, previewCmd})
         cmd->add_flag("--allow-any-path", anyPath,
-                      "trusted inputs: let scenes and glTF models read files outside their folder");
+                      "trusted inputs: let scenes, glTF models and job files name files outside their folder");
 
     try {
         app.parse(argc, argv);

@@ -143,22 +143,35 @@ std::string slurp(const std::string& path) {
     std::ifstream in(path);
     return std::string(std::istreambuf_iterator<char>(in), {});
 }
+
+// Runs a shell command line with stdout and stderr captured; its exit status.
+int runCommandLine(const std::string& commandLine, std::string* err, std::string* out) {
+    // Per process: ctest runs tests in parallel processes that share test-output/.
+    const std::string tag = std::to_string(getpid());
+    auto errPath = outputPath("cli-stderr-" + tag + ".txt").string();
+    auto outPath = outputPath("cli-stdout-" + tag + ".txt").string();
+    std::string cmd = commandLine + " >'" + outPath + "' 2>'" + errPath + "'";
+    int status = std::system(cmd.c_str());
+    if (err) *err = slurp(errPath);
+    if (out) *out = slurp(outPath);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
 }  // namespace
 
 int runPenumbra(const std::string& args, std::string* err, std::string* out) {
     return runProgram(PENUMBRA_EXECUTABLE, args, err, out);
 }
 
+int runPenumbraBounded(const std::string& args, int seconds, int memoryMiB, std::string* err, std::string* out) {
+    // The limits apply to the shell, then to what it execs (timeout, then penumbra).
+    const std::string bounded = "ulimit -v " + std::to_string(int64_t(memoryMiB) * 1024) + "; exec timeout -s KILL " +
+                                std::to_string(seconds) + " '" + PENUMBRA_EXECUTABLE + "'";
+    return runCommandLine(bounded + " " + args, err, out);
+}
+
 int runProgram(const std::string& executable, const std::string& args, std::string* err, std::string* out) {
-    // Per process: ctest runs tests in parallel processes that share test-output/.
-    const std::string tag = std::to_string(getpid());
-    auto errPath = outputPath("cli-stderr-" + tag + ".txt").string();
-    auto outPath = outputPath("cli-stdout-" + tag + ".txt").string();
-    std::string cmd = "'" + executable + "' " + args + " >'" + outPath + "' 2>'" + errPath + "'";
-    int status = std::system(cmd.c_str());
-    if (err) *err = slurp(errPath);
-    if (out) *out = slurp(outPath);
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return runCommandLine("'" + executable + "' " + args, err, out);
 }
 
 }  // namespace penumbra::test

@@ -56,6 +56,12 @@ double meanSquaredError(const Image& image, const std::vector<double>& expected)
 // Runs the penumbra executable with `args` (a shell-quoted string), capturing stderr into
 // `err`; returns the exit status.
 int runPenumbra(const std::string& args, std::string* err = nullptr, std::string* out = nullptr);
+// The same under a wall-clock limit and an address-space limit, for inputs that once hung
+// the program or exhausted its memory: `timeout` kills it after `seconds` (returned as -1,
+// killed by a signal) and `ulimit -v` caps it at `memoryMiB`, so that a regression fails
+// instead of stalling or swapping the test run.
+int runPenumbraBounded(const std::string& args, int seconds, int memoryMiB, std::string* err = nullptr,
+                       std::string* out = nullptr);
 // The same for another executable of the build (e.g. PENUMBRA_FIGURE_EXECUTABLE).
 int runProgram(const std::string& executable, const std::string& args, std::string* err = nullptr,
                std::string* out = nullptr);

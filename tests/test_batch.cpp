@@ -2,22 +2,24 @@
 // `penumbra render` of the same job, resuming after an interruption, failing jobs that do
 // not stop the others, and the reuse of pipelines and uploads between jobs. Also merge of
 // N partials, which splitting one render over a cluster relies on.
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <unistd.h>
 #include <chrono>
 #include <csignal>
 #include <cstring>
-#include <fcntl.h>
 #include <filesystem>
 #include <fstream>
 #include <regex>
-#include <sys/wait.h>
 #include <thread>
-#include <unistd.h>
+#include <tuple>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include "batch/job_file.h"
 #include "core/errors.h"
+#include "core/input_file.h"
 #include "gpu/kernel_cache.h"
 #include "gpu_fixture.h"
 #include "image/image.h"
@@ -103,7 +105,7 @@ TEST(Batch, SweepsExpandInOrderWithPlaceholdersAndPathsRelativeToTheJobFile) {
            {"output", "out/frame_{i:04}.exr"},
            {"png", "png/{value}.png"},
            {"sweep", {{"path", "camera.eye"}, {"values", {{0, 1, 4}, {1.5, 1, 4}}}}}},
-          {{"scene", "/abs/b.json"},
+          {{"scene", (dir / "abs/b.json").string()},  // absolute, inside the job file's folder
            {"output", "grid/{integrator.strategy}-{sampler.spp}-{i}.exr"},
            {"set", {{"integrator.heuristic", "balance"}}},
            {"sweep",
@@ -133,7 +135,7 @@ TEST(Batch, SweepsExpandInOrderWithPlaceholdersAndPathsRelativeToTheJobFile) {
     const char* expected[] = {"light-4-0", "light-16-1", "light-64-2", "bsdf-4-3", "bsdf-16-4", "bsdf-64-5"};
     for (int k = 0; k < 6; ++k) {
         const BatchJob& job = jobs[3 + k];
-        EXPECT_EQ(job.scene, fs::path("/abs/b.json"));
+        EXPECT_EQ(job.scene, dir / "abs/b.json");
         EXPECT_EQ(job.output, dir / "grid" / (std::string(expected[k]) + ".exr"));
         ASSERT_EQ(job.overrides.size(), 4u);
         EXPECT_EQ(job.overrides[1].value, "\"balance\"");  // JSON, parsed again by applyOverride
@@ -464,21 +466,68 @@ TEST(Batch, KernelCacheCompilesEachIntegratorOnce) {
     EXPECT_THROW(r.retarget(test::sceneFromJson(wide, "batch-cache-wide")), std::logic_error);
 }
 
-TEST(Batch, SharesSceneUploadOnlyForCameraSamplerAndIntegratorChanges) {
-    BatchJob a{"s.json", "a.exr", {}, {{"camera.eye", "[0,1,2]"}, {"film.width", "8"}}, "jobs[0]"};
-    BatchJob b = a;
-    b.overrides = {{"film.width", "8"}, {"sampler.spp", "64"}, {"integrator.type", "\"ao\""}, {"camera.fov_y", "20"}};
-    EXPECT_TRUE(sharesSceneUpload(a, b));
-    b.overrides.push_back({"lights[0].power", "5"});
-    EXPECT_FALSE(sharesSceneUpload(a, b));
-    BatchJob c = a;
-    c.overrides[1].value = "9";
-    EXPECT_FALSE(sharesSceneUpload(a, c));
-    BatchJob d = a;
-    d.scene = "other.json";
-    EXPECT_FALSE(sharesSceneUpload(a, d));
-    EXPECT_EQ(overrideSection("lights[0].power"), "lights");
-    EXPECT_EQ(overrideSection("camera.eye"), "camera");
+TEST(Batch, SharesUploadComparesTheLoadedContent) {
+    // Reuse is keyed on what the GPU holds, not on file names: camera, sampler and
+    // integrator options change only the render parameters, anything else uploads anew.
+    Scene a = test::sceneFromJson(litScene(), "shares-upload");
+    Scene b = a;
+    b.path = "other.json";
+    b.camera.eye = {1, 2, 3};
+    b.sampler.spp = 64;
+    b.integrator.type = IntegratorType::AmbientOcclusion;
+    EXPECT_TRUE(sharesUpload(a, b));
+    Scene c = a;
+    c.integrator.lightSelection = LightSelection::Uniform;  // the light tables differ
+    EXPECT_FALSE(sharesUpload(a, c));
+    Scene d = a;
+    d.shapes.back().center.x += 0.5f;
+    EXPECT_FALSE(sharesUpload(a, d));
+    Scene e = a;
+    e.materials.back().kd.y *= 0.5f;
+    EXPECT_FALSE(sharesUpload(a, e));
+    Scene f = a;
+    f.film.width += 1;
+    EXPECT_FALSE(sharesUpload(a, f));
+    // Environment maps by content: a map loaded twice is shared, another one is not.
+    auto map = std::make_shared<EnvironmentImage>(EnvironmentImage{1, 1, {glm::vec3(1.0f)}});
+    Light sky;
+    sky.type = LightType::Environment;
+    sky.map = map;
+    Scene g = a, h = a;
+    g.lights.push_back(sky);
+    sky.map = std::make_shared<EnvironmentImage>(*map);
+    h.lights.push_back(sky);
+    EXPECT_TRUE(sharesUpload(g, h));
+    sky.map = std::make_shared<EnvironmentImage>(EnvironmentImage{1, 1, {glm::vec3(2.0f)}});
+    h.lights.back() = sky;
+    EXPECT_FALSE(sharesUpload(g, h));
+}
+
+TEST(Batch, ASceneEditedDuringTheBatchIsUploadedAnew) {
+    // Two jobs of one scene file and the same overrides, and the first job's output is the
+    // scene's environment map: the second job's scene, read again, holds another map. The
+    // upload was reused by path and overrides, and the second job rendered the old map.
+    fs::path dir = freshDir("edited");
+    Image map;
+    map.width = 4;
+    map.height = 4;
+    map.rgb.assign(4 * 4 * 3, 1.0f);
+    writeExr(dir / "sky.exr", map);
+    json scene = {{"camera", {{"eye", {0, 0, 0}}, {"target", {0, 0, -1}}, {"fov_y", 30}}},
+                  {"film", {{"width", 4}, {"height", 4}}},
+                  {"sampler", {{"spp", 1}}},
+                  {"shapes", {{{"type", "sphere"}, {"center", {0, 0, 10}}, {"radius", 0.5}}}},
+                  {"lights", {{{"type", "environment"}, {"file", "sky.exr"}, {"radiance", {2, 2, 2}}}}}};
+    writeJson(dir / "scene.json", scene);
+    json jobs = json::array({{{"scene", "scene.json"}, {"output", "sky.exr"}},  // replaces the map: 2 everywhere
+                             {{"scene", "scene.json"}, {"output", "second.exr"}}});
+    std::string err;
+    ASSERT_EQ(test::runPenumbra("batch " + q(writeJson(dir / "jobs.json", jobs)) + " --quiet", &err), 0) << err;
+    const Image first = readExr(dir / "sky.exr"), second = readExr(dir / "second.exr");
+    for (size_t k = 0; k < first.rgb.size(); ++k) {
+        EXPECT_FLOAT_EQ(first.rgb[k], 2.0f) << k;
+        EXPECT_FLOAT_EQ(second.rgb[k], 4.0f) << k;  // 2 times the new map
+    }
 }
 
 TEST(Batch, MergeOfNPartialsEqualsTheFullRenderAndRefusesMismatches) {
@@ -529,4 +578,84 @@ TEST(Batch, MergeOfNPartialsEqualsTheFullRenderAndRefusesMismatches) {
               2);
     EXPECT_NE(err.find("foreign.exr: missing penumbra:spp"), std::string::npos) << err;
     EXPECT_FALSE(fs::exists(dir / "bad.exr"));
+}
+
+TEST(Batch, JobFilePathsStayInsideTheJobFilesFolder) {
+    // As a glTF model's URIs: scenes, outputs and PNGs of a job file lie inside its folder
+    // (after "..", absolute paths and symlinks), unless --allow-any-path.
+    fs::path dir = freshDir("confined");
+    fs::create_directories(dir / "jobs");
+    fs::path jobs = dir / "jobs";
+    auto job = [](json fields) {
+        json j = {{"scene", "s.json"}, {"output", "o.exr"}};
+        for (auto& [k, v] : fields.items()) j[k] = v;
+        return j;
+    };
+    const char* outside = "it is outside the job file's folder";
+    for (auto [name, entry, path] : std::vector<std::tuple<std::string, json, std::string>>{
+             {"scene-up.json", job({{"scene", "../victim/s.json"}}), "[0].scene"},
+             {"scene-abs.json", job({{"scene", "/etc/s.json"}}), "[0].scene"},
+             {"output-up.json", job({{"output", "../victim/photo.exr"}}), "[0].output"},
+             {"png-up.json", job({{"png", "../victim/photo.png"}}), "[0].png"},
+             {"sweep-up.json",
+              job({{"output", "{value}/x.exr"}, {"sweep", {{"path", "sampler.seed"}, {"values", {"a", ".."}}}}}),
+              "[0].output"}}) {
+        fs::path file = writeJson(jobs / name, json::array({entry}));
+        try {
+            loadJobFile(file);
+            // A sweep value ".." becomes "__", a folder name like any other.
+            if (name != "sweep-up.json") ADD_FAILURE() << name << ": accepted";
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find(file.string() + ": " + path + ": refusing to use"), std::string::npos)
+                << e.what();
+            EXPECT_NE(std::string(e.what()).find(outside), std::string::npos) << e.what();
+        }
+    }
+    // A symlinked folder that leads out is outside too.
+    fs::create_directories(dir / "victim");
+    fs::create_directory_symlink(dir / "victim", jobs / "link");
+    expectJobFileError(jobs, "link.json", json::array({job({{"output", "link/photo.exr"}})}), "[0].output");
+    // Opted in: all of them are read as written.
+    penumbra::setAllowAnyPath(true);
+    auto loaded = loadJobFile(writeJson(
+        jobs / "any.json", json::array({job({{"scene", "../victim/s.json"}, {"output", "../victim/photo.exr"}})})));
+    penumbra::setAllowAnyPath(false);
+    ASSERT_EQ(loaded.size(), 1u);
+    EXPECT_EQ(loaded[0].output, dir / "victim/photo.exr");
+}
+
+TEST(Batch, SweepValuesThatAreNoNamesBecomeUnderscores) {
+    // "" gave "out/.exr" and ".." left the folder: both are written as underscores.
+    fs::path dir = freshDir("no-names");
+    json entry = {{"scene", "s.json"},
+                  {"output", "out/{value}.exr"},
+                  {"sweep", {{"path", "sampler.seed"}, {"values", {"", "..", "a.b"}}}}};
+    auto jobs = loadJobFile(writeJson(dir / "jobs.json", json::array({entry})));
+    ASSERT_EQ(jobs.size(), 3u);
+    EXPECT_EQ(jobs[0].output, dir / "out/_.exr");
+    EXPECT_EQ(jobs[1].output, dir / "out/__.exr");
+    EXPECT_EQ(jobs[2].output, dir / "out/a.b.exr");
+    // {i:0N} needs N >= 1 (docs/BATCH.md).
+    expectJobFileError(dir, "pad0.json", json::array({{{"scene", "s.json"}, {"output", "o{i:00}.exr"}}}),
+                       "[0].output: bad placeholder {i:00}");
+}
+
+TEST(Batch, JobCountsAreBoundedWithoutWrapping) {
+    // 64 axes of 2 values: 2^64 jobs wrapped to 0, so the file "expanded" to nothing and
+    // batch exited 0. Refused, as is a total over entries above a million.
+    fs::path dir = freshDir("job-count");
+    json axes = json::array();
+    for (int a = 0; a < 64; ++a)
+        axes.push_back({{"path", "lights[" + std::to_string(a) + "].power"}, {"values", {1, 2}}});
+    expectJobFileError(dir, "wrap.json", json::array({{{"scene", "s.json"}, {"output", "o{i}.exr"}, {"sweep", axes}}}),
+                       "[0].sweep: the job file expands to more than 1000000 jobs");
+    // Two entries of 1000 x 600 combinations: 1.2 million in all.
+    json seeds = json::array(), spps = json::array();
+    for (int v = 0; v < 1000; ++v) seeds.push_back(v);
+    for (int v = 1; v <= 600; ++v) spps.push_back(v);
+    json sweep = {{{"path", "sampler.seed"}, {"values", seeds}}, {{"path", "sampler.spp"}, {"values", spps}}};
+    json entries = json::array();
+    for (const char* name : {"a{i}.exr", "b{i}.exr"})
+        entries.push_back({{"scene", "s.json"}, {"output", name}, {"sweep", sweep}});
+    expectJobFileError(dir, "total.json", entries, "[1].sweep: the job file expands to more than 1000000 jobs");
 }

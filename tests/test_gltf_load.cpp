@@ -172,6 +172,17 @@ TEST(GltfLoad, EmissiveStrengthAndBaseColour) {
     EXPECT_EQ(s.materials[1].pbr.metallic, 1.0f);
     EXPECT_EQ(s.materials[1].pbr.roughness, 1.0f);
     EXPECT_TRUE(s.lights.empty());  // emissive: no environment fallback
+    // A negative strength is reported at its own path, not as the emissiveFactor it scales.
+    b.doc["materials"][0]["extensions"]["KHR_materials_emissive_strength"]["emissiveStrength"] = -2;
+    try {
+        loadScene(writeFile(freshTempDir() / "negative.gltf", b.gltf()));
+        ADD_FAILURE() << "accepted";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find(
+                      "materials[0].extensions.KHR_materials_emissive_strength.emissiveStrength: negative"),
+                  std::string::npos)
+            << e.what();
+    }
 }
 
 TEST(GltfLoad, MetallicRoughnessFactorsBecomePbr) {

@@ -93,7 +93,7 @@ TEST(TextureInput, TextureLimitsAreEnforced) {
         throw InputError(w);
     };
     auto texture = [](uint32_t w, uint32_t h) {
-        return [w, h] {
+        return [w, h](const AcceptImageSize&) {
             Texture t;
             t.width = w;
             t.height = h;
@@ -111,6 +111,15 @@ TEST(TextureInput, TextureLimitsAreEnforced) {
     EXPECT_EQ(table.add("rest.png", true, texture(uint32_t(left), 1), fail), 3u);
     EXPECT_THROW(table.add("one-more.png", true, texture(1, 1), fail), InputError);
     EXPECT_NE(why.find("exceed 134217728 texels"), std::string::npos) << why;
+    // A load is refused by the size its header gives, before it decodes anything.
+    bool decoded = false;
+    auto fromHeader = [&](const AcceptImageSize& accept) {
+        accept(1, 1);
+        decoded = true;
+        return Texture{};
+    };
+    EXPECT_THROW(table.add("header.png", true, fromHeader, fail), InputError);
+    EXPECT_FALSE(decoded);
     // Count: kMaxTextures distinct textures at most.
     std::vector<Texture> many;
     TextureTable counted(many);

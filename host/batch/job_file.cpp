@@ -9,6 +9,7 @@
 
 #include "core/errors.h"
 #include "image/output_format.h"
+#include "core/input_file.h"
 #include "scene/json_reader.h"
 
 namespace penumbra {
@@ -16,6 +17,10 @@ namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
+
+// The most jobs a job file may expand to, over all its entries: a million jobs take about
+// 1 GB to hold and list; a larger study is several job files.
+constexpr size_t kMaxJobs = 1000000;
 
 struct SweepAxis {
     std::string path;
@@ -94,6 +99,9 @@ std::string fileNamePart(const json& value) {
     }
     for (char& c : text)
         if (!std::isalnum((unsigned char)c) && c != '.' && c != '_' && c != '+' && c != '-') c = '_';
+    // "" and dots alone would make a name that is no name ("out/.exr") or leaves its folder
+    // ("out/{value}/a.exr" with ".."): such a value is written as underscores.
+    if (text.find_first_not_of('.') == std::string::npos) text = std::string(std::max<size_t>(text.size(), 1), '_');
     return text;
 }
 
@@ -130,8 +138,10 @@ std::string expandPattern(const JsonReader& where, const std::string& pattern, s
             out += std::to_string(index);
         } else if (name.rfind("i:", 0) == 0) {
             std::string spec = name.substr(2);
+            // {i:0N} with N = 1..99 (docs/BATCH.md): {i:00} pads to no width at all.
             bool ok = spec.size() >= 2 && spec.size() <= 3 && spec[0] == '0' &&
-                      std::all_of(spec.begin(), spec.end(), [](unsigned char d) { return std::isdigit(d); });
+                      std::all_of(spec.begin(), spec.end(), [](unsigned char d) { return std::isdigit(d); }) &&
+                      std::stoul(spec.substr(1)) >= 1;
             if (!ok) where.fail("bad placeholder {" + name + "} in \"" + pattern + "\": " + forms);
             std::string digits = std::to_string(index);
             size_t width = size_t(std::stoul(spec.substr(1)));
@@ -156,14 +166,20 @@ bool hasExtension(const std::string& name, const std::string& ext) {
     return e == ext;
 }
 
-fs::path resolve(const fs::path& base, const std::string& name) {
+// `name` relative to the job file's folder `base`; unless any path is allowed, it must
+// lie inside that folder, as a glTF model's URIs must lie inside the model's (README,
+// "Job files and their folder"): a job file from elsewhere cannot read or replace files
+// anywhere on the disk, nor create folders there.
+fs::path resolve(const JsonReader& where, const fs::path& base, const std::string& name) {
     fs::path p(name);
-    return (p.is_absolute() ? p : base / p).lexically_normal();
+    fs::path resolved = (p.is_absolute() ? p : base / p).lexically_normal();
+    if (!allowAnyPath() && !isInsideFolder(resolved, base))
+        where.fail("refusing to use \"" + name +
+                   "\": it is outside the job file's folder (--allow-any-path allows it)");
+    return resolved;
 }
 
 }  // namespace
-
-std::string overrideSection(const std::string& path) { return path.substr(0, path.find_first_of(".[")); }
 
 std::vector<BatchJob> loadJobFile(const fs::path& file) {
     const std::string label = file.string();
@@ -184,8 +200,20 @@ std::vector<BatchJob> loadJobFile(const fs::path& file) {
         root.fail("expected {\"jobs\": [...]} or an array of jobs");
     }
 
-    std::vector<BatchJob> jobs;
-    std::map<fs::path, std::string> writers;  // every output file -> the job that writes it
+    // Every entry is read and its jobs counted before any is expanded, so that a file past
+    // the limit is refused at once (8 entries of a million values once took 8 GB and two
+    // minutes to refuse). The count is checked at each factor, so that the product of the
+    // axes cannot wrap (64 axes of 2 values once made 2^64 = 0 jobs, and batch exited 0).
+    struct Entry {
+        JsonReader entry, outputAt;
+        std::string scene, output, png;
+        std::optional<JsonReader> pngAt;
+        std::vector<Override> set;
+        std::vector<SweepAxis> axes;
+        size_t count = 1;
+    };
+    std::vector<Entry> entries;
+    size_t total = 0;
     for (size_t j = 0; j < list->size(); ++j) {
         JsonReader entry = (*list)[j];
         entry.expectKeys({"scene", "output", "png", "set", "sweep"}, "job");
@@ -215,10 +243,24 @@ std::vector<BatchJob> loadJobFile(const fs::path& file) {
         std::vector<SweepAxis> axes;
         if (auto sweep = entry.find("sweep")) axes = readSweep(*sweep);
 
-        // Cartesian product in row-major order: the last axis varies fastest.
         size_t count = 1;
-        for (const SweepAxis& a : axes) count *= a.values.size();
-        if (count > 1000000) entry.at("sweep").fail("expands to more than a million jobs");
+        for (const SweepAxis& a : axes) {
+            count *= a.values.size();
+            if (count > kMaxJobs - total) break;
+        }
+        if (count > kMaxJobs - total)
+            (axes.empty() ? entry : entry.at("sweep"))
+                .fail("the job file expands to more than " + std::to_string(kMaxJobs) + " jobs");
+        total += count;
+        entries.push_back({entry, outputAt, scene, output, png, pngAt, std::move(set), std::move(axes), count});
+    }
+
+    std::vector<BatchJob> jobs;
+    jobs.reserve(total);
+    std::map<fs::path, std::string> writers;  // every output file -> the job that writes it
+    for (const Entry& e : entries) {
+        const auto& [entry, outputAt, scene, output, png, pngAt, set, axes, count] = e;
+        // Cartesian product in row-major order: the last axis varies fastest.
         std::vector<size_t> choice(axes.size(), 0);
         for (size_t index = 0; index < count; ++index) {
             size_t rest = index;
@@ -227,9 +269,9 @@ std::vector<BatchJob> loadJobFile(const fs::path& file) {
                 rest /= axes[a].values.size();
             }
             BatchJob job;
-            job.scene = resolve(base, scene);
-            job.output = resolve(base, expandPattern(outputAt, output, index, axes, choice));
-            if (pngAt && !png.empty()) job.png = resolve(base, expandPattern(*pngAt, png, index, axes, choice));
+            job.scene = resolve(entry.at("scene"), base, scene);
+            job.output = resolve(outputAt, base, expandPattern(outputAt, output, index, axes, choice));
+            if (pngAt && !png.empty()) job.png = resolve(*pngAt, base, expandPattern(*pngAt, png, index, axes, choice));
             job.overrides = set;
             job.origin = entry.path();
             std::string values;
@@ -254,12 +296,7 @@ std::vector<BatchJob> loadJobFile(const fs::path& file) {
     return jobs;
 }
 
-bool sharesSceneUpload(const BatchJob& previous, const BatchJob& next) {
-    std::error_code ec1, ec2;
-    fs::path a = fs::weakly_canonical(previous.scene, ec1), b = fs::weakly_canonical(next.scene, ec2);
-    if (ec1 || ec2 || a != b) return false;
-    return overridesShareSceneUpload(previous.overrides, next.overrides);
-}
+std::string overrideSection(const std::string& path) { return path.substr(0, path.find_first_of(".[")); }
 
 bool overridesShareSceneUpload(const std::vector<Override>& previous, const std::vector<Override>& next) {
     auto uploaded = [](const std::vector<Override>& overrides) {

@@ -29,15 +29,10 @@ struct BatchJob {
 // found when each job runs.
 std::vector<BatchJob> loadJobFile(const std::filesystem::path& file);
 
-// True when `next` renders the scene `previous` uploaded, so that the GPU buffers can stay
-// and only RenderParams change (Renderer::retarget): the same scene file, and the same
-// overrides once those of camera.*, sampler.* and integrator.* are left out. (Of those,
-// integrator.light_selection still changes the light tables; the caller checks it on the
-// loaded scenes.)
-bool sharesSceneUpload(const BatchJob& previous, const BatchJob& next);
-// The overrides' part of that rule, for renders of one scene document (the Python module's
-// Renderer too): the same overrides once those of camera.*, sampler.* and integrator.* are
-// left out, in the same order.
+// For renders of one scene document already read (the Python module's Renderer): whether
+// `next` keeps the upload of `previous`, i.e. the same overrides once those of camera.*,
+// sampler.* and integrator.* are left out, in the same order. (Batch jobs compare the loaded
+// scenes instead, scene.h sharesUpload, since a scene file may change between jobs.)
 bool overridesShareSceneUpload(const std::vector<Override>& previous, const std::vector<Override>& next);
 
 // The root key of an override path: "camera" for "camera.eye", "lights" for "lights[0].power".

@@ -1,7 +1,8 @@
 // `penumbra batch`: renders the jobs of a job file (batch/job_file.h) in one process with
 // one Vulkan context, skipping jobs whose output is already complete, so that an
 // interrupted batch resumes. Reuse across jobs: compute pipelines always (KernelCache),
-// the uploaded scene when consecutive jobs differ only in camera, sampler or integrator.
+// the uploaded scene when consecutive jobs' scenes, as loaded, differ only in camera,
+// sampler or integrator options (sharesUpload).
 // Exit status rule and summary: docs/BATCH.md.
 #include <unistd.h>
 #include <atomic>
@@ -156,16 +157,18 @@ void skipCompleteJob(const BatchJob& job, const std::string& tag, bool progressL
                      pngMissing ? " (PNG written from it)" : "");
 }
 
-// The device side of a batch, kept across jobs (session/render_session.h), and the job
-// last prepared (after a failure the session holds no scene, and uploads the next anew).
+// The device side of a batch, kept across jobs (session/render_session.h; after a failure
+// the session holds no scene, and uploads the next anew).
 struct Device {
     RenderSession session;
-    const BatchJob* uploaded = nullptr;
 
-    // Makes the job's scene the next render; true when the upload was reused.
-    bool prepare(const BatchJob& job, const Scene& scene) {
-        const bool reuse = session.prepare(scene, uploaded && sharesSceneUpload(*uploaded, job));
-        uploaded = &job;
+    // Makes the job's scene the next render, keeping the upload when the scene as loaded
+    // differs from the uploaded one only where retargeting covers it (scene.h sharesUpload;
+    // by content, so that a scene file edited during the batch is uploaded anew). True when
+    // the upload was reused.
+    bool prepare(const Scene& scene) {
+        const Scene* uploaded = session.uploadedScene();
+        const bool reuse = session.prepare(scene, uploaded && sharesUpload(*uploaded, scene));
         return reuse;
     }
 };
@@ -265,7 +268,7 @@ int batchCommand(const BatchOptions& options) {
             }
             const auto jobStart = Clock::now();
             std::optional<SlowStepNotice> compiling(std::in_place, "compiling kernels...", ticker.enabled());
-            const bool reuse = device.prepare(job, scene);  // compiles the kernel: start-up, not rendering
+            const bool reuse = device.prepare(scene);  // compiles the kernel: start-up, not rendering
             compiling.reset();
             ++(reuse ? totals.uploadsReused : totals.uploads);
             const JobTimes times = renderJob(device, job, scene, tag, ticker, jobStart, totals);

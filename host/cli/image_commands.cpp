@@ -12,6 +12,11 @@ int mergeCommand(const std::vector<std::string>& inputs, const std::string& outp
     for (const std::string& input : inputs) readFiles.push_back({input, "input"});
     // Bad usage and bad inputs (exit 2) are reported before an unwritable output (exit 1).
     checkDistinctFiles({{output, "-o"}}, readFiles);
+    // Every header first: a bad input is refused before any image's pixels take memory.
+    std::vector<Image> headers;
+    for (const std::string& input : inputs) headers.push_back(readExrHeader(input));
+    checkMergeHeaders(headers, inputs);
+    headers.clear();
     std::vector<Image> images;
     for (const std::string& input : inputs) images.push_back(readExr(input));
     checkWritable(output);
@@ -20,6 +25,9 @@ int mergeCommand(const std::vector<std::string>& inputs, const std::string& outp
 }
 
 int compareCommand(const std::string& a, const std::string& b) {
+    // Sizes from the headers first, so that a mismatch costs no pixels' memory.
+    Image headerA = readExrHeader(a), headerB = readExrHeader(b);
+    compareImages(headerA, headerB, a, b);
     CompareMetrics m = compareImages(readExr(a), readExr(b), a, b);
     std::printf("rmse %.9g\nrelmse %.9g\nmean_a %.9g\nmean_b %.9g\nmax_abs %.9g\n", m.rmse, m.relmse, m.meanA, m.meanB,
                 m.maxAbs);

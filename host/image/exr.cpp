@@ -14,6 +14,7 @@
 #include <OpenEXR/ImfStdIO.h>
 #include <OpenEXR/ImfStringAttribute.h>
 #include <OpenEXR/ImfTestFile.h>
+#include <OpenEXR/openexr.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -43,8 +44,9 @@ constexpr const char* kPieces = "penumbra:pieces";
 constexpr const char* kChannels[3] = {"R", "G", "B"};
 
 // Far beyond any film we render, small enough that a corrupt header claiming a huge
-// data window is refused before we try to allocate it.
+// data window is refused before we try to allocate it; each side at most a film's (16384).
 constexpr int64_t kMaxPixels = int64_t(1) << 28;
+constexpr int64_t kMaxSide = 16384;
 
 std::string oneLine(std::string text) {
     std::replace(text.begin(), text.end(), '\n', ' ');
@@ -143,16 +145,101 @@ void checkAttributeSizes(Imf::IStream& in, int64_t fileSize, const std::string& 
     }
 }
 
+// The penumbra:* attributes of `header` into `meta`.
+void readMetadata(const Imf::Header& header, const std::string& name, ImageMetadata& meta) {
+    readAttribute<Imf::IntAttribute>(header, kSpp, meta.spp);
+    readAttribute<Imf::IntAttribute>(header, kSeed, meta.seed);
+    readAttribute<Imf::IntAttribute>(header, kSampleOffset, meta.sampleOffset);
+    readAttribute<Imf::StringAttribute>(header, kIntegrator, meta.integrator);
+    readAttribute<Imf::DoubleAttribute>(header, kRenderSeconds, meta.renderSeconds);
+    readAttribute<Imf::StringAttribute>(header, kSampler, meta.sampler);
+    if (const auto* pieces = header.findTypedAttribute<Imf::StringAttribute>(kPieces)) {
+        try {
+            meta.pieces = parseSamplePieces(pieces->value());
+        } catch (const std::invalid_argument& e) {
+            throwInputError(name, "", std::string(kPieces) + ": " + e.what());
+        }
+    }
+}
+
 // Where decodeExrRgba puts the pixels, and who accepts their number first.
 struct RgbaTarget {
     std::vector<float>& pixels;
     const std::function<void(uint32_t, uint32_t)>& acceptSize;
 };
 
+// Decompresses every chunk of a scanline image (part 0) with OpenEXR's core library, one
+// chunk's memory at a time, and refuses the file at the first chunk that does not
+// decompress to the size its header implies. The C++ reader does not check that: a 4 x
+// 16384 render whose header claimed 16384 x 16384 was read as a 3 GiB image of garbage
+// (exit 0, 94 s, 6 GB), where this finds the first chunk short before anything is
+// allocated. Tiled files (which penumbra does not write) are left to the C++ reader.
+void checkChunks(Imf::IStream& in, int64_t fileSize, const std::string& name) {
+    struct Source {
+        Imf::IStream& in;
+        int64_t size;
+    } source{in, fileSize};
+    exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+    init.user_data = &source;
+    init.error_handler_fn = [](exr_const_context_t, exr_result_t, const char*) {};  // reported below
+    init.size_fn = [](exr_const_context_t, void* user) { return static_cast<Source*>(user)->size; };
+    init.read_fn = [](exr_const_context_t, void* user, void* buffer, uint64_t size, uint64_t offset,
+                      exr_stream_error_func_ptr_t) -> int64_t {
+        auto& src = *static_cast<Source*>(user);
+        if (offset > uint64_t(src.size)) return -1;
+        const uint64_t n = std::min(size, uint64_t(src.size) - offset);
+        try {
+            src.in.seekg(offset);
+            src.in.read(static_cast<char*>(buffer), int(n));
+        } catch (const std::exception&) {
+            return -1;
+        }
+        return int64_t(n);
+    };
+    exr_context_t context = nullptr;
+    auto fail = [&](exr_result_t result, const char* what) {
+        exr_finish(&context);
+        throwInputError(
+            name, "", std::string("cannot read OpenEXR image: ") + what + ": " + exr_get_default_error_message(result));
+    };
+    exr_result_t result = exr_start_read(&context, name.c_str(), &init);
+    if (result != EXR_ERR_SUCCESS) fail(result, "header");
+    exr_storage_t storage = EXR_STORAGE_LAST_TYPE;
+    exr_get_storage(context, 0, &storage);
+    if (storage != EXR_STORAGE_SCANLINE) {
+        exr_finish(&context);
+        return;
+    }
+    exr_attr_box2i_t window;
+    int32_t lines = 1;
+    exr_get_data_window(context, 0, &window);
+    exr_get_scanlines_per_chunk(context, 0, &lines);
+    exr_decode_pipeline_t decoder = EXR_DECODE_PIPELINE_INITIALIZER;
+    bool first = true;
+    for (int64_t y = window.min.y; y <= window.max.y; y += std::max(lines, 1)) {
+        exr_chunk_info_t chunk;
+        result = exr_read_scanline_chunk_info(context, 0, int(y), &chunk);
+        // No channel has a destination: the pipeline reads and decompresses only.
+        if (result == EXR_ERR_SUCCESS)
+            result = first ? exr_decoding_initialize(context, 0, &chunk, &decoder)
+                           : exr_decoding_update(context, 0, &chunk, &decoder);
+        if (result == EXR_ERR_SUCCESS && first) result = exr_decoding_choose_default_routines(context, 0, &decoder);
+        first = false;
+        if (result == EXR_ERR_SUCCESS) result = exr_decoding_run(context, 0, &decoder);
+        if (result != EXR_ERR_SUCCESS) {
+            exr_decoding_destroy(context, &decoder);
+            fail(result, ("pixel data at line " + std::to_string(y)).c_str());
+        }
+    }
+    exr_decoding_destroy(context, &decoder);
+    exr_finish(&context);
+}
+
 // The image in `in` (a file or memory, fileSize bytes long), checked before OpenEXR
 // allocates anything; InputErrors name `name`. With `rgba`, the pixels go there (4 floats
-// a pixel, alpha 1) instead of image.rgb.
-Image readExrStream(Imf::IStream& in, int64_t fileSize, const std::string& name, const RgbaTarget* rgba = nullptr) {
+// a pixel, alpha 1) instead of image.rgb; with `headerOnly`, none is read (rgb empty).
+Image readExrStream(Imf::IStream& in, int64_t fileSize, const std::string& name, const RgbaTarget* rgba = nullptr,
+                    bool headerOnly = false) {
     try {
         bool tiled = false, deep = false, multiPart = false;
         in.seekg(0);
@@ -170,16 +257,19 @@ Image readExrStream(Imf::IStream& in, int64_t fileSize, const std::string& name,
 
         const Imath::Box2i dw = header.dataWindow();
         const int64_t width = int64_t(dw.max.x) - dw.min.x + 1, height = int64_t(dw.max.y) - dw.min.y + 1;
-        if (width <= 0 || height <= 0 || width > kMaxPixels / height)
+        if (width <= 0 || height <= 0 || width > kMaxSide || height > kMaxSide || width > kMaxPixels / height)
             throwInputError(name, "", "unsupported data window " + std::to_string(width) + "x" + std::to_string(height));
 
         Image image;
         image.width = uint32_t(width);
         image.height = uint32_t(height);
+        readMetadata(header, name, image.meta);
+        if (headerOnly) return image;
+        if (rgba) rgba->acceptSize(image.width, image.height);
+        checkChunks(in, fileSize, name);
         float* pixels = nullptr;
         size_t stride = 3;  // floats a pixel
         if (rgba) {
-            rgba->acceptSize(image.width, image.height);
             stride = 4;
             rgba->pixels.assign(size_t(width * height) * stride, 1.0f);  // R, G, B overwritten below
             pixels = rgba->pixels.data();
@@ -195,20 +285,6 @@ Image readExrStream(Imf::IStream& in, int64_t fileSize, const std::string& name,
                                                         size_t(width) * stride * sizeof(float)));
         file.setFrameBuffer(frame);
         file.readPixels(dw.min.y, dw.max.y);
-
-        readAttribute<Imf::IntAttribute>(header, kSpp, image.meta.spp);
-        readAttribute<Imf::IntAttribute>(header, kSeed, image.meta.seed);
-        readAttribute<Imf::IntAttribute>(header, kSampleOffset, image.meta.sampleOffset);
-        readAttribute<Imf::StringAttribute>(header, kIntegrator, image.meta.integrator);
-        readAttribute<Imf::DoubleAttribute>(header, kRenderSeconds, image.meta.renderSeconds);
-        readAttribute<Imf::StringAttribute>(header, kSampler, image.meta.sampler);
-        if (const auto* pieces = header.findTypedAttribute<Imf::StringAttribute>(kPieces)) {
-            try {
-                image.meta.pieces = parseSamplePieces(pieces->value());
-            } catch (const std::invalid_argument& e) {
-                throwInputError(name, "", std::string(kPieces) + ": " + e.what());
-            }
-        }
         return image;
     } catch (const InputError&) {
         throw;
@@ -218,6 +294,21 @@ Image readExrStream(Imf::IStream& in, int64_t fileSize, const std::string& name,
         // Iex exceptions (truncated or corrupt data, unreadable file) derive from std::exception.
         throwInputError(name, "", "cannot read OpenEXR image: " + oneLine(e.what()));
     }
+}
+
+// readExr and readExrHeader: a file on disk, checked as in readExrStream.
+Image readExrFile(const std::filesystem::path& path, bool headerOnly) {
+    const std::string name = path.string();
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) throwInputError(name, "", "no such file");
+    if (std::filesystem::is_directory(path, ec)) throwInputError(name, "", "is a directory, not an image");
+    std::ifstream file(path, std::ios::binary);
+    if (!file) throwInputError(name, "", std::string("cannot open: ") + std::strerror(errno));
+    file.seekg(0, std::ios::end);
+    const int64_t fileSize = file.tellg();
+    file.seekg(0);
+    Imf::StdIFStream stream(file, name.c_str());
+    return readExrStream(stream, fileSize, name, nullptr, headerOnly);
 }
 
 }  // namespace
@@ -261,19 +352,8 @@ void writeExr(const std::filesystem::path& path, const Image& image) {
     writeOutputFile(path, stream.bytes());
 }
 
-Image readExr(const std::filesystem::path& path) {
-    const std::string name = path.string();
-    std::error_code ec;
-    if (!std::filesystem::exists(path, ec)) throwInputError(name, "", "no such file");
-    if (std::filesystem::is_directory(path, ec)) throwInputError(name, "", "is a directory, not an image");
-    std::ifstream file(path, std::ios::binary);
-    if (!file) throwInputError(name, "", std::string("cannot open: ") + std::strerror(errno));
-    file.seekg(0, std::ios::end);
-    const int64_t fileSize = file.tellg();
-    file.seekg(0);
-    Imf::StdIFStream stream(file, name.c_str());
-    return readExrStream(stream, fileSize, name);
-}
+Image readExr(const std::filesystem::path& path) { return readExrFile(path, false); }
+Image readExrHeader(const std::filesystem::path& path) { return readExrFile(path, true); }
 
 Image decodeExr(std::string_view bytes, const std::string& name) {
     MemoryIStream stream(bytes, name);

@@ -63,6 +63,9 @@ struct Image {
 void writeExr(const std::filesystem::path& path, const Image& image);
 // Reads an EXR (R, G, B; missing channels are an error). Throws InputError("FILE: why").
 Image readExr(const std::filesystem::path& path);
+// Its size and penumbra:* metadata alone (rgb empty), with the same checks of the header:
+// what merge and compare check before they read any pixel.
+Image readExrHeader(const std::filesystem::path& path);
 // The same for the bytes of an EXR file held in memory, with the same checks and errors;
 // `name` stands for the file in messages ("NAME: why").
 Image decodeExr(std::string_view bytes, const std::string& name);
@@ -83,7 +86,11 @@ void writePngRgb8(const std::filesystem::path& path, uint32_t width, uint32_t he
 // Averages partial renders weighted by penumbra:spp; the result's spp is their sum.
 // Throws InputError naming the file when sizes differ, spp is missing, or two partials
 // with the same seed overlap in sample indices. `names` label the images in messages.
+// Pixels that are NaN, infinite or negative are refused too (no render holds them).
 Image mergeImages(const std::vector<Image>& images, const std::vector<std::string>& names);
+// The checks of mergeImages that need only the headers (readExrHeader): run on every input
+// before any pixels are read, so that a bad input costs no image's memory.
+void checkMergeHeaders(const std::vector<Image>& images, const std::vector<std::string>& names);
 
 struct CompareMetrics {
     double rmse = 0;    // sqrt(mean (a-b)^2)

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 #include <memory>
+#include <optional>
 
 #include "core/errors.h"
 #include "core/input_file.h"
@@ -61,6 +62,22 @@ struct StbFree {
     void operator()(void* p) const { stbi_image_free(p); }
 };
 
+// Where stb_image's HDR loader starts reading pixels: after the header lines up to the
+// first empty one and the resolution line, each read by stb's own line reader, which also
+// ends a line at 1023 bytes and counts a line that starts with a NUL byte as empty. Found
+// with that reader rather than by searching for "\n\n", so that checkHdrData walks the
+// very bytes stb decodes (a NUL line once made the two disagree, and stb hung).
+size_t hdrPixelDataStart(const std::string& bytes) {
+    stbi__context context;
+    stbi__start_mem(&context, reinterpret_cast<const stbi_uc*>(bytes.data()), int(bytes.size()));
+    char line[STBI__HDR_BUFLEN];
+    stbi__hdr_gettoken(&context, line);  // "#?RADIANCE" or "#?RGBE", checked by stbi__hdr_info
+    while (stbi__hdr_gettoken(&context, line)[0] != 0) {
+    }
+    stbi__hdr_gettoken(&context, line);  // "-Y h +X w"
+    return size_t(context.img_buffer - context.img_buffer_original);
+}
+
 // Walks Radiance HDR pixel data as stb_image will read it, and refuses data that ends early
 // or holds a run of length 0: stb reads past the end as zeros and, in a run-length encoded
 // scanline, loops forever on a count of 0 (a truncated file hung the program). `bytes` is the
@@ -68,10 +85,7 @@ struct StbFree {
 // line, the resolution line, then scanlines, each flat RGBE or "2 2 w_hi w_lo" and runs).
 void checkHdrData(const std::string& bytes, int64_t w, int64_t h, const std::string& label) {
     auto corrupt = [&](const char* why) { throwInputError(label, "", std::string("cannot decode HDR image: ") + why); };
-    size_t blank = bytes.find("\n\n");
-    size_t at = blank == std::string::npos ? std::string::npos : bytes.find('\n', blank + 2);
-    if (at == std::string::npos) corrupt("no resolution line");
-    ++at;
+    size_t at = hdrPixelDataStart(bytes);
     auto left = [&] { return bytes.size() - at; };
     auto byte = [&](size_t i) { return uint8_t(bytes[at + i]); };
     const uint64_t pixels = uint64_t(w) * uint64_t(h);
@@ -105,22 +119,56 @@ void checkHdrData(const std::string& bytes, int64_t w, int64_t h, const std::str
     }
 }
 
-ImageFile decodeStb(const std::string& bytes, const std::string& label, ImageFileFormat format, ColorDecode decode,
-                    uint64_t maxPixels) {
-    const char* what = format == ImageFileFormat::Png ? "PNG" : format == ImageFileFormat::Jpeg ? "JPEG" : "HDR";
-    const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
+const char* formatName(ImageFileFormat format) {
+    return format == ImageFileFormat::Png ? "PNG" : format == ImageFileFormat::Jpeg ? "JPEG" : "HDR";
+}
+
+// Width, height and channels from the header alone, within the limits.
+struct StbHeader {
+    int width = 0, height = 0, channels = 0;
+};
+
+StbHeader readStbHeader(const std::string& bytes, const std::string& label, ImageFileFormat format,
+                        uint64_t maxPixels) {
     if (bytes.size() > size_t(INT32_MAX)) throwInputError(label, "", "file too large");
-    const int length = int(bytes.size());
-    int w = 0, h = 0, n = 0;
+    StbHeader header;
     // The format's own header reader: stbi_info_from_memory would go on to try every
     // other format and replace the reason ("too large") by "unknown image type".
     stbi__context context;
-    stbi__start_mem(&context, data, length);
-    int known = format == ImageFileFormat::Png    ? stbi__png_info(&context, &w, &h, &n)
-                : format == ImageFileFormat::Jpeg ? stbi__jpeg_info(&context, &w, &h, &n)
-                                                  : stbi__hdr_info(&context, &w, &h, &n);
-    if (!known) stbFailed(label, what);
-    checkSize(w, h, label, maxPixels);
+    stbi__start_mem(&context, reinterpret_cast<const stbi_uc*>(bytes.data()), int(bytes.size()));
+    int* w = &header.width;
+    int* h = &header.height;
+    int* n = &header.channels;
+    int known = format == ImageFileFormat::Png    ? stbi__png_info(&context, w, h, n)
+                : format == ImageFileFormat::Jpeg ? stbi__jpeg_info(&context, w, h, n)
+                                                  : stbi__hdr_info(&context, w, h, n);
+    if (!known) stbFailed(label, formatName(format));
+    checkSize(header.width, header.height, label, maxPixels);
+    return header;
+}
+
+// The stb format of `bytes` by its magic number, if any.
+std::optional<ImageFileFormat> stbFormat(const std::string& bytes) {
+    if (startsWith(bytes, "\x89PNG\r\n\x1a\n", 8)) return ImageFileFormat::Png;
+    if (startsWith(bytes, "\xff\xd8\xff", 3)) return ImageFileFormat::Jpeg;
+    if (startsWith(bytes, "#?RADIANCE", 10) || startsWith(bytes, "#?RGBE", 6)) return ImageFileFormat::Hdr;
+    return std::nullopt;
+}
+
+[[noreturn]] void unsupportedFormat(const std::string& bytes, const std::string& label) {
+    if (startsWith(bytes, kExrMagic, 4))
+        throwInputError(label, "", "OpenEXR images are read from files only, not from memory");
+    throwInputError(label, "", "unsupported image format (PNG, JPEG, Radiance HDR and OpenEXR are read)");
+}
+
+ImageFile decodeStb(const std::string& bytes, const std::string& label, ImageFileFormat format, ColorDecode decode,
+                    uint64_t maxPixels, const AcceptImageSize& accept) {
+    const char* what = formatName(format);
+    const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
+    const StbHeader header = readStbHeader(bytes, label, format, maxPixels);
+    if (accept) accept(uint32_t(header.width), uint32_t(header.height));
+    const int length = int(bytes.size());
+    int w = header.width, h = header.height, n = header.channels;
 
     ImageFile image;
     image.width = uint32_t(w);
@@ -161,11 +209,14 @@ ImageFile decodeStb(const std::string& bytes, const std::string& label, ImageFil
     return image;
 }
 
-ImageFile decodeExrFile(const std::string& bytes, const std::string& label, uint64_t maxPixels) {
+ImageFile decodeExrFile(const std::string& bytes, const std::string& label, uint64_t maxPixels,
+                        const AcceptImageSize& accept) {
     ImageFile image;
     // Decoded straight into RGBA, its size refused from the header as for the other formats.
-    const Image exr =
-        decodeExrRgba(bytes, label, image.rgba, [&](uint32_t w, uint32_t h) { checkSize(w, h, label, maxPixels); });
+    const Image exr = decodeExrRgba(bytes, label, image.rgba, [&](uint32_t w, uint32_t h) {
+        checkSize(w, h, label, maxPixels);
+        if (accept) accept(w, h);
+    });
     image.width = exr.width;
     image.height = exr.height;
     image.format = ImageFileFormat::Exr;
@@ -186,32 +237,34 @@ float srgbToLinear(float encoded) {
     return float(x <= 0.04045 ? x / 12.92 : std::pow((x + 0.055) / 1.055, 2.4));
 }
 
-ImageFile decodeImage(const std::string& bytes, const std::string& label, ColorDecode decode, uint64_t maxPixels) {
+ImageFile decodeImage(const std::string& bytes, const std::string& label, ColorDecode decode, uint64_t maxPixels,
+                      const AcceptImageSize& accept) {
+    const std::optional<ImageFileFormat> format = stbFormat(bytes);
+    if (!format) unsupportedFormat(bytes, label);
     try {
-        if (startsWith(bytes, "\x89PNG\r\n\x1a\n", 8))
-            return decodeStb(bytes, label, ImageFileFormat::Png, decode, maxPixels);
-        if (startsWith(bytes, "\xff\xd8\xff", 3))
-            return decodeStb(bytes, label, ImageFileFormat::Jpeg, decode, maxPixels);
-        if (startsWith(bytes, "#?RADIANCE", 10) || startsWith(bytes, "#?RGBE", 6))
-            return decodeStb(bytes, label, ImageFileFormat::Hdr, decode, maxPixels);
+        return decodeStb(bytes, label, *format, decode, maxPixels, accept);
     } catch (const std::bad_alloc&) {
         throwInputError(label, "", "image too large to load");
     }
-    if (startsWith(bytes, kExrMagic, 4))
-        throwInputError(label, "", "OpenEXR images are read from files only, not from memory");
-    throwInputError(label, "", "unsupported image format (PNG, JPEG, Radiance HDR and OpenEXR are read)");
+}
+
+std::pair<uint32_t, uint32_t> imageSize(const std::string& bytes, const std::string& label) {
+    const std::optional<ImageFileFormat> format = stbFormat(bytes);
+    if (!format) unsupportedFormat(bytes, label);
+    const StbHeader header = readStbHeader(bytes, label, *format, kMaxImagePixels);
+    return {uint32_t(header.width), uint32_t(header.height)};
 }
 
 ImageFile readImageFile(const std::filesystem::path& path, const std::string& label, ColorDecode decode,
-                        uint64_t maxPixels) {
+                        uint64_t maxPixels, const AcceptImageSize& accept) {
     // These two refusals keep the words image files have always had; every other failure
     // to read is readInputFile's, as for any input file.
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) throwInputError(label, "", "no such file");
     if (std::filesystem::is_directory(path, ec)) throwInputError(label, "", "is a directory, not an image");
     const std::string bytes = readInputFile(path, label, kMaxImageFileBytes);
-    if (startsWith(bytes, kExrMagic, 4)) return decodeExrFile(bytes, label, maxPixels);
-    return decodeImage(bytes, label, decode, maxPixels);
+    if (startsWith(bytes, kExrMagic, 4)) return decodeExrFile(bytes, label, maxPixels, accept);
+    return decodeImage(bytes, label, decode, maxPixels, accept);
 }
 
 }  // namespace penumbra

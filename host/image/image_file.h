@@ -6,7 +6,9 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace penumbra {
@@ -38,19 +40,28 @@ struct ImageFile {
     const float* texel(uint32_t x, uint32_t y) const { return &rgba[(size_t(y) * width + x) * 4]; }
 };
 
+// Called with an image's size as its header gives it, after the limits above and before
+// any pixel is decoded, so that a caller with limits of its own (the texels of all of a
+// scene's textures) refuses the image by throwing before it costs memory or time.
+using AcceptImageSize = std::function<void(uint32_t width, uint32_t height)>;
+
 // Throws InputError("<label>: <why>") for a missing or unreadable file, an unsupported
 // format, corrupt data, or dimensions beyond the limits above; `maxPixels` (at most
 // kMaxImagePixels) lowers the pixel limit for a caller with a smaller one (checked from the
 // header, before any pixel is decoded).
 ImageFile readImageFile(const std::filesystem::path& path, const std::string& label, ColorDecode decode,
-                        uint64_t maxPixels = kMaxImagePixels);
+                        uint64_t maxPixels = kMaxImagePixels, const AcceptImageSize& accept = {});
 inline ImageFile readImageFile(const std::filesystem::path& path, ColorDecode decode) {
     return readImageFile(path, path.string(), decode);
 }
 
 // The same for an image held in memory (e.g. embedded in a glTF model): PNG, JPEG and HDR.
 ImageFile decodeImage(const std::string& bytes, const std::string& label, ColorDecode decode,
-                      uint64_t maxPixels = kMaxImagePixels);
+                      uint64_t maxPixels = kMaxImagePixels, const AcceptImageSize& accept = {});
+
+// The width and height of a PNG, JPEG or HDR image in memory, from its header alone (no
+// pixel decoded), after the limits above; InputError as decodeImage for anything else.
+std::pair<uint32_t, uint32_t> imageSize(const std::string& bytes, const std::string& label);
 
 // The sRGB decoding curve for one value in [0, 1] (IEC 61966-2-1), the inverse of
 // linearToSrgb8's encoding.

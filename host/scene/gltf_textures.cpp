@@ -1,6 +1,6 @@
 // glTF material textures: image bytes from URIs (kept by the image callback) or buffer
-// views (bounds-checked here), decoded once per (image, decoding), and the sampler's wrap
-// modes (see gltf_textures.h).
+// views (bounds-checked here), their sizes checked against the limits from the headers,
+// decoded once per (bytes, decoding), and the sampler's wrap modes (see gltf_textures.h).
 #include "scene/gltf_textures.h"
 
 #include <algorithm>
@@ -89,15 +89,46 @@ uint32_t GltfTextureReader::texture(const tinygltf::TextureInfo& info, const std
         std::string samplerPath = at("samplers", size_t(tex.sampler));
         wrap = {wrapMode(s.wrapS, samplerPath + ".wrapS"), wrapMode(s.wrapT, samplerPath + ".wrapT")};
     }
-    auto found = m_decoded.find({tex.source, srgb});
-    if (found != m_decoded.end()) return found->second;
     std::string imagePath = at("images", size_t(tex.source));
-    ImageFile image = decodeImage(imageBytes(tex.source, imagePath), m_label + ": " + imagePath,
-                                  srgb ? ColorDecode::Srgb : ColorDecode::Linear);
+    std::pair<std::string, bool> key{imageBytes(tex.source, imagePath), srgb};
+    auto found = m_decoded.find(key);
+    if (found != m_decoded.end()) return found->second;
+    ImageFile image =
+        decodeImage(key.first, m_label + ": " + imagePath, srgb ? ColorDecode::Srgb : ColorDecode::Linear);
     uint32_t index = uint32_t(m_textures.size());
     m_textures.push_back(makeTexture(m_label + "#" + imagePath, srgb, image.width, image.height, image.rgba.data()));
-    m_decoded[{tex.source, srgb}] = index;
+    m_decoded[std::move(key)] = index;
     return index;
+}
+
+void GltfTextureReader::checkLimits() {
+    std::map<std::pair<std::string, bool>, uint64_t> used;  // (bytes, sRGB) -> texels
+    uint64_t texels = 0;
+    auto count = [&](const tinygltf::TextureInfo& info, bool srgb) {
+        // A reference that does not resolve is reported by texture(), at the material's path.
+        if (info.index < 0 || size_t(info.index) >= m_model.textures.size()) return;
+        const int source = m_model.textures[size_t(info.index)].source;
+        if (source < 0 || size_t(source) >= m_model.images.size()) return;
+        std::string imagePath = at("images", size_t(source));
+        std::pair<std::string, bool> key{imageBytes(source, imagePath), srgb};
+        if (used.count(key)) return;
+        auto [width, height] = imageSize(key.first, m_label + ": " + imagePath);
+        texels += uint64_t(width) * height;
+        used.emplace(std::move(key), uint64_t(width) * height);
+        if (used.size() > kMaxTextures)
+            throwInputError(m_label, imagePath,
+                            "more than " + std::to_string(kMaxTextures) +
+                                " distinct textures in the model (README: texture limits)");
+        if (texels > kMaxTextureTexels)
+            throwInputError(m_label, imagePath,
+                            "the model's textures exceed " + std::to_string(kMaxTextureTexels) +
+                                " texels in all (README: texture limits)");
+    };
+    // The textures metallicRoughness() reads, with the same decodings.
+    for (const tinygltf::Material& material : m_model.materials) {
+        count(material.pbrMetallicRoughness.baseColorTexture, true);
+        count(material.pbrMetallicRoughness.metallicRoughnessTexture, false);
+    }
 }
 
 std::optional<MaterialTexture> GltfTextureReader::baseColor(const tinygltf::Material& material,

@@ -40,6 +40,11 @@ public:
                       std::vector<Texture>& textures, std::vector<std::string>& notes)
         : m_model(model), m_label(std::move(label)), m_bytes(bytes), m_textures(textures), m_notes(notes) {}
 
+    // Refuses the model, naming the first image past a limit, when the images its materials
+    // use (each distinct (bytes, decoding) once) would exceed the scene's texture limits
+    // (material_textures.h), by their sizes from their headers: before any is decoded.
+    void checkLimits();
+
     // The base colour texture alone (decoded only when present): what a diffuse material uses.
     std::optional<MaterialTexture> baseColor(const tinygltf::Material& material, const std::string& path);
     // All three fields, for a material that has them all (metallic-roughness).
@@ -59,7 +64,9 @@ private:
     const GltfImageBytes& m_bytes;
     std::vector<Texture>& m_textures;
     std::vector<std::string>& m_notes;
-    std::map<std::pair<int, bool>, uint32_t> m_decoded;  // (image, sRGB) -> texture
+    // (image bytes, sRGB) -> texture: images that hold the same bytes (one file named by
+    // several images) are decoded once.
+    std::map<std::pair<std::string, bool>, uint32_t> m_decoded;
     std::vector<std::string> m_noted;
 };
 

@@ -254,6 +254,7 @@ Material Importer::metallicRoughnessMaterial(const tinygltf::Material& mat, cons
 }
 
 void Importer::loadMaterials() {
+    m_textures.checkLimits();  // from the image headers, before any image is decoded
     for (size_t i = 0; i < m_model.materials.size(); ++i) {
         const tinygltf::Material& mat = m_model.materials[i];
         std::string path = at("materials", i);
@@ -265,9 +266,12 @@ void Importer::loadMaterials() {
         auto ext = mat.extensions.find("KHR_materials_emissive_strength");
         if (ext != mat.extensions.end() && ext->second.Has("emissiveStrength")) {
             const tinygltf::Value& strength = ext->second.Get("emissiveStrength");
-            if (!strength.IsNumber())
-                fail(path + ".extensions.KHR_materials_emissive_strength.emissiveStrength", "expected a number");
-            emission *= strength.GetNumberAsDouble();
+            const std::string strengthPath = path + ".extensions.KHR_materials_emissive_strength.emissiveStrength";
+            if (!strength.IsNumber()) fail(strengthPath, "expected a number");
+            // Refused at its own path: folded into the emission, it was reported as emissiveFactor.
+            const double value = strength.GetNumberAsDouble();
+            if (!(value >= 0.0 && std::isfinite(value))) fail(strengthPath, "negative or non-finite strength");
+            emission *= value;
         }
         auto bad = [](glm::dvec3 c) {
             return !(c.x >= 0 && c.y >= 0 && c.z >= 0) || !std::isfinite(c.x + c.y + c.z) ||

@@ -376,7 +376,8 @@ private:
                 std::string key = t.file;
                 bool srgb = t.srgb;
                 textureIndex.push_back(m_textures.table().add(
-                    key, srgb, [&] { return std::move(t); }, [&](const std::string& why) { fileField.fail(why); }));
+                    key, srgb, [&](const AcceptImageSize&) { return std::move(t); },
+                    [&](const std::string& why) { fileField.fail(why); }));
             }
             for (Material& m : model.materials)
                 for (MaterialTexture& mt : m.textures) mt.texture = textureIndex[mt.texture];

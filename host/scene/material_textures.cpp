@@ -27,18 +27,21 @@ Texture makeTexture(std::string file, bool srgb, uint32_t width, uint32_t height
     return t;
 }
 
-uint32_t TextureTable::add(const std::string& key, bool srgb, const std::function<Texture()>& load,
+uint32_t TextureTable::add(const std::string& key, bool srgb,
+                           const std::function<Texture(const AcceptImageSize&)>& load,
                            const std::function<void(const std::string&)>& fail) {
     auto found = m_index.find({key, srgb});
     if (found != m_index.end()) return found->second;
     if (m_textures.size() >= kMaxTextures)
         fail("more than " + std::to_string(kMaxTextures) + " distinct textures in the scene (README: texture limits)");
-    Texture texture = load();
-    uint64_t texels = uint64_t(texture.width) * texture.height;
-    if (m_texels + texels > kMaxTextureTexels)
-        fail("the scene's textures exceed " + std::to_string(kMaxTextureTexels) +
-             " texels in all (README: texture limits)");
-    m_texels += texels;
+    auto withinLimits = [&](uint32_t width, uint32_t height) {
+        if (m_texels + uint64_t(width) * height > kMaxTextureTexels)
+            fail("the scene's textures exceed " + std::to_string(kMaxTextureTexels) +
+                 " texels in all (README: texture limits)");
+    };
+    Texture texture = load(withinLimits);
+    withinLimits(texture.width, texture.height);
+    m_texels += uint64_t(texture.width) * texture.height;
     uint32_t index = uint32_t(m_textures.size());
     m_textures.push_back(std::move(texture));
     m_index[{key, srgb}] = index;
@@ -50,11 +53,19 @@ uint32_t MaterialTextureReader::loadFile(const JsonReader& fileField, bool srgb)
     std::error_code ec;
     fs::path resolved = fs::weakly_canonical(file, ec);
     std::string key = ec ? file.string() : resolved.string();
-    auto load = [&] {
+    auto load = [&](const AcceptImageSize& withinLimits) {
+        bool overLimits = false;  // the table's refusal, already worded: passed on as it is
+        auto accept = [&](uint32_t width, uint32_t height) {
+            overLimits = true;
+            withinLimits(width, height);
+            overLimits = false;
+        };
         try {
-            ImageFile image = readImageFile(file, file.string(), srgb ? ColorDecode::Srgb : ColorDecode::Linear);
+            ImageFile image = readImageFile(file, file.string(), srgb ? ColorDecode::Srgb : ColorDecode::Linear,
+                                            kMaxImagePixels, accept);
             return makeTexture(file.string(), srgb, image.width, image.height, image.rgba.data());
         } catch (const InputError& e) {
+            if (overLimits) throw;
             fileField.fail(e.what());  // "scene.json: materials.m.albedo.texture: FILE: why"
         }
     };

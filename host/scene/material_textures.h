@@ -11,6 +11,7 @@
 #include <string>
 #include <utility>
 
+#include "image/image_file.h"
 #include "scene/json_reader.h"
 #include "scene/scene.h"
 
@@ -33,7 +34,10 @@ public:
 
     // The index of the texture known by `key` (a resolved file name, or "model.glb#images[2]")
     // and decoding, calling `load` only the first time; fail(why) when a limit is passed.
-    uint32_t add(const std::string& key, bool srgb, const std::function<Texture()>& load,
+    // `load` is given the check of the limits, to call with the image's size from its header
+    // before it decodes any pixel (readImageFile's AcceptImageSize); its result is checked
+    // again, for a load that had no header to read.
+    uint32_t add(const std::string& key, bool srgb, const std::function<Texture(const AcceptImageSize&)>& load,
                  const std::function<void(const std::string&)>& fail);
 
 private:

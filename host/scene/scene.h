@@ -73,6 +73,8 @@ struct PbrFactors {
     glm::vec3 baseColor{0.8f};
     float metallic = 0.0f;
     float roughness = 0.5f;
+
+    bool operator==(const PbrFactors&) const = default;
 };
 
 // Which value of a material a texture replaces: the GPU Material's slots (TEXTURE_SLOT_*
@@ -92,6 +94,8 @@ struct MaterialTexture {
     uint32_t channel = 0;   // number fields: which channel (0 = R ... 3 = A)
     // Wrapping along u and v (glTF samplers; a JSON texture repeats, SCENE_FORMAT.md).
     TextureWrap wrapU = TextureWrap::Repeat, wrapV = TextureWrap::Repeat;
+
+    bool operator==(const MaterialTexture&) const = default;
 };
 
 struct Material {
@@ -102,6 +106,8 @@ struct Material {
     float exponent = 20.0f;                 // phong
     PbrFactors pbr;                         // pbr
     std::vector<MaterialTexture> textures;  // fields given as textures, each slot at most once
+
+    bool operator==(const Material&) const = default;
 };
 
 // A decoded texture image: linear RGBA, already rounded to the half floats the GPU holds
@@ -111,6 +117,8 @@ struct Texture {
     bool srgb = false;  // 8/16-bit data was sRGB-decoded (colour fields)
     uint32_t width = 0, height = 0;
     std::vector<uint16_t> texels;  // width * height * 4 half floats (RGBA), row-major
+
+    bool operator==(const Texture&) const = default;
 };
 
 enum class ShapeType { Sphere, Quad, Mesh };
@@ -134,6 +142,8 @@ struct Shape {
     std::vector<glm::vec2> uvs;  // per vertex or empty (then uv 0 everywhere)
 
     bool isEmitter() const { return emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f; }
+
+    bool operator==(const Shape&) const = default;
 };
 
 enum class LightType { Point, Directional, Environment, Spot };
@@ -143,6 +153,8 @@ enum class LightType { Point, Directional, Environment, Spot };
 struct EnvironmentImage {
     uint32_t width = 0, height = 0;
     std::vector<glm::vec3> texels;  // width * height, row by row
+
+    bool operator==(const EnvironmentImage&) const = default;
 };
 
 // Lights without geometry. Area lights are Shapes with emission.
@@ -158,6 +170,13 @@ struct Light {
     // radiance; finite and non-negative), shared so that copies of the scene do not copy
     // it; null for a constant sky.
     std::shared_ptr<const EnvironmentImage> map;
+
+    // Equal maps by content: a scene loaded again holds its own copy of the same map.
+    bool operator==(const Light& other) const {
+        const bool sameMap = map == other.map || (map && other.map && *map == *other.map);
+        return type == other.type && position == other.position && direction == other.direction &&
+               intensity == other.intensity && cosInner == other.cosInner && cosOuter == other.cosOuter && sameMap;
+    }
 };
 
 // Integral over the sphere of a spot light's falloff s^2 (SCENE_FORMAT.md `spot`): the full
@@ -182,5 +201,17 @@ struct Scene {
     // is lit by a white environment instead.
     std::vector<std::string> notes;
 };
+
+// True when a renderer that uploaded `uploaded` can render `next` by changing only its
+// render parameters (Renderer::retarget): what the GPU holds, the film, the geometry,
+// materials, lights (their tables depend on integrator.light_selection) and textures, is
+// equal in content. By content, not by file name: a scene file edited during a batch is
+// uploaded anew (reusing by path rendered the old content).
+inline bool sharesUpload(const Scene& uploaded, const Scene& next) {
+    return uploaded.film.width == next.film.width && uploaded.film.height == next.film.height &&
+           uploaded.integrator.lightSelection == next.integrator.lightSelection &&
+           uploaded.materials == next.materials && uploaded.shapes == next.shapes && uploaded.lights == next.lights &&
+           uploaded.textures == next.textures;
+}
 
 }  // namespace penumbra

@@ -53,6 +53,9 @@ public:
     size_t uploads() const { return m_uploads; }
     size_t uploadsReused() const { return m_uploadsReused; }
 
+    // The scene the renderer holds, if any (none before prepare() and after a failure).
+    const Scene* uploadedScene() const { return m_renderer ? &m_renderer->scene() : nullptr; }
+
     // The context; open() first.
     const gpu::Context& context() const { return *m_context; }
 
