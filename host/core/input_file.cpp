@@ -76,8 +76,10 @@ bool allowAnyPath() { return g_allowAnyPath; }
 
 bool isInsideFolder(const fs::path& file, const fs::path& folder) {
     std::error_code ec1, ec2;
-    fs::path f = fs::weakly_canonical(file, ec1);
-    fs::path d = fs::weakly_canonical(folder.empty() ? fs::path(".") : folder, ec2);
+    // Absolute first: weakly_canonical leaves a relative path relative when none of it
+    // exists yet (an output "a.exr" beside a job file named "jobs.json").
+    fs::path f = fs::weakly_canonical(fs::absolute(file, ec1), ec1);
+    fs::path d = fs::weakly_canonical(fs::absolute(folder.empty() ? fs::path(".") : folder, ec2), ec2);
     if (ec1 || ec2) return false;
     // Component-wise prefix: /a/bc is not inside /a/b.
     auto fi = f.begin();
