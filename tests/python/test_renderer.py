@@ -87,11 +87,16 @@ def test_failed_render_keeps_the_renderer_usable(renderer):
 def test_render_releases_the_gil(cornell):
     """Another Python thread runs while a render is under way."""
     r = penumbra.Renderer(cornell, width=64, height=64)
-    # A render of about half a second on this machine, whatever its speed: the spp from
-    # the time of a short one (compiled and timed before the clock starts).
-    probe = time.monotonic()
-    r.render(spp=16)
-    spp = 16 * max(1, math.ceil(0.5 / max(time.monotonic() - probe, 1e-3)))
+    # A render of at least a third of a second on this machine, whatever its speed: spp
+    # doubled until an untimed render lasts that long (a short render's time is mostly
+    # fixed costs, so no single probe predicts it).
+    spp = 16
+    while spp < 1 << 20:
+        probe = time.monotonic()
+        r.render(spp=spp)
+        if time.monotonic() - probe > 0.35:
+            break
+        spp *= 2
     ticks = 0
     done = threading.Event()
 
