@@ -32,7 +32,9 @@ public:
         if (const char* old = std::getenv("PENUMBRA_KERNEL_CACHE")) m_old = old;
         setenv("PENUMBRA_KERNEL_CACHE", folder.c_str(), 1);
     }
-    ~ScopedKernelCache() { m_old ? setenv("PENUMBRA_KERNEL_CACHE", m_old->c_str(), 1) : unsetenv("PENUMBRA_KERNEL_CACHE"); }
+    ~ScopedKernelCache() {
+        m_old ? setenv("PENUMBRA_KERNEL_CACHE", m_old->c_str(), 1) : unsetenv("PENUMBRA_KERNEL_CACHE");
+    }
 
 private:
     std::optional<std::string> m_old;
@@ -67,9 +69,7 @@ std::vector<fs::path> binaryFiles(const fs::path& folder) {
 
 bool shaderObjectsHere() { return test::gpuContext().shaderObjects() != nullptr; }
 
-bool sameImage(const Image& a, const Image& b) {
-    return a.width == b.width && a.height == b.height && a.rgb == b.rgb;
-}
+bool sameImage(const Image& a, const Image& b) { return a.width == b.width && a.height == b.height && a.rgb == b.rgb; }
 
 }  // namespace
 
@@ -125,7 +125,10 @@ TEST(ShaderObjects, PipelineCompiledAndFromDiskKernelsRenderTheSameImage) {
     // MIS over a quad light with a sphere: most of the direct kernel's code runs. Options
     // away from the kernel's defaults, so that a kernel that lost its constants would differ.
     nlohmann::json doc = test::litFloorOnOddFilmScene(4, 7);
-    doc["integrator"] = {{"type", "direct"}, {"strategy", "mis"}, {"heuristic", "balance"}, {"light_samples", 2},
+    doc["integrator"] = {{"type", "direct"},
+                         {"strategy", "mis"},
+                         {"heuristic", "balance"},
+                         {"light_samples", 2},
                          {"quad_sampling", "area"}};
     doc["shapes"].push_back({{"type", "sphere"}, {"center", {0.5, 0.4, 0}}, {"radius", 0.4}});
     const Scene scene = test::sceneFromJson(doc, "shader_objects_same_image");
@@ -140,7 +143,7 @@ TEST(ShaderObjects, PipelineCompiledAndFromDiskKernelsRenderTheSameImage) {
     asPipeline.renderAll();
     const Image reference = asPipeline.readback(0.0);
     ASSERT_GT(*std::max_element(reference.rgb.begin(), reference.rgb.end()), 0.0f);  // not black
-    EXPECT_TRUE(binaryFiles(folder).empty());  // pipelines store nothing
+    EXPECT_TRUE(binaryFiles(folder).empty());                                        // pipelines store nothing
 
     const Image compiled = test::renderScene(scene);
     EXPECT_FALSE(binaryFiles(folder).empty());

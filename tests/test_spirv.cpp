@@ -11,9 +11,9 @@
 
 #include "gpu/shaders.h"
 #include "gpu/spirv_specialization.h"
+#include "gpu_fixture.h"
 #include "render/kernel_options.h"
 #include "render/node_reads.h"
-#include "gpu_fixture.h"
 
 using namespace penumbra;
 
@@ -47,8 +47,8 @@ size_t specConstants(const std::vector<uint32_t>& code) {
 
 bool validates(const std::vector<uint32_t>& code, const std::string& name) {
     std::string file = test::outputPath("spirv-specialized-" + name + ".spv");
-    std::ofstream(file, std::ios::binary).write(reinterpret_cast<const char*>(code.data()),
-                                                std::streamsize(code.size() * sizeof(uint32_t)));
+    std::ofstream(file, std::ios::binary)
+        .write(reinterpret_cast<const char*>(code.data()), std::streamsize(code.size() * sizeof(uint32_t)));
     std::string cmd = "spirv-val --target-env vulkan1.1 '" + file + "' 2>&1";
     return std::system(cmd.c_str()) == 0;
 }

@@ -8,8 +8,8 @@
 #include <optional>
 
 #include "core/errors.h"
-#include "image/output_format.h"
 #include "core/input_file.h"
+#include "image/output_format.h"
 #include "scene/json_reader.h"
 
 namespace penumbra {

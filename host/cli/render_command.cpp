@@ -102,8 +102,8 @@ int renderCommand(const RenderOptions& options) {
         // Both times named: the rate is over the rendering alone, "in all" is the whole command.
         const double all = std::chrono::duration<double>(std::chrono::steady_clock::now() - commandStart).count();
         std::fprintf(stderr, "penumbra: %u spp in %.2f s of rendering (%.2f M samples/s); %.2f s in all\n",
-                     scene.sampler.spp, seconds, seconds > 0 ? double(pixels) * scene.sampler.spp / seconds * 1e-6 : 0.0,
-                     all);
+                     scene.sampler.spp, seconds,
+                     seconds > 0 ? double(pixels) * scene.sampler.spp / seconds * 1e-6 : 0.0, all);
     }
     return 0;
 }

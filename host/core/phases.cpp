@@ -9,9 +9,7 @@
 namespace penumbra {
 namespace {
 
-double now() {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
+double now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 
 // VmRSS and VmHWM of /proc/self/status, in MiB (0 where they cannot be read).
 void residentMemory(double* rss, double* peak) {

@@ -112,12 +112,14 @@ DeviceInfo describe(VkPhysicalDevice device, uint32_t index) {
         info.bufferDeviceAddress = address.bufferDeviceAddress == VK_TRUE;
     }
     if (props.apiVersion >= VK_API_VERSION_1_3 && hasDeviceExtension(device, VK_EXT_SHADER_OBJECT_EXTENSION_NAME)) {
-        VkPhysicalDeviceShaderObjectFeaturesEXT shaderObject{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_OBJECT_FEATURES_EXT};
+        VkPhysicalDeviceShaderObjectFeaturesEXT shaderObject{
+            VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_OBJECT_FEATURES_EXT};
         VkPhysicalDeviceFeatures2 features2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
         features2.pNext = &shaderObject;
         vkGetPhysicalDeviceFeatures2(device, &features2);
         info.shaderObject = shaderObject.shaderObject == VK_TRUE;
-        VkPhysicalDeviceShaderObjectPropertiesEXT binary{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_OBJECT_PROPERTIES_EXT};
+        VkPhysicalDeviceShaderObjectPropertiesEXT binary{
+            VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_OBJECT_PROPERTIES_EXT};
         VkPhysicalDeviceProperties2 props2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
         props2.pNext = &binary;
         vkGetPhysicalDeviceProperties2(device, &props2);

@@ -50,8 +50,7 @@ VkShaderCreateInfoEXT computeShaderInfo(VkDescriptorSetLayout* setLayout, VkPush
 
 VkShaderEXT createComputeShaderObject(const Context& context, std::span<const uint32_t> spirv,
                                       const std::vector<uint32_t>& specialization, VkDescriptorSetLayout setLayout,
-                                      uint32_t pushConstantBytes, const std::string& what,
-                                      ShaderObjectSource* source) {
+                                      uint32_t pushConstantBytes, const std::string& what, ShaderObjectSource* source) {
     const ShaderObjectFunctions* f = context.shaderObjects();
     if (!f) throw GpuError("shader objects are not enabled on this device" + what);
     VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, pushConstantBytes};
