@@ -1,11 +1,26 @@
 // Shared test helpers (see gpu_fixture.h).
 #include "gpu_fixture.h"
 
+#include "gpu/buffer.h"
+#include "gpu/kernel.h"
+
 namespace penumbra::test {
 
 gpu::Context& gpuContext() {
     static gpu::Context context;
     return context;
+}
+
+bool smokeKernelComputes(gpu::Kernel& kernel, uint32_t add) {
+    const uint32_t count = 100;
+    gpu::Buffer out(gpuContext(), count * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    kernel.bind(0, out);
+    const uint32_t push[2] = {add, count};
+    kernel.run(2, 1, 1, push);
+    const auto values = out.read<uint32_t>();
+    for (uint32_t i = 0; i < count; ++i)
+        if (values[i] != 2 * i + add) return false;
+    return true;
 }
 
 std::filesystem::path outputPath(const std::string& name) {

@@ -27,6 +27,17 @@ inline gpu::DeviceInfo deviceWithDriver(const std::string& driverName, const std
     return info;
 }
 
+}  // namespace penumbra::test
+namespace penumbra::gpu {
+class Kernel;
+}  // namespace penumbra::gpu
+namespace penumbra::test {
+
+// Runs the tests/smoke kernel (out[i] = 2 i + add over 100 values, binding 0, push {add,
+// count}) and checks every value: a pipeline or shader object shared, dropped or loaded
+// from disk still computes.
+bool smokeKernelComputes(gpu::Kernel& kernel, uint32_t add);
+
 // `path` in single quotes for a shell command line (test paths hold no quotes).
 std::string shellQuoted(const std::filesystem::path& path);
 

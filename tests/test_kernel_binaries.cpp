@@ -2,6 +2,8 @@
 // found only under the exact key it was stored with, a damaged or foreign file is never
 // handed out, the folder stays bounded, and a folder that cannot be used costs nothing but
 // the compilation.
+#include <sys/stat.h>
+
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -113,4 +115,16 @@ TEST(KernelBinaries, TheFolderComesFromTheEnvironment) {
     ScopedEnv xdg("XDG_CACHE_HOME", nullptr);
     ScopedEnv home("HOME", "/home/someone");
     EXPECT_EQ(gpu::KernelBinaries::folderFromEnvironment(), fs::path("/home/someone/.cache/penumbra/kernels"));
+}
+
+TEST(KernelBinaries, ASpecialOrHugeFileInItsPlaceIsNotRead) {
+    // A FIFO named like a binary would block the open for ever; an oversized file would be
+    // read whole. Neither is read (a mutation that opens the FIFO hangs here).
+    const fs::path folder = test::freshOutputDir("kernel_binaries", "special");
+    gpu::KernelBinaries binaries(folder);
+    ASSERT_EQ(mkfifo(binaries.fileFor("fifo kernel").c_str(), 0600), 0);
+    EXPECT_FALSE(binaries.load("fifo kernel").has_value());
+    binaries.store("huge kernel", kBytes);
+    fs::resize_file(binaries.fileFor("huge kernel"), gpu::KernelBinaries::kMaxFileBytes + 1);  // sparse
+    EXPECT_FALSE(binaries.load("huge kernel").has_value());
 }

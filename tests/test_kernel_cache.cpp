@@ -22,19 +22,6 @@ std::unique_ptr<gpu::Kernel> request(gpu::KernelCache& cache, uint32_t variant) 
     return cache.kernel("tests/smoke", kSmokeBindings, 8, {variant});
 }
 
-// The kernel still computes out[i] = 2 i + add: a shared or dropped pipeline stays usable.
-bool kernelWorks(gpu::Kernel& kernel) {
-    const uint32_t count = 100;
-    gpu::Buffer out(test::gpuContext(), count * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-    kernel.bind(0, out);
-    const uint32_t push[2] = {3, count};
-    kernel.run(2, 1, 1, push);
-    const auto values = out.read<uint32_t>();
-    for (uint32_t i = 0; i < count; ++i)
-        if (values[i] != 2 * i + 3) return false;
-    return true;
-}
-
 }  // namespace
 
 TEST(KernelCache, EqualRequestsShareOnePipeline) {
@@ -44,7 +31,7 @@ TEST(KernelCache, EqualRequestsShareOnePipeline) {
     EXPECT_EQ(cache.pipelinesReused(), 1u);
     EXPECT_EQ(&a->pipeline(), &b->pipeline());
     EXPECT_NE(&a->pipeline(), &c->pipeline());
-    EXPECT_TRUE(kernelWorks(*b));
+    EXPECT_TRUE(test::smokeKernelComputes(*b, 3));
 }
 
 TEST(KernelCache, HoldsAtMostItsLimitDroppingTheLeastRecentlyRequested) {
@@ -68,5 +55,5 @@ TEST(KernelCache, HoldsAtMostItsLimitDroppingTheLeastRecentlyRequested) {
     // A kernel outlives its pipeline's place in the cache: 0 was dropped by the request for 1.
     for (uint32_t v = 10; v < 10 + limit; ++v) request(cache, v);
     EXPECT_EQ(cache.pipelinesHeld(), limit);
-    EXPECT_TRUE(kernelWorks(*first));
+    EXPECT_TRUE(test::smokeKernelComputes(*first, 3));
 }

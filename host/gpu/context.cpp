@@ -103,21 +103,26 @@ DeviceInfo describe(VkPhysicalDevice device, uint32_t index) {
     VkPhysicalDeviceFeatures features;
     vkGetPhysicalDeviceFeatures(device, &features);
     info.shaderInt64 = features.shaderInt64 == VK_TRUE;
-    if (hasDeviceExtension(device, VK_KHR_BUFFER_DEVICE_ADDRESS_EXTENSION_NAME)) {
-        VkPhysicalDeviceBufferDeviceAddressFeaturesKHR address{
-            VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_BUFFER_DEVICE_ADDRESS_FEATURES_KHR};
-        VkPhysicalDeviceFeatures2 features2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+    // One query of the optional features, each struct chained only where its extension is.
+    VkPhysicalDeviceBufferDeviceAddressFeaturesKHR address{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_BUFFER_DEVICE_ADDRESS_FEATURES_KHR};
+    VkPhysicalDeviceShaderObjectFeaturesEXT shaderObject{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_OBJECT_FEATURES_EXT};
+    VkPhysicalDeviceFeatures2 features2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+    const bool hasAddress = hasDeviceExtension(device, VK_KHR_BUFFER_DEVICE_ADDRESS_EXTENSION_NAME);
+    const bool hasShaderObject =
+        props.apiVersion >= VK_API_VERSION_1_3 && hasDeviceExtension(device, VK_EXT_SHADER_OBJECT_EXTENSION_NAME);
+    if (hasAddress) {
+        address.pNext = features2.pNext;
         features2.pNext = &address;
-        vkGetPhysicalDeviceFeatures2(device, &features2);
-        info.bufferDeviceAddress = address.bufferDeviceAddress == VK_TRUE;
     }
-    if (props.apiVersion >= VK_API_VERSION_1_3 && hasDeviceExtension(device, VK_EXT_SHADER_OBJECT_EXTENSION_NAME)) {
-        VkPhysicalDeviceShaderObjectFeaturesEXT shaderObject{
-            VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_OBJECT_FEATURES_EXT};
-        VkPhysicalDeviceFeatures2 features2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+    if (hasShaderObject) {
+        shaderObject.pNext = features2.pNext;
         features2.pNext = &shaderObject;
-        vkGetPhysicalDeviceFeatures2(device, &features2);
-        info.shaderObject = shaderObject.shaderObject == VK_TRUE;
+    }
+    if (features2.pNext) vkGetPhysicalDeviceFeatures2(device, &features2);
+    info.bufferDeviceAddress = hasAddress && address.bufferDeviceAddress == VK_TRUE;
+    info.shaderObject = hasShaderObject && shaderObject.shaderObject == VK_TRUE;
+    if (info.shaderObject) {
         VkPhysicalDeviceShaderObjectPropertiesEXT binary{
             VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_OBJECT_PROPERTIES_EXT};
         VkPhysicalDeviceProperties2 props2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};

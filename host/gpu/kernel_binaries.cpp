@@ -50,7 +50,15 @@ std::filesystem::path KernelBinaries::fileFor(const std::string& key) const {
 // file whose key differs from the one asked for is another kernel's, and is not used.
 std::optional<std::vector<uint8_t>> KernelBinaries::load(const std::string& key) const {
     if (!m_folder) return std::nullopt;
-    std::ifstream in(fileFor(key), std::ios::binary);
+    // Only a regular file of a binary's size is read: a FIFO or device put in its place
+    // would block the open or the read, a huge file would be held whole.
+    std::error_code error;
+    const std::filesystem::path file = fileFor(key);
+    const auto status = std::filesystem::status(file, error);
+    if (error || !std::filesystem::is_regular_file(status)) return std::nullopt;
+    const auto size = std::filesystem::file_size(file, error);
+    if (error || size > kMaxFileBytes) return std::nullopt;
+    std::ifstream in(file, std::ios::binary);
     if (!in) return std::nullopt;
     std::vector<uint8_t> data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     if (data.size() < 8) return std::nullopt;

@@ -33,6 +33,8 @@ public:
     // some 50 MB): enough for every kernel the test suite compiles, bounded for batch sweeps
     // of small scenes' geometry, which compile one kernel per distinct geometry.
     static constexpr size_t kMaxFiles = 512;
+    // A file larger than this is not read (the render kernels' binaries are under 1 MB).
+    static constexpr uint64_t kMaxFileBytes = 64ull << 20;
 
     // The folder from the environment as above; none where the cache is off or no folder
     // can be named.
