@@ -109,8 +109,8 @@ DeviceInfo describe(VkPhysicalDevice device, uint32_t index) {
     VkPhysicalDeviceShaderObjectFeaturesEXT shaderObject{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_OBJECT_FEATURES_EXT};
     VkPhysicalDeviceFeatures2 features2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
     const bool hasAddress = hasDeviceExtension(device, VK_KHR_BUFFER_DEVICE_ADDRESS_EXTENSION_NAME);
-    const bool hasShaderObject =
-        props.apiVersion >= VK_API_VERSION_1_3 && hasDeviceExtension(device, VK_EXT_SHADER_OBJECT_EXTENSION_NAME);
+    const bool hasShaderObject = props.apiVersion >= VK_API_VERSION_1_3 &&
+                                 hasDeviceExtension(device, VK_EXT_SHADER_OBJECT_EXTENSION_NAME);
     if (hasAddress) {
         address.pNext = features2.pNext;
         features2.pNext = &address;
