@@ -15,8 +15,8 @@
 #include "render/emitter_first.h"
 #include "render/kernel_options.h"
 #include "render/renderer.h"
-#include "scene/load.h"
 #include "render_helpers.h"
+#include "scene/load.h"
 
 using namespace penumbra;
 using nlohmann::json;
@@ -157,11 +157,11 @@ json largeSphereRoom() {
 // "Round 28"; BrdfRayFates::emitter, lights, primitives): where callgrind counted fewer
 // instructions per sample with the path, and where it counted more.
 TEST(EmitterFirst, InlineRuleWeighsTheLightLoopAgainstTheClosestHit) {
-    EXPECT_TRUE(emitterFirstPaysInline(0.009, 1, 30));   // Cornell box, one quad light: 0.85x
-    EXPECT_TRUE(emitterFirstPaysInline(0.015, 1, 8));    // room, one sphere light: 0.98x
-    EXPECT_FALSE(emitterFirstPaysInline(0.038, 3, 9));   // large room, three sphere lights: 1.12x
-    EXPECT_FALSE(emitterFirstPaysInline(0.097, 3, 9));   // the bench's sphere room: 1.16x
-    EXPECT_FALSE(emitterFirstPaysInline(0.5, 1, 40));    // most groups find an emitter: nothing saved
+    EXPECT_TRUE(emitterFirstPaysInline(0.009, 1, 30));  // Cornell box, one quad light: 0.85x
+    EXPECT_TRUE(emitterFirstPaysInline(0.015, 1, 8));   // room, one sphere light: 0.98x
+    EXPECT_FALSE(emitterFirstPaysInline(0.038, 3, 9));  // large room, three sphere lights: 1.12x
+    EXPECT_FALSE(emitterFirstPaysInline(0.097, 3, 9));  // the bench's sphere room: 1.16x
+    EXPECT_FALSE(emitterFirstPaysInline(0.5, 1, 40));   // most groups find an emitter: nothing saved
 }
 
 // The kernel a scene gets follows the rule of its geometry: the large sphere room goes

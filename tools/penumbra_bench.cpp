@@ -599,10 +599,11 @@ int main(int argc, char** argv) {
                 Scene scene = benchScene(name);
                 SceneArrays arrays = buildSceneArrays(scene);
                 BrdfRayFates f = brdfRayFates(scene, arrays);
-                std::printf("%-28s %8.3f %8.3f %8.3f %8.1f %6d %6d\n", name.c_str(), f.emitter, f.other, f.escape,
-                            f.closestHitWork, int(emitterFirstExact(scene.integrator, arrays)),
-                            int(makeKernelOptions(scene, arrays, EmitterFirst::Rule, InlineGeometry::Rule)
-                                    .emitterFirstLights > 0));
+                std::printf(
+                    "%-28s %8.3f %8.3f %8.3f %8.1f %6d %6d\n", name.c_str(), f.emitter, f.other, f.escape,
+                    f.closestHitWork, int(emitterFirstExact(scene.integrator, arrays)),
+                    int(makeKernelOptions(scene, arrays, EmitterFirst::Rule, InlineGeometry::Rule).emitterFirstLights >
+                        0));
             }
             return 0;
         }
