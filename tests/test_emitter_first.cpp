@@ -12,8 +12,11 @@
 #include <gtest/gtest.h>
 
 #include "gpu_fixture.h"
+#include "render/emitter_first.h"
+#include "render/kernel_options.h"
 #include "render/renderer.h"
 #include "render_helpers.h"
+#include "scene/load.h"
 
 using namespace penumbra;
 using nlohmann::json;
@@ -126,6 +129,59 @@ TEST(EmitterFirst, RuleTakesTheScenesItWasMeasuredOn) {
     json ao = occludedScene("mis", 1, 1, false);
     ao["integrator"] = {{"type", "ao"}};
     EXPECT_FALSE(pays(ao, "ef-rule-ao"));
+}
+
+// A diffuse room of six quads, 8 x 4 x 8, lit by three sphere lights of radii 0.08, 0.3 and
+// 0.6 (build/bench/sphere_room.json, tools/make_bench_scenes.py, scaled up): few of its
+// BRDF-sampled rays find an emitter (about 4%), so the BVH scenes' rule takes it.
+json largeSphereRoom() {
+    auto quad = [](json origin, json u, json v) {
+        return json{{"type", "quad"}, {"origin", origin}, {"edge_u", u}, {"edge_v", v}, {"material", "white"}};
+    };
+    json shapes = json::array({quad({-4, 0, -4}, {0, 0, 8}, {8, 0, 0}), quad({-4, 4, -4}, {8, 0, 0}, {0, 0, 8}),
+                               quad({-4, 0, -4}, {8, 0, 0}, {0, 4, 0}), quad({-4, 0, -4}, {0, 4, 0}, {0, 0, 8}),
+                               quad({4, 0, -4}, {0, 0, 8}, {0, 4, 0}), quad({-4, 0, 4}, {0, 4, 0}, {8, 0, 0})});
+    for (const auto& [center, radius] : std::vector<std::pair<json, double>>{
+             {{-2.4, 2.9, -2.0}, 0.08}, {{1.8, 2.1, -1.2}, 0.3}, {{-0.4, 0.8, -1.8}, 0.6}})
+        shapes.push_back({{"type", "sphere"}, {"center", center}, {"radius", radius}, {"emission", {5, 5, 5}}});
+    return {
+        {"camera", {{"eye", {0, 1.8, 3.8}}, {"target", {0, 1.2, -1}}, {"up", {0, 1, 0}}, {"fov_y", 60}}},
+        {"film", {{"width", kSize}, {"height", kSize}}},
+        {"integrator", {{"type", "direct"}}},
+        {"materials", {{"white", {{"type", "diffuse"}, {"albedo", {0.73, 0.73, 0.73}}}}}},
+        {"shapes", shapes},
+    };
+}
+
+// The inline scenes' rule, at the scenes its constants were fitted to (docs/PERFORMANCE.md,
+// "Round 28"; BrdfRayFates::emitter, lights, primitives): where callgrind counted fewer
+// instructions per sample with the path, and where it counted more.
+TEST(EmitterFirst, InlineRuleWeighsTheLightLoopAgainstTheClosestHit) {
+    EXPECT_TRUE(emitterFirstPaysInline(0.009, 1, 30));  // Cornell box, one quad light: 0.85x
+    EXPECT_TRUE(emitterFirstPaysInline(0.015, 1, 8));   // room, one sphere light: 0.98x
+    EXPECT_FALSE(emitterFirstPaysInline(0.038, 3, 9));  // large room, three sphere lights: 1.12x
+    EXPECT_FALSE(emitterFirstPaysInline(0.097, 3, 9));  // the bench's sphere room: 1.16x
+    EXPECT_FALSE(emitterFirstPaysInline(0.5, 1, 40));   // most groups find an emitter: nothing saved
+}
+
+// The kernel a scene gets follows the rule of its geometry: the large sphere room goes
+// inline, where the path loses, though the BVH's rule would take it.
+TEST(EmitterFirst, InlineSceneGetsTheInlineRule) {
+    Scene scene = test::sceneFromJson(largeSphereRoom(), "ef-inline-room");
+    SceneArrays arrays = buildSceneArrays(scene);
+    ASSERT_TRUE(emitterFirstPays(scene, arrays));
+    KernelOptions inlined = makeKernelOptions(scene, arrays, EmitterFirst::Rule, InlineGeometry::Rule);
+    ASSERT_GT(inlined.inlineGeometry.slotCount(), 0u);
+    EXPECT_EQ(inlined.emitterFirstLights, 0u);
+    // Through the BVH the BVH's rule still decides.
+    EXPECT_EQ(makeKernelOptions(scene, arrays, EmitterFirst::Rule, InlineGeometry::Off).emitterFirstLights,
+              uint32_t(arrays.lights.size()));
+    // And the Cornell box, inline, keeps the path.
+    Scene cornell = loadScene(std::string(PENUMBRA_SOURCE_DIR) + "/scenes/cornell.json");
+    SceneArrays cornellArrays = buildSceneArrays(cornell);
+    KernelOptions cornellOptions = makeKernelOptions(cornell, cornellArrays, EmitterFirst::Rule, InlineGeometry::Rule);
+    ASSERT_GT(cornellOptions.inlineGeometry.slotCount(), 0u);
+    EXPECT_GT(cornellOptions.emitterFirstLights, 0u);
 }
 
 TEST(EmitterFirst, SameSamplesGiveTheSameImageAsTheClosestHit) {

@@ -32,7 +32,7 @@
 // and another, and for other groupings of the rays (laneUse below).
 // --brdf-ray-fates prints, per scene, what the emitter-first rule sees (the fractions of
 // probe rays that hit an emitter, something else, or nothing, and the mean work of their
-// closest-hit traversal) and what it chooses.
+// closest-hit traversal) and what it chooses for the kernel the scene gets (inline or not).
 // --instructions, run under valgrind --tool=callgrind (tools/bench-instructions does that),
 // has callgrind dump the instructions of every pass of each scene, in one submission (after
 // the kernel is compiled), to a file of its own: a count that repeats exactly from run to run, where
@@ -599,9 +599,11 @@ int main(int argc, char** argv) {
                 Scene scene = benchScene(name);
                 SceneArrays arrays = buildSceneArrays(scene);
                 BrdfRayFates f = brdfRayFates(scene, arrays);
-                std::printf("%-28s %8.3f %8.3f %8.3f %8.1f %6d %6d\n", name.c_str(), f.emitter, f.other, f.escape,
-                            f.closestHitWork, int(emitterFirstExact(scene.integrator, arrays)),
-                            int(emitterFirstPays(scene, arrays)));
+                std::printf(
+                    "%-28s %8.3f %8.3f %8.3f %8.1f %6d %6d\n", name.c_str(), f.emitter, f.other, f.escape,
+                    f.closestHitWork, int(emitterFirstExact(scene.integrator, arrays)),
+                    int(makeKernelOptions(scene, arrays, EmitterFirst::Rule, InlineGeometry::Rule).emitterFirstLights >
+                        0));
             }
             return 0;
         }

@@ -89,4 +89,19 @@ bool emitterFirstPays(const Scene& scene, const SceneArrays& arrays) {
     return f.closestHitWork >= kEmitterFirstMinWork && f.emitter <= kEmitterFirstMaxEmitter;
 }
 
+bool emitterFirstPaysInline(double emitter, uint32_t lights, uint32_t primitives) {
+    // The share of SIMD groups in which at least one ray finds an emitter, were the rays'
+    // fates independent (neighbouring pixels' rays are alike, so fewer groups do: this errs
+    // toward the closest hit).
+    const double groupsWithEmitter = 1.0 - std::pow(1.0 - std::clamp(emitter, 0.0, 1.0), kEmitterFirstInlineLanes);
+    return double(lights) * kEmitterFirstInlineLightCost + groupsWithEmitter * double(primitives) < double(primitives);
+}
+
+bool emitterFirstPaysFor(const Scene& scene, const SceneArrays& arrays, uint32_t inlinePrimitives) {
+    if (inlinePrimitives == 0) return emitterFirstPays(scene, arrays);
+    if (!emitterFirstExact(scene.integrator, arrays)) return false;
+    return emitterFirstPaysInline(brdfRayFates(scene, arrays).emitter, uint32_t(arrays.lights.size()),
+                                  inlinePrimitives);
+}
+
 }  // namespace penumbra

@@ -52,4 +52,24 @@ bool emitterFirstPays(const Scene& scene, const SceneArrays& arrays);
 constexpr double kEmitterFirstMinWork = 3.5;      // BrdfRayFates::closestHitWork at least
 constexpr double kEmitterFirstMaxEmitter = 0.05;  // BrdfRayFates::emitter at most
 
+// The rule for a scene whose primitives are inline (render/inline_geometry.h), where the
+// closest hit is no traversal but one constant-folded test per primitive, the same for every
+// ray. The path replaces those `primitives` tests with a loop over the `lights` (each read
+// from memory and tested by the general intersection), and adds an occlusion test of every
+// primitive for each SIMD group of kEmitterFirstInlineLanes rays in which one ray finds an
+// emitter (a fraction `emitter` of the rays, BrdfRayFates::emitter). So it pays where
+//   lights * kEmitterFirstInlineLightCost + (1 - (1 - emitter)^lanes) * primitives < primitives,
+// costs counted in inline primitive tests. The constants were fitted to callgrind's
+// instructions per sample of both paths on four inline scenes (docs/PERFORMANCE.md,
+// "Round 28"): a Cornell box with one quad light gains, a room with one sphere light gains a
+// little, and rooms with three sphere lights lose 12-16%, which the BVH scenes' rule above
+// (that knows no light count) took in a large room.
+bool emitterFirstPaysInline(double emitter, uint32_t lights, uint32_t primitives);
+constexpr double kEmitterFirstInlineLightCost = 5.0;  // inline primitive tests per light of the loop
+constexpr int kEmitterFirstInlineLanes = 16;          // the SIMD width lavapipe uses on Mesa 25 with AVX-512
+
+// emitterFirstExact, and the rule for the kernel the scene gets: emitterFirstPaysInline
+// where its `inlinePrimitives` (> 0) are inline, emitterFirstPays otherwise.
+bool emitterFirstPaysFor(const Scene& scene, const SceneArrays& arrays, uint32_t inlinePrimitives);
+
 }  // namespace penumbra

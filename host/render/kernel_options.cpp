@@ -99,12 +99,13 @@ KernelOptions makeKernelOptions(const Scene& scene, const SceneArrays& arrays, E
     o.textures = arrays.textures.textured ? 1u : 0u;
     const bool inlined = inlineGeometry == InlineGeometry::Rule && inlineGeometryPays(arrays);
     if (inlined) o.inlineGeometry = inlineGeometryWords(arrays.bvh);
-    // The rule holds for inline scenes too: on Mesa 25, which skips the branches no SIMD
-    // lane takes, a BRDF-sampled ray that misses every emitter skips the occlusion test and
-    // the emitter's surface point, as through the BVH (on Mesa 22.3, which runs every branch,
-    // it did not pay inline: docs/PERFORMANCE.md, "Round 8" and "Round 9").
+    // Inline scenes have a rule of their own (emitter_first.h): on Mesa 25, which skips the
+    // branches no SIMD lane takes, a BRDF-sampled ray that misses every emitter skips the
+    // occlusion test and the emitter's surface point, as through the BVH, but the closest
+    // hit it saves is cheap (docs/PERFORMANCE.md, "Round 9" and "Round 28").
+    const uint32_t inlinePrimitives = inlined ? uint32_t(arrays.bvh.primitives.size()) : 0u;
     const bool on = emitterFirst == EmitterFirst::Exact  ? emitterFirstExact(scene.integrator, arrays)
-                    : emitterFirst == EmitterFirst::Rule ? emitterFirstPays(scene, arrays)
+                    : emitterFirst == EmitterFirst::Rule ? emitterFirstPaysFor(scene, arrays, inlinePrimitives)
                                                          : false;
     o.emitterFirstLights = on ? uint32_t(arrays.lights.size()) : 0u;
     return o;

@@ -19,7 +19,8 @@ from penumbra_tools.mitsuba_compare.penumbra_runs import (penumbra_rays_per_samp
 from penumbra_tools.mitsuba_compare.report import machine_info, report, write_doc
 from penumbra_tools.mitsuba_compare.scenes import film_size, load_scene, scene_spp, uses_python_plugins
 
-DEFAULT_SCENES = ["scenes/cornell.json", "scenes/veach_mis.json", "build/bench/displaced_1m.json"]
+DEFAULT_SCENES = ["scenes/cornell.json", "scenes/veach_mis.json", "build/bench/displaced_1m.json",
+                  "build/bench/sphere_room.json"]
 TTE_SCENES = ("cornell", "veach_mis")
 
 

@@ -14,6 +14,13 @@ from penumbra_tools.mitsuba_compare.paths import ENTRY, TOOLS, WORK
 from penumbra_tools.mitsuba_compare.scenes import film_size, load_scene
 
 
+def process_cpu_seconds():
+    """User and system CPU time of this process, all its threads."""
+    import resource
+    r = resource.getrusage(resource.RUSAGE_SELF)
+    return r.ru_utime + r.ru_stime
+
+
 def worker(job):
     t_start = job["launched"]
     import numpy as np
@@ -53,11 +60,14 @@ def worker(job):
         out["load_s"] = time.perf_counter() - t0
         _, out["first_s"] = render(scene, spp, 0)
         out["first_done_s"] = time.time() - t_start
-        times = []
+        times, cpu_times = [], []
         for r in range(job["runs"]):
+            c0 = process_cpu_seconds()
             _, t = render(scene, spp, r + 1)
+            cpu_times.append(process_cpu_seconds() - c0)
             times.append(t)
         out["times"] = times
+        out["cpu_times"] = cpu_times  # all threads (Dr.Jit's pool): steadier on a shared machine
     elif op == "render":
         scene = make(job["spp"])
         img, out["seconds"] = render(scene, job["spp"], job["seed"], job.get("pass_samples"))
