@@ -32,6 +32,7 @@ import drjit as dr
 import mitsuba as mi
 
 from penumbra_tools.mitsuba_pbr import PenumbraPbr, pbr_dict
+from penumbra_tools.mitsuba_spot import PenumbraSpot, spot_dict
 from penumbra_tools.vec import cross, dot, length, sub
 
 
@@ -172,6 +173,7 @@ def register_plugins():
         mi.register_bsdf("penumbra_phong", lambda props: PenumbraPhong(props))
         mi.register_integrator("penumbra_ao", lambda props: PenumbraAO(props))
         mi.register_bsdf("penumbra_pbr", lambda props: PenumbraPbr(props))
+        mi.register_emitter("penumbra_spot", lambda props: PenumbraSpot(props))
         _registered = True
 
 
@@ -393,6 +395,8 @@ def translate(scene, spp=None, seed=None, sampler="independent", base_dir="."):
             I = _colour(l["intensity"]) if "intensity" in l else [p / (4 * math.pi) for p in _colour(l["power"])]
             out[name] = {"type": "point", "position": _v(l["position"]), "intensity": _rgb(I),
                          "sampling_weight": weight([4 * math.pi * i for i in I])}
+        elif t == "spot":
+            out[name] = spot_dict(l, weight)
         elif t == "directional":
             E = _v(l["irradiance"])
             out[name] = {"type": "directional", "direction": _v(l["direction"]), "irradiance": _rgb(E),
