@@ -1,6 +1,7 @@
 """Every scene in scenes/ through tools/mitsuba_penumbra.py: Mitsuba 3 (llvm_ad_rgb) and Penumbra
 render it at the same tiny size, and their per-channel image means must agree within
-Z standard errors of the difference (paired_z), and so must each quadrant's. Scenes of tests/mitsuba/scenes cover what scenes/ lacks. Then a
+Z standard errors (paired_z: each renderer renders twice, the noise is estimated from the
+difference of its two renders), and so must each quadrant's. Scenes of tests/mitsuba/scenes cover what scenes/ lacks. Then a
 deliberate mutation (the pbr dielectric f0 0.04 -> 0.08, on tests/mitsuba/scenes/
 pbr_dielectric.json) must fail the same check, so the test has the power to see a wrong translation.
 
@@ -27,41 +28,54 @@ SPP = {"penumbra": 256, "mitsuba": 256}
 Z = 4.5
 
 
-def paired_z(a, b):
-    """|mean(a - b)| / its standard error, per channel. The error is estimated from the means
-    of the difference image over BLOCK x BLOCK pixel blocks: where the two renderers agree the
-    image's structure cancels in a - b, so the blocks' spread is the two renders' noise
-    (independent seeds); a local disagreement only adds to the spread (a wider band, no
-    false failure)."""
-    h, w = a.shape[0] // BLOCK, a.shape[1] // BLOCK
-    d = (a - b)[: h * BLOCK, : w * BLOCK]
+def region_stats(pair):
+    """Mean of the average of two renders (independent seeds) and its standard error, per
+    channel. The error comes from the means of their difference over BLOCK x BLOCK pixel
+    blocks: the image's structure cancels exactly in the difference of two renders of the
+    same renderer, so the blocks' spread is the renders' noise alone
+    (var((X1 + X2) / 2) = var(X1 - X2) / 4)."""
+    x1, x2 = pair
+    h, w = x1.shape[0] // BLOCK, x1.shape[1] // BLOCK
+    d = (x1 - x2)[: h * BLOCK, : w * BLOCK]
     blocks = d.reshape(h, BLOCK, w, BLOCK, 3).mean(axis=(1, 3)).reshape(-1, 3)
-    se = blocks.std(axis=0, ddof=1) / np.sqrt(len(blocks))
-    return np.abs(blocks.mean(axis=0)) / np.maximum(se, 1e-12)
+    se = blocks.std(axis=0, ddof=1) / (2.0 * np.sqrt(len(blocks)))
+    return (0.5 * (x1 + x2)).mean(axis=(0, 1)), se
+
+
+def paired_z(a, b):
+    """|mean(A) - mean(B)| / its standard error, per channel; a and b are pairs of renders."""
+    (ma, sa), (mb, sb) = region_stats(a), region_stats(b)
+    return np.abs(ma - mb) / np.maximum(np.sqrt(sa * sa + sb * sb), 1e-12)
 
 
 def render_penumbra(exe, scene_path, out):
-    subprocess.run([exe, "render", scene_path, "--quiet", "--width", str(W), "--height", str(H),
-                    "--spp", str(SPP["penumbra"]), "--seed", "1", "-o", out], check=True)
-    bmp = mi.Bitmap(out)
-    return np.array(bmp, dtype=np.float64)[:, :, :3]
+    """Two renders with seeds 1 and 2."""
+    images = []
+    for seed in (1, 2):
+        subprocess.run([exe, "render", scene_path, "--quiet", "--width", str(W), "--height", str(H),
+                        "--spp", str(SPP["penumbra"]), "--seed", str(seed), "-o", out], check=True)
+        images.append(np.array(mi.Bitmap(out), dtype=np.float64)[:, :, :3])
+    return images
 
 
 def render_mitsuba(mp, scene_path):
+    """Two renders with seeds 3 and 4."""
     with open(scene_path) as f:
         scene = json.load(f)
     scene.setdefault("film", {}).update(width=W, height=H)
-    d = mp.translate(scene, spp=SPP["mitsuba"], seed=2, base_dir=os.path.dirname(scene_path))
-    return np.array(mi.render(mi.load_dict(d)), dtype=np.float64)[:, :, :3]
+    d = mi.load_dict(mp.translate(scene, spp=SPP["mitsuba"], seed=0, base_dir=os.path.dirname(scene_path)))
+    return [np.array(mi.render(d, seed=seed), dtype=np.float64)[:, :, :3] for seed in (3, 4)]
 
 
 def agree(a, b):
     """The whole image's means and each quadrant's (a moved or mis-oriented object can keep
-    the whole image's mean): all within Z standard errors."""
+    the whole image's mean): all within Z standard errors. a, b: pairs of renders."""
     h, w = H // 2, W // 2
-    parts = [(a, b)] + [(a[i:i + h, j:j + w], b[i:i + h, j:j + w]) for i in (0, h) for j in (0, w)]
+    parts = [(a, b)] + [([x[i:i + h, j:j + w] for x in a], [x[i:i + h, j:j + w] for x in b])
+                        for i in (0, h) for j in (0, w)]
     z = np.array([paired_z(pa, pb) for pa, pb in parts])
-    return bool(np.all(z <= Z)), a.mean(axis=(0, 1)), b.mean(axis=(0, 1)), z.max(axis=0)
+    mean = lambda pair: (0.5 * (pair[0] + pair[1])).mean(axis=(0, 1))  # noqa: E731
+    return bool(np.all(z <= Z)), mean(a), mean(b), z.max(axis=0)
 
 
 def main():
