@@ -1,7 +1,7 @@
-"""Penumbra scene JSON -> Mitsuba 3 scene dict, plus the two Penumbra features Mitsuba
-lacks, written as Mitsuba plugins in Python: the normalized Phong BRDF of
-docs/SCENE_FORMAT.md (`penumbra_phong`) and the ambient-occlusion integrator
-(`penumbra_ao`). Used by tools/penumbra_tools/mitsuba_compare/ (run through tools/mitsuba_compare.py);
+"""Penumbra scene JSON -> Mitsuba 3 scene dict, plus the Penumbra features Mitsuba lacks,
+written as Mitsuba plugins in Python: the normalized Phong BRDF of docs/SCENE_FORMAT.md
+(`penumbra_phong`), the ambient-occlusion integrator (`penumbra_ao`), and, in their own
+files under penumbra_tools/, the `pbr` BRDF and the `spot` light. Used by tools/penumbra_tools/mitsuba_compare/ (run through tools/mitsuba_compare.py);
 import after mi.set_variant().
 
 Mapping (see docs/PERFORMANCE.md, "Scene translation"):
@@ -18,7 +18,13 @@ Mapping (see docs/PERFORMANCE.md, "Scene translation"):
   emission    -> area emitter (one-sided, front face), radiance = emission or converted power
   point       -> point, intensity = power/(4 pi) or intensity
   directional -> directional, direction, irradiance
-  environment -> constant, radiance (with `file`: unsupported)
+  environment -> constant, radiance; with `file`: envmap of a scaled, texel-replicated copy
+                 (penumbra_tools/mitsuba_envmap.py), weight 4 pi^2 R^2 L_mean
+  pbr         -> penumbra_pbr (penumbra_tools/mitsuba_pbr.py), two-sided inside the plugin
+  spot        -> penumbra_spot (penumbra_tools/mitsuba_spot.py): Penumbra's s^2 falloff
+  gltf        -> one mi.Mesh per triangle primitive (penumbra_tools/gltf_meshes.py), pbr
+                 from the file's factors; textures and the file's lights are not read
+  textures    -> unsupported
   direct      -> direct, emitter_samples = light_samples, bsdf_samples = bsdf_samples
                  (strategy light: bsdf_samples 0; bsdf: emitter_samples 0); Mitsuba always
                  uses the power heuristic on n_i * p_i, which is Penumbra's "mis"+"power".
@@ -247,7 +253,10 @@ def _make_mesh(name, pos, idx, normals, bsdf, emitter):
 
 def _gltf_meshes(shape, base_dir):
     from penumbra_tools.gltf_meshes import read_gltf
-    return read_gltf(os.path.join(base_dir, shape["file"]))
+    try:
+        return read_gltf(os.path.join(base_dir, shape["file"]))
+    except NotImplementedError as e:
+        raise Unsupported(str(e))
 
 
 def _bounds(scene, base_dir):

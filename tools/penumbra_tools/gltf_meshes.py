@@ -2,8 +2,9 @@
 their node transforms applied and their metallic-roughness factors, as plain numpy arrays:
 what tools/mitsuba_penumbra.py needs of a `gltf` shape (docs/SCENE_FORMAT.md, "glTF input").
 A reader for trusted files of the project, not a validator: Penumbra's own loader
-(host/scene/load_gltf.cpp) checks its input. Not read: textures, KHR_lights_punctual lights,
-cameras (the translation says so where a file has them)."""
+(host/scene/load_gltf.cpp) checks its input. Files with textures or KHR_lights_punctual
+lights raise NotImplementedError; cameras are ignored (as Penumbra ignores a `gltf` shape's);
+degenerate triangles are kept (Penumbra drops them; they add nothing to the image)."""
 import base64
 import json
 import os
@@ -100,6 +101,13 @@ def read_gltf(path, to_world=None):
     every triangle primitive (mode 4) of the default scene's node trees; to_world (4 x 4)
     applies on top of the node transforms."""
     doc, glb_bin = _load(path)
+    # What Penumbra reads but this reader does not: refused, never silently dropped.
+    if "KHR_lights_punctual" in doc.get("extensionsUsed", []):
+        raise NotImplementedError("glTF KHR_lights_punctual lights")
+    for m in doc.get("materials", []):
+        pbr = m.get("pbrMetallicRoughness", {})
+        if "baseColorTexture" in pbr or "metallicRoughnessTexture" in pbr or "emissiveTexture" in m:
+            raise NotImplementedError("glTF material textures")
     bufs = _buffers(doc, os.path.dirname(path), glb_bin)
     out = []
     scenes = doc.get("scenes", [])
