@@ -1,7 +1,7 @@
-"""Penumbra scene JSON -> Mitsuba 3 scene dict, plus the two Penumbra features Mitsuba
-lacks, written as Mitsuba plugins in Python: the normalized Phong BRDF of
-docs/SCENE_FORMAT.md (`penumbra_phong`) and the ambient-occlusion integrator
-(`penumbra_ao`). Used by tools/penumbra_tools/mitsuba_compare/ (run through tools/mitsuba_compare.py);
+"""Penumbra scene JSON -> Mitsuba 3 scene dict, plus the Penumbra features Mitsuba lacks,
+written as Mitsuba plugins in Python: the normalized Phong BRDF of docs/SCENE_FORMAT.md
+(`penumbra_phong`), the ambient-occlusion integrator (`penumbra_ao`), and, in their own
+files under penumbra_tools/, the `pbr` BRDF and the `spot` light. Used by tools/penumbra_tools/mitsuba_compare/ (run through tools/mitsuba_compare.py);
 import after mi.set_variant().
 
 Mapping (see docs/PERFORMANCE.md, "Scene translation"):
@@ -18,7 +18,13 @@ Mapping (see docs/PERFORMANCE.md, "Scene translation"):
   emission    -> area emitter (one-sided, front face), radiance = emission or converted power
   point       -> point, intensity = power/(4 pi) or intensity
   directional -> directional, direction, irradiance
-  environment -> constant, radiance (with `file`: unsupported)
+  environment -> constant, radiance; with `file`: envmap of a scaled, texel-replicated copy
+                 (penumbra_tools/mitsuba_envmap.py), weight 4 pi^2 R^2 L_mean
+  pbr         -> penumbra_pbr (penumbra_tools/mitsuba_pbr.py), two-sided inside the plugin
+  spot        -> penumbra_spot (penumbra_tools/mitsuba_spot.py): Penumbra's s^2 falloff
+  gltf        -> one mi.Mesh per triangle primitive (penumbra_tools/gltf_meshes.py), pbr
+                 from the file's factors; textures and the file's lights are not read
+  textures    -> unsupported
   direct      -> direct, emitter_samples = light_samples, bsdf_samples = bsdf_samples
                  (strategy light: bsdf_samples 0; bsdf: emitter_samples 0); Mitsuba always
                  uses the power heuristic on n_i * p_i, which is Penumbra's "mis"+"power".
@@ -26,10 +32,13 @@ Mapping (see docs/PERFORMANCE.md, "Scene translation"):
   ao          -> penumbra_ao
 """
 import math
+import os
 
 import drjit as dr
 import mitsuba as mi
 
+from penumbra_tools.mitsuba_pbr import PenumbraPbr, pbr_dict
+from penumbra_tools.mitsuba_spot import PenumbraSpot, spot_dict
 from penumbra_tools.vec import cross, dot, length, sub
 
 
@@ -169,6 +178,8 @@ def register_plugins():
     if not _registered:
         mi.register_bsdf("penumbra_phong", lambda props: PenumbraPhong(props))
         mi.register_integrator("penumbra_ao", lambda props: PenumbraAO(props))
+        mi.register_bsdf("penumbra_pbr", lambda props: PenumbraPbr(props))
+        mi.register_emitter("penumbra_spot", lambda props: PenumbraSpot(props))
         _registered = True
 
 
@@ -183,6 +194,11 @@ def _v(a):
     return [float(x) for x in a]
 
 
+def _colour(x):
+    """A colour field: three numbers, or one number meaning grey."""
+    return [float(x)] * 3 if isinstance(x, (int, float)) else _v(x)
+
+
 def _rgb(v):
     return {"type": "rgb", "value": _v(v)}
 
@@ -191,6 +207,9 @@ def _bsdf(mat):
     if mat is None:
         return {"type": "twosided", "inner": {"type": "diffuse", "reflectance": _rgb([0.8] * 3)}}
     t = mat.get("type", "diffuse")
+    textured = [k for k, v in mat.items() if isinstance(v, dict)]
+    if textured:
+        raise Unsupported(f"textured material field {textured[0]!r}")
     if t == "diffuse":
         return {"type": "twosided", "inner": {"type": "diffuse", "reflectance": _rgb(mat.get("albedo", [0.8] * 3))}}
     if t == "phong":
@@ -200,6 +219,8 @@ def _bsdf(mat):
             d["kd_" + c] = float(kd[i])
             d["ks_" + c] = float(ks[i])
         return d
+    if t == "pbr":
+        return pbr_dict(mat.get("base_color", [0.8] * 3), mat.get("metallic", 0.0), mat.get("roughness", 0.5))
     raise Unsupported(f"material type {t!r}")
 
 
@@ -230,7 +251,15 @@ def _make_mesh(name, pos, idx, normals, bsdf, emitter):
     return mesh
 
 
-def _bounds(scene):
+def _gltf_meshes(shape, base_dir):
+    from penumbra_tools.gltf_meshes import read_gltf
+    try:
+        return read_gltf(os.path.join(base_dir, shape["file"]))
+    except NotImplementedError as e:
+        raise Unsupported(str(e))
+
+
+def _bounds(scene, base_dir):
     lo, hi = [math.inf] * 3, [-math.inf] * 3
 
     def add(p):
@@ -249,21 +278,24 @@ def _bounds(scene):
             for a in (0, 1):
                 for b in (0, 1):
                     add([o[i] + a * u[i] + b * v[i] for i in range(3)])
-        elif t == "mesh":
+        elif t in ("mesh", "gltf"):
             import numpy as np
-            p = np.asarray(s["positions"], dtype=np.float64).reshape(-1, 3)
-            add(list(p.min(axis=0)))
-            add(list(p.max(axis=0)))
+            ps = [np.asarray(s["positions"], dtype=np.float64).reshape(-1, 3)] if t == "mesh" else \
+                [m[0] for m in _gltf_meshes(s, base_dir)]
+            for p in ps:
+                add(list(p.min(axis=0)))
+                add(list(p.max(axis=0)))
     if lo[0] > hi[0]:
         return [0, 0, 0], 1.0
     c = [(lo[i] + hi[i]) / 2 for i in range(3)]
     return c, 0.5 * length(sub(hi, lo))
 
 
-def translate(scene, spp=None, seed=None, sampler="independent"):
+def translate(scene, spp=None, seed=None, sampler="independent", base_dir="."):
     """Returns a dict for mi.load_dict. Raises Unsupported for features Mitsuba cannot match.
     `sampler` is the Mitsuba sampler plugin (independent by default; ldsampler for the
-    low-discrepancy time-to-error comparison)."""
+    low-discrepancy time-to-error comparison); base_dir is the scene file's folder (files
+    named in the scene are relative to it)."""
     register_plugins()
     cam = scene.get("camera", {})
     film = scene.get("film", {})
@@ -305,13 +337,16 @@ def translate(scene, spp=None, seed=None, sampler="independent"):
         out["integrator"] = {"type": "direct", "emitter_samples": ls, "bsdf_samples": bs}
         power_weights = integ.get("light_selection", "power") == "power"
 
-    center, radius = _bounds(scene)
+    center, radius = _bounds(scene, base_dir)
 
     def weight(p):
         return max(sum(p) / 3.0, 1e-12) if power_weights else 1.0
 
     for k, s in enumerate(scene.get("shapes", [])):
         t = s["type"]
+        if t == "gltf":
+            _add_gltf(out, f"shape{k:03d}", s, mats, base_dir, weight)
+            continue
         mname = s.get("material")
         bsdf = _bsdf(mats[mname] if mname is not None else None)
         if s.get("two_sided") and ("emission" in s or "power" in s):
@@ -327,11 +362,11 @@ def translate(scene, spp=None, seed=None, sampler="independent"):
             raise Unsupported(f"shape type {t!r}")
         emitter = None
         if "power" in s:
-            P = _v(s["power"])
+            P = _colour(s["power"])
             Le = [p / (4 * math.pi ** 2 * s["radius"] ** 2) for p in P] if t == "sphere" else \
                  [p / (math.pi * area) for p in P]
         else:
-            Le = _v(s.get("emission", [0, 0, 0]))
+            Le = _colour(s.get("emission", [0, 0, 0]))
         if max(Le) > 0:
             P = [l * math.pi * area for l in Le]
             emitter = {"type": "area", "radiance": _rgb(Le), "sampling_weight": weight(P)}
@@ -366,19 +401,21 @@ def translate(scene, spp=None, seed=None, sampler="independent"):
         t = l["type"]
         name = f"light{k:03d}"
         if t == "point":
-            I = _v(l["intensity"]) if "intensity" in l else [p / (4 * math.pi) for p in l["power"]]
+            I = _colour(l["intensity"]) if "intensity" in l else [p / (4 * math.pi) for p in _colour(l["power"])]
             out[name] = {"type": "point", "position": _v(l["position"]), "intensity": _rgb(I),
                          "sampling_weight": weight([4 * math.pi * i for i in I])}
+        elif t == "spot":
+            out[name] = spot_dict(l, weight)
         elif t == "directional":
             E = _v(l["irradiance"])
             out[name] = {"type": "directional", "direction": _v(l["direction"]), "irradiance": _rgb(E),
                          "sampling_weight": weight([math.pi * radius ** 2 * e for e in E])}
         elif t == "environment":
-            if "file" in l:
-                # Mitsuba's envmap has the contract's orientation but one scalar `scale`, and
-                # its selection weight would need the map's mean: not translated yet.
-                raise Unsupported("environment light with a map file")
             L = _v(l.get("radiance", [1, 1, 1]))
+            if "file" in l:
+                from penumbra_tools.mitsuba_envmap import envmap_dict
+                out[name] = envmap_dict(os.path.join(base_dir, l["file"]), L, radius, power_weights)
+                continue
             out[name] = {"type": "constant", "radiance": _rgb(L),
                          "sampling_weight": weight([4 * math.pi ** 2 * radius ** 2 * x for x in L])}
         else:
@@ -386,8 +423,44 @@ def translate(scene, spp=None, seed=None, sampler="independent"):
     return out
 
 
+def _emitter(Le, area, weight):
+    if max(Le) <= 0:
+        return None
+    return {"type": "area", "radiance": _rgb(Le), "sampling_weight": weight([x * math.pi * area for x in Le])}
+
+
+def _add_gltf(out, name, s, mats, base_dir, weight):
+    """A `gltf` shape: one mesh per triangle primitive. The shape's own `material` or
+    `emission`/`power` replaces the file's for all its primitives (docs/SCENE_FORMAT.md)."""
+    if s.get("two_sided") or s.get("to_world") is not None:
+        raise Unsupported("gltf shape with two_sided or to_world")
+    meshes = _gltf_meshes(s, base_dir)
+    own_bsdf = _bsdf(mats[s["material"]]) if "material" in s else None
+    total_area = sum(_mesh_area(p, i) for p, i, _, _ in meshes)
+    for j, (p, idx, n, factors) in enumerate(meshes):
+        area = _mesh_area(p, idx)
+        if own_bsdf is not None:
+            bsdf = own_bsdf
+        elif factors is None:
+            bsdf = _bsdf(None)
+        else:
+            bsdf = pbr_dict(*factors[:3])
+        if "power" in s:  # the shape's power is spread over all its primitives' area
+            Le = [x / (math.pi * total_area) for x in _colour(s["power"])]
+        elif "emission" in s:
+            Le = _colour(s["emission"])
+        else:
+            Le = factors[3] if factors is not None else [0.0] * 3
+            if factors is not None and factors[4] and max(Le) > 0:
+                raise Unsupported("double-sided emissive glTF material (Mitsuba's area emitter is one-sided)")
+        mname = f"{name}_{j:03d}"
+        out[mname] = _make_mesh(mname, p.reshape(-1), idx.reshape(-1), None if n is None else n.reshape(-1),
+                                bsdf, _emitter(Le, area, weight))
+
+
 def uses_python_plugins(scene):
     """True when the translated scene calls back into Python (phong or ao)."""
     if scene.get("integrator", {}).get("type") == "ao":
         return True
-    return any(m.get("type") == "phong" for m in scene.get("materials", {}).values())
+    return any(m.get("type") in ("phong", "pbr") for m in scene.get("materials", {}).values()) or \
+        any(s.get("type") == "gltf" for s in scene.get("shapes", []))

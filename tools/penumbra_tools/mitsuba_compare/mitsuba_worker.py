@@ -33,7 +33,8 @@ def worker(job):
     t_import = time.time() - t_start
 
     def make(spp, seed=0):
-        return mi.load_dict(mp.translate(scene_json, spp=spp, seed=seed, sampler=job.get("sampler", "independent")))
+        return mi.load_dict(mp.translate(scene_json, spp=spp, seed=seed, sampler=job.get("sampler", "independent"),
+                                         base_dir=os.path.dirname(os.path.abspath(job["scene"]))))
 
     def render(scene, spp, seed, pass_samples=None):
         """Renders spp samples per pixel, in passes of at most pass_samples samples in all

@@ -26,4 +26,5 @@ def uses_python_plugins(scene):
     Mitsuba's scalar variant slow."""
     if scene.get("integrator", {}).get("type") == "ao":
         return True
-    return any(m.get("type") == "phong" for m in scene.get("materials", {}).values())
+    return any(m.get("type") in ("phong", "pbr") for m in scene.get("materials", {}).values()) or \
+        any(s.get("type") == "gltf" for s in scene.get("shapes", []))
