@@ -456,11 +456,3 @@ def _add_gltf(out, name, s, mats, base_dir, weight):
         mname = f"{name}_{j:03d}"
         out[mname] = _make_mesh(mname, p.reshape(-1), idx.reshape(-1), None if n is None else n.reshape(-1),
                                 bsdf, _emitter(Le, area, weight))
-
-
-def uses_python_plugins(scene):
-    """True when the translated scene calls back into Python (phong or ao)."""
-    if scene.get("integrator", {}).get("type") == "ao":
-        return True
-    return any(m.get("type") in ("phong", "pbr") for m in scene.get("materials", {}).values()) or \
-        any(s.get("type") == "gltf" for s in scene.get("shapes", []))
