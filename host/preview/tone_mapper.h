@@ -18,7 +18,7 @@ namespace penumbra::preview {
 
 class ToneMapper {
 public:
-    // `accumulation` is the Renderer's buffer (vec4 per pixel, sum and count) of a
+    // `accumulation` is the Renderer's buffer (AccumPixel per pixel, shared/types.h) of a
     // width x height film. `srgbImage`: the display image is R8G8B8A8_SRGB, for blits into
     // an *_SRGB swapchain (the blit decodes and re-encodes, so bytes are encoded once);
     // otherwise R8G8B8A8_UNORM, whose bytes a UNORM swapchain shows as they are.

@@ -77,7 +77,7 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
     m_paramsBuffer = Buffer(context, sizeof(gpu::RenderParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, 0,
                             VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, "render parameters");
     uploadParams();
-    m_accum = Buffer(context, VkDeviceSize(m_params.width) * m_params.height * sizeof(glm::vec4),
+    m_accum = Buffer(context, VkDeviceSize(m_params.width) * m_params.height * sizeof(gpu::AccumPixel),
                      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, "accumulation");
     // Nodes, primitives, materials, lights and alias tables are read as texel buffers
     // (bvh.glsl, materials.glsl, light_data.glsl); the nodes also as a storage buffer or
@@ -380,7 +380,7 @@ void Renderer::renderSamplesCutLoopsLeft(uint32_t samples, const std::atomic<boo
     if (!m_options.loopsMayBeCut) return;
     auto samplesDone = [&] {
         double sum = 0.0;
-        for (const glm::vec4& s : m_accum.read<glm::vec4>()) sum += s.w;
+        for (const gpu::AccumPixel& s : m_accum.read<gpu::AccumPixel>()) sum += s.count;
         return sum;
     };
     const double all = double(m_params.width) * m_params.height * samples;
@@ -418,17 +418,19 @@ uint64_t Renderer::countRays(uint32_t passes) {
 }
 
 Image Renderer::readback(double renderSeconds) const {
-    auto sums = m_accum.read<glm::vec4>();
+    auto sums = m_accum.read<gpu::AccumPixel>();
     Image image;
     image.width = m_params.width;
     image.height = m_params.height;
     image.rgb.resize(size_t(image.width) * image.height * 3);
     for (size_t i = 0; i < size_t(image.width) * image.height; ++i) {
-        glm::vec4 s = sums[i];
-        float inv = s.w > 0.0f ? 1.0f / s.w : 0.0f;
-        image.rgb[3 * i + 0] = s.x * inv;
-        image.rgb[3 * i + 1] = s.y * inv;
-        image.rgb[3 * i + 2] = s.z * inv;
+        const gpu::AccumPixel& s = sums[i];
+        // The compensated sum (shared/types.h, AccumPixel) times 1/count rounded once to
+        // float: where the compensation is 0 and the count below 2^24, the same operations
+        // and bits as a plain float sum and count gave.
+        const float inv = s.count > 0 ? float(1.0 / double(s.count)) : 0.0f;
+        for (int c = 0; c < 3; ++c)
+            image.rgb[3 * i + c] = float(double(s.sum[c]) - double(s.compensation[c])) * inv;
     }
     image.meta.spp = int(m_scene.sampler.spp);
     image.meta.seed = int(m_scene.sampler.seed);

@@ -360,7 +360,7 @@ vec3 finishedSample(PartialSample p, bool lightBlocked, bool bsdfBlocked) {
 // last no camera ray. Sample k - 1 is added before sample k is shaded, in sample order.
 void addPixelSamples(uvec2 pixel) {
     uint index = pixel.y * params.width + pixel.x;
-    vec4 sum = accum[index];
+    AccumPixel sum = accum[index];
     uint first = firstSampleOf(sum), end = pass.sampleIndex + pass.sampleCount;
     uint count = end > first ? end - first : 0u;
     PartialSample last = noPartialSample();

@@ -20,7 +20,7 @@ using uint = std::uint32_t;
 
 // ---- Descriptor bindings of the render kernels (set 0) -------------------------------
 #define BINDING_PARAMS 0       // uniform RenderParams
-#define BINDING_ACCUM 1        // vec4 per pixel: rgb = sum of samples, w = sample count
+#define BINDING_ACCUM 1        // AccumPixel per pixel (below): compensated sum and exact count
 #define BINDING_NODES 2        // WideNode[] as a texel buffer (see below; read where kNodeReads says)
 #define BINDING_PRIMITIVES 3   // Primitive[] in BVH leaf order (storage buffer: tests)
 #define BINDING_NORMALS 4      // TriangleNormals[]
@@ -251,6 +251,21 @@ struct Light {
     float selectionProb;   // probability that light selection picks this light
 };
 PENUMBRA_CONST uint LIGHT_TEXELS = 3u;  // RGBA32UI texels per Light (lights/light_data.glsl)
+
+// One pixel of the accumulation buffer (BINDING_ACCUM), written only by addSample
+// (integrators/kernel_common.glsl). Kahan's compensated sum (Higham, "Accuracy and
+// Stability of Numerical Algorithms", 2nd ed., section 4.3): `sum` is the running float
+// sum and `compensation` what its additions rounded away, so that sum - compensation is
+// the sum of the samples to a few float roundings at any count up to 2^31 (a plain
+// float32 sum of a constant 0.3 drifted to 0.27 at 2^24 samples). Where every addition was
+// exact, compensation stays 0 and `sum` is the plain sum, bit for bit. The count is an
+// integer, exact at every spp (a float count stops at 2^24).
+struct AccumPixel {
+    vec3 sum;
+    uint count;
+    vec3 compensation;
+    uint unused;
+};
 
 // Walker/Vose alias table entry: pick slot i uniformly, keep it with `probability`,
 // otherwise take `alias`. `pmf` is the discrete probability of slot i itself.
