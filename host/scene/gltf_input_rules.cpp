@@ -147,7 +147,7 @@ void checkGltfDocument(std::string_view json, const std::string& label) {
             if (!text.empty() && text[0] == '/' && !allowAnyPath())
                 throwInputError(
                     label, "",
-                    "refusing to read \"" + text + "\": it is outside the model's folder (--allow-any-path reads it)");
+                    "refusing to read \"" + elideUri(text) + "\": it is outside the model's folder (--allow-any-path reads it)");
         }
     }
 }
