@@ -1,4 +1,4 @@
-// The film's accumulation at huge sample counts (shared/types.h, AccumPixel): a 1x1 film
+// The film's accumulation at huge sample counts (shared/types.h, AccumSum): a 1x1 film
 // under a constant sky of 0.3, where every sample is exactly 0.3f, must give 0.3f to float
 // rounding at any spp. A plain float32 sum and count gave 0.300147 at 2^20 spp, 0.27376 at
 // 2^24 and 0.5 at 2^25. The tolerance is the error bound of Kahan's summation (Higham,
@@ -39,7 +39,7 @@ TEST(AccumulationPrecision, ConstantSkyIsExactAtHugeSpp) {
         const Scene scene = test::sceneFromJson(constantSky(spp), "accumulation-precision");
         Renderer renderer(test::gpuContext(), scene);
         renderer.renderAll();
-        const auto pixel = renderer.accumulation().read<gpu::AccumPixel>().at(0);
+        const auto pixel = renderer.accumulation().read<gpu::AccumSum>().at(0);
         EXPECT_EQ(pixel.count, spp) << "every sample counted, exactly";
         const Image image = renderer.readback(0.0);
         const double bound = (2 * u + double(spp) * u * u + u) * 0.3f;

@@ -91,11 +91,11 @@ const std::vector<std::string> kTokens = {"[",
                                           "\nend_header\n",
                                           "#?RADIANCE\n",
                                           "\n-Y 8 +X 8\n",
-                                          "\x02\x02\x00\x08",
+                                          std::string("\x02\x02\x00\x08", 4),  // an RLE scanline start
                                           "IHDR",
                                           "IDAT",
                                           "\xff\xd9",
-                                          "\xff\xc0\x00\x11\x08",
+                                          std::string("\xff\xc0\x00\x11\x08", 5),  // a JPEG SOF0 header
                                           "dataWindow",
                                           "penumbra:spp"};
 

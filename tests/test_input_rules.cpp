@@ -438,7 +438,8 @@ TEST(InputRules, CommandLineRefusesBadInputsWithExitTwo) {
     auto model = writeFile(dir / "deep.gltf", text);
     auto out = dir / "out.exr";
     expectRefused("render '" + model.string() + "' -o '" + out.string() + "' --quiet", "nested deeper than 256 levels");
-    expectRefused("render /dev/zero -o '" + out.string() + "' --quiet", "/dev/zero: cannot open file (not a regular file");
+    expectRefused("render /dev/zero -o '" + out.string() + "' --quiet",
+                  "/dev/zero: cannot open file (not a regular file");
 
     // A buffer outside the model's folder: refused by default, read with --allow-any-path.
     fs::create_directories(dir / "model");

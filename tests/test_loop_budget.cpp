@@ -28,11 +28,13 @@ Scene sceneWithSpheres(uint32_t spp) {
 }
 
 struct Render {
-    std::vector<gpu::AccumPixel> sums;
+    std::vector<gpu::AccumSum> sums;
     Image image;
 };
 
-Render result(const Renderer& renderer) { return {renderer.accumulation().read<gpu::AccumPixel>(), renderer.readback(0.0)}; }
+Render result(const Renderer& renderer) {
+    return {renderer.accumulation().read<gpu::AccumSum>(), renderer.readback(0.0)};
+}
 
 // Pixels whose sample count is not `spp`, and pixels whose image values differ from `reference`.
 void expectSameRender(const Render& r, const Render& reference, uint32_t spp) {
@@ -112,7 +114,7 @@ TEST(LoopBudget, CutLoopsLeaveNoSampleOut) {
     for (uint32_t first = 0; first < spp; first += 64)
         test::gpuContext().submitAndWait([&](VkCommandBuffer cmd) { inSteps.recordPasses(cmd, first, 64, 0, 35); });
     const Render reference = result(inSteps);
-    for (const gpu::AccumPixel& s : reference.sums) ASSERT_EQ(s.count, spp) << "the reference lost samples";
+    for (const gpu::AccumSum& s : reference.sums) ASSERT_EQ(s.count, spp) << "the reference lost samples";
     for (bool forced : {false, true}) {
         SCOPED_TRACE(forced ? "checks on" : "checks as the device needs");
         Renderer once(test::gpuContext(), scene);

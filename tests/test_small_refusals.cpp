@@ -63,9 +63,9 @@ std::string noiseJpeg() {
     std::mt19937 rng(7);
     for (uint8_t& v : rgb) v = uint8_t(rng());
     std::string bytes;
-    stbi_write_jpg_to_func(
-        [](void* context, void* data, int size) { static_cast<std::string*>(context)->append(static_cast<char*>(data), size); },
-        &bytes, 64, 64, 3, rgb.data(), 90);
+    stbi_write_jpg_to_func([](void* context, void* data,
+                              int size) { static_cast<std::string*>(context)->append(static_cast<char*>(data), size); },
+                           &bytes, 64, 64, 3, rgb.data(), 90);
     return bytes;
 }
 
@@ -131,7 +131,8 @@ TEST(SmallRefusals, ForgedJpegSizeIsRefusedFromTheHeader) {
         jpeg[at + 1] = char(0x00);
     }
     test::writeFile(dir / "tex.jpg", jpeg);
-    json doc = test::floorAndSphereScene({.width = 8, .height = 8, .spp = 1, .floorMaterial = true, .pointLight = true});
+    json doc =
+        test::floorAndSphereScene({.width = 8, .height = 8, .spp = 1, .floorMaterial = true, .pointLight = true});
     doc["materials"]["floor"] = {{"type", "diffuse"}, {"albedo", {{"texture", "tex.jpg"}}}};
     const fs::path scene = test::writeFile(dir / "scene.json", doc.dump());
     // Decoding it took 18 s and 1 GiB of floats: 20 s and 768 MiB fail a regression.
@@ -272,7 +273,8 @@ TEST(SmallRefusals, GltfYfovThatRoundsTo180DegreesIsNamedAtItsOwnPath) {
     test::GltfBuilder b;
     b.addMeshNode(b.triangle());
     // Below pi as a double, 180 degrees once in float.
-    b.doc["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", std::numbers::pi - 1e-9}, {"znear", 0.1}}}}};
+    b.doc["cameras"] = {
+        {{"type", "perspective"}, {"perspective", {{"yfov", std::numbers::pi - 1e-9}, {"znear", 0.1}}}}};
     b.addNode({{"camera", 0}, {"translation", {0, 0, 3}}});
     const std::string message = test::loadError(test::writeFile(dir / "camera.gltf", b.gltf()));
     EXPECT_NE(message.find("cameras[0].perspective.yfov: must be in (0, pi) radians"), std::string::npos) << message;
@@ -287,7 +289,7 @@ TEST(SmallRefusals, StaleTemporariesOfDeadWritersAreRemoved) {
     if (dead == 0) _exit(0);
     waitpid(dead, nullptr, 0);  // reaped: no process has this id now
     const std::string stale = "x.exr.tmp-" + std::to_string(dead) + "-3";
-    const std::vector<std::string> kept = {"x.exr.tmp-1-0",                                // init: alive
+    const std::vector<std::string> kept = {"x.exr.tmp-1-0",                                 // init: alive
                                            "x.exr.tmp-" + std::to_string(getpid()) + "-7",  // this process's
                                            "x.exr.tmp-abc", "y.exr.tmp-" + std::to_string(dead) + "-3"};
     test::writeFile(dir / stale, "partial");

@@ -80,7 +80,8 @@ void expectFifoRefused(const std::string& args, const fs::path& file) {
 }
 
 json sceneWith(const json& material, const json& lights = json::array()) {
-    json doc = test::floorAndSphereScene({.width = 8, .height = 8, .spp = 1, .floorMaterial = true, .pointLight = true});
+    json doc =
+        test::floorAndSphereScene({.width = 8, .height = 8, .spp = 1, .floorMaterial = true, .pointLight = true});
     if (!material.is_null()) doc["materials"]["floor"] = material;
     if (!lights.empty()) doc["lights"] = lights;
     return doc;
@@ -99,8 +100,7 @@ TEST(SpecialFiles, FifoInputsAreRefusedInsteadOfWaitingForAWriter) {
     writeText(d / "textured.json", sceneWith({{"type", "diffuse"}, {"albedo", {{"texture", "tex.png"}}}}).dump());
     expectFifoRefused("render " + q(d / "textured.json") + " --quiet -o " + q(out), d / "tex.png");
     makeFifo(d / "sky.exr");
-    writeText(d / "sky.json",
-              sceneWith(nullptr, json::array({{{"type", "environment"}, {"file", "sky.exr"}}})).dump());
+    writeText(d / "sky.json", sceneWith(nullptr, json::array({{{"type", "environment"}, {"file", "sky.exr"}}})).dump());
     expectFifoRefused("render " + q(d / "sky.json") + " --quiet -o " + q(out), d / "sky.exr");
     // A mesh file, a glTF model given directly, and a job file.
     makeFifo(d / "mesh.ply");
@@ -160,8 +160,8 @@ TEST(StopRequest, ReadersStopWhenAStopWasAskedFor) {
 
 TEST(StopRequest, RenderExitsWithStatusOneOnASignalAtAnyMoment) {
     const fs::path d = dir("render-signal");
-    json doc = test::floorAndSphereScene({.width = 64, .height = 48, .spp = 1 << 20, .floorMaterial = true,
-                                          .sphereLight = true, .pointLight = true});
+    json doc = test::floorAndSphereScene(
+        {.width = 64, .height = 48, .spp = 1 << 20, .floorMaterial = true, .sphereLight = true, .pointLight = true});
     writeText(d / "scene.json", doc.dump());
     // Early (loading, opening the device, compiling kernels) and late (rendering): each
     // must end with status 1 and write nothing.

@@ -53,7 +53,7 @@ TEST(TileQueue, EveryWorkerCountGivesTheSameImage) {
     doc["shapes"].push_back({{"type", "sphere"}, {"center", {0.5, 0.2, 0.3}}, {"radius", 0.2}});
     const Scene scene = test::sceneFromJson(doc, "tile-rows");
     struct Render {
-        std::vector<gpu::AccumPixel> sums;
+        std::vector<gpu::AccumSum> sums;
         Image image;
     };
     auto render = [&](uint32_t workers, uint64_t maxPixelSamples) {
@@ -62,11 +62,11 @@ TEST(TileQueue, EveryWorkerCountGivesTheSameImage) {
         RenderPacing pacing;
         pacing.maxPixelSamples = maxPixelSamples;
         renderer.renderAll({}, nullptr, pacing);
-        return Render{renderer.accumulation().read<gpu::AccumPixel>(), renderer.readback(0.0)};
+        return Render{renderer.accumulation().read<gpu::AccumSum>(), renderer.readback(0.0)};
     };
     const Render reference = render(1, 0);
     size_t lit = 0;
-    for (const gpu::AccumPixel& s : reference.sums) {
+    for (const gpu::AccumSum& s : reference.sums) {
         EXPECT_EQ(s.count, 3u);
         lit += s.sum.x > 0.0f;
     }

@@ -58,11 +58,11 @@ TEST(TraversalStacks, SplitBandsGiveTheSameImage) {
         renderer.setWorkerThreads(workers);
         if (stackInvocations) renderer.setStackInvocations(stackInvocations);
         renderer.renderAll();
-        return std::make_pair(renderer.accumulation().read<gpu::AccumPixel>(), renderer.readback(0.0));
+        return std::make_pair(renderer.accumulation().read<gpu::AccumSum>(), renderer.readback(0.0));
     };
     const auto [referenceSums, reference] = render(NodeReads::Texels, 1, 0);
     size_t shadowed = 0;
-    for (const gpu::AccumPixel& s : referenceSums) shadowed += s.sum.x == 0.0f;
+    for (const gpu::AccumSum& s : referenceSums) shadowed += s.sum.x == 0.0f;
     EXPECT_GT(shadowed, 0u) << "the spheres should shadow part of the floor";
     ASSERT_TRUE(test::gpuContext().info().shaderInt64 && test::gpuContext().info().bufferDeviceAddress)
         << "the test device should read nodes through their address";

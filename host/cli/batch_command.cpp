@@ -207,8 +207,8 @@ void printSummary(const Totals& totals, size_t jobsOfTask, size_t jobsInFile, co
                  "penumbra: batch %s: rendered %zu, skipped %zu, failed %zu, not run %zu, of %zu jobs (%s%zu in the "
                  "file) in %.2f s in all; %.2f M samples/s while rendering; scene uploads %zu, reused %zu; pipelines "
                  "created %zu, reused %zu\n",
-                 stopRequested() ? "interrupted" : "done", totals.rendered, totals.skipped, failed, totals.notRun, jobsOfTask,
-                 scope, jobsInFile, secondsSince(start),
+                 stopRequested() ? "interrupted" : "done", totals.rendered, totals.skipped, failed, totals.notRun,
+                 jobsOfTask, scope, jobsInFile, secondsSince(start),
                  totals.renderSeconds > 0 ? totals.samples / totals.renderSeconds * 1e-6 : 0.0, totals.uploads,
                  totals.uploadsReused, device.session.pipelinesCreated(), device.session.pipelinesReused());
 }

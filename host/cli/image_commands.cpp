@@ -36,8 +36,8 @@ int compareCommand(const std::string& a, const std::string& b) {
     // NaN or infinity makes every metric NaN: not a clean comparison that a script could
     // take for a pass (it printed "nan" and exited 0). Refused as bad input, naming the file.
     for (const auto& [image, name] : {std::pair{&imageA, &a}, std::pair{&imageB, &b}}) {
-        const size_t bad = size_t(std::count_if(image->rgb.begin(), image->rgb.end(),
-                                                [](float v) { return !std::isfinite(v); }));
+        const size_t bad =
+            size_t(std::count_if(image->rgb.begin(), image->rgb.end(), [](float v) { return !std::isfinite(v); }));
         if (bad > 0)
             throwInputError(*name, "",
                             "holds " + std::to_string(bad) + " NaN or infinite values (of " +

@@ -141,7 +141,7 @@ void checkJpegSegments(const std::string& bytes, const std::string& label) {
             ++at;
             continue;
         }
-        if (marker == 0xD9) return;  // EOI
+        if (marker == 0xD9) return;                                  // EOI
         if (marker == 0x01 || (marker >= 0xD0 && marker <= 0xD7)) {  // no length
             at += 2;
             continue;

@@ -74,7 +74,8 @@ std::vector<ScriptEvent> parseInputScript(const std::string& text, const std::st
         } else {
             fail(name, lineNumber, "unknown event '" + elide(verb) + "' (key, drag, scroll or resize)");
         }
-        if (std::string extra; in >> extra) fail(name, lineNumber, "unexpected '" + elide(extra) + "' at the end of the line");
+        if (std::string extra; in >> extra)
+            fail(name, lineNumber, "unexpected '" + elide(extra) + "' at the end of the line");
         events.push_back(event);
     }
     std::stable_sort(events.begin(), events.end(),

@@ -41,9 +41,7 @@ const fs::path& folder() {
 // microseconds instead of decoding for seconds, so the fuzzer explores more inputs.
 constexpr uint64_t kFuzzMaxPixels = uint64_t(1) << 20;
 
-void readImage(const fs::path& file) {
-    readImageFile(file, file.string(), ColorDecode::Srgb, kFuzzMaxPixels);
-}
+void readImage(const fs::path& file) { readImageFile(file, file.string(), ColorDecode::Srgb, kFuzzMaxPixels); }
 
 // As `penumbra merge` and `compare` read an EXR: the header's checks first, then pixels.
 void readExrAsMergeInput(const fs::path& file) {
