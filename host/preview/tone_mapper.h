@@ -24,8 +24,7 @@ public:
     // an *_SRGB swapchain (the blit decodes and re-encodes, so bytes are encoded once);
     // otherwise R8G8B8A8_UNORM, whose bytes a UNORM swapchain shows as they are.
     ToneMapper(const gpu::Context& context, const gpu::Buffer& accumulation, const gpu::Buffer& compensation,
-               uint32_t width, uint32_t height,
-               bool srgbImage);
+               uint32_t width, uint32_t height, bool srgbImage);
     ~ToneMapper();
     ToneMapper(const ToneMapper&) = delete;
     ToneMapper& operator=(const ToneMapper&) = delete;
