@@ -2,6 +2,7 @@
 // failures to exit statuses: 0 success, 2 bad usage or bad input, 1 anything else.
 #include <cstdio>
 #include <exception>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -11,6 +12,7 @@
 #include "core/errors.h"
 #include "core/exit_status.h"
 #include "core/input_file.h"
+#include "core/stop_request.h"
 
 using namespace penumbra;
 
@@ -51,6 +53,9 @@ std::vector<Override> collectOverrides(const std::vector<std::string>& sets, con
 }  // namespace
 
 int main(int argc, char** argv) {
+    // First thing: from here on SIGINT and SIGTERM exit with status 1, never the default
+    // action's 130/143 (core/stop_request.h).
+    installStopHandlers();
     CLI::App app{"penumbra: direct illumination on Vulkan compute"};
     app.require_subcommand(0, 1);
     bool version = false;
@@ -68,9 +73,11 @@ int main(int argc, char** argv) {
     BatchOptions batch;
     CLI::App* batchCmd = app.add_subcommand("batch", "render every job of a job file (docs/BATCH.md)");
     batchCmd->add_option("jobs", batch.jobFile, "job file (.json)")->required();
+    // Ranges as integers: CLI11's PositiveNumber printed its range as 310-digit doubles.
     batchCmd->add_option("--task", batch.task, "run only jobs j with j % TASKS == TASK (0-based)")
-        ->check(CLI::NonNegativeNumber);
-    batchCmd->add_option("--tasks", batch.tasks, "number of tasks the jobs are split into")->check(CLI::PositiveNumber);
+        ->check(CLI::Range(0, std::numeric_limits<int>::max()));
+    batchCmd->add_option("--tasks", batch.tasks, "number of tasks the jobs are split into")
+        ->check(CLI::Range(1, std::numeric_limits<int>::max()));
     batchCmd->add_option("--device", batch.device, "Vulkan device index (see 'penumbra devices'; or PENUMBRA_DEVICE)");
     batchCmd->add_flag("--list", batch.list, "print the jobs (of this task) and exit, rendering nothing");
     batchCmd->add_flag("--quiet", batch.quiet, "no per-job progress or notes on stderr (failures and summary stay)");

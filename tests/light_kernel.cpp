@@ -56,7 +56,8 @@ std::vector<gpu::LightTestRecord> LightKernel::run(gpu::LightTestPush push, cons
     // This scene's buffers at the render kernels' bindings (another LightKernel may have
     // bound its own since); bindings the kernel does not use still get a buffer.
     gpu::Kernel& kernel = lightTestKernel();
-    for (uint32_t b : {uint32_t(BINDING_PARAMS), uint32_t(BINDING_ACCUM), uint32_t(BINDING_MATERIALS)})
+    for (uint32_t b : {uint32_t(BINDING_PARAMS), uint32_t(BINDING_ACCUM), uint32_t(BINDING_ACCUM_COMPENSATION),
+                       uint32_t(BINDING_MATERIALS)})
         kernel.bind(b, m_dummy);
     kernel.bind(BINDING_NODES, m_nodes);
     kernel.bind(BINDING_NODE_WORDS, m_nodes);

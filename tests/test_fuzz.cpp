@@ -1,5 +1,5 @@
 // A seeded mutation fuzzer over the committed corpus (tests/fuzz/corpus): every mutant goes
-// through the scene, job-file, glTF or mesh-file reader (fuzz/fuzz_inputs.h) and must be read or
+// through the scene, job-file, glTF, mesh-file or image reader (fuzz/fuzz_inputs.h) and must be read or
 // refused with an InputError; a crash fails the whole test binary. The seed is fixed, so
 // a run is reproducible; tools/fuzz runs the same readers under libFuzzer, ASan and UBSan
 // for as long as wanted. Bounded by a number of mutants and a wall-clock cap (~1 minute),
@@ -36,7 +36,7 @@ std::vector<std::string> loadCorpus() {
 }
 
 // Tokens that reach the readers' interesting branches: limits, types, glTF fields, paths,
-// OBJ and PLY statements.
+// OBJ and PLY statements, image headers (HDR, PNG chunks, JPEG markers, EXR attributes).
 const std::vector<std::string> kTokens = {"[",
                                           "]",
                                           "{",
@@ -88,7 +88,16 @@ const std::vector<std::string> kTokens = {"[",
                                           "\nusemtl ",
                                           "\nelement face ",
                                           "\nproperty list uint int vertex_indices",
-                                          "\nend_header\n"};
+                                          "\nend_header\n",
+                                          "#?RADIANCE\n",
+                                          "\n-Y 8 +X 8\n",
+                                          std::string("\x02\x02\x00\x08", 4),  // an RLE scanline start
+                                          "IHDR",
+                                          "IDAT",
+                                          "\xff\xd9",
+                                          std::string("\xff\xc0\x00\x11\x08", 5),  // a JPEG SOF0 header
+                                          "dataWindow",
+                                          "penumbra:spp"};
 
 std::string mutate(std::string s, std::mt19937_64& rng) {
     auto pick = [&](size_t n) { return n == 0 ? size_t(0) : size_t(rng() % n); };

@@ -8,6 +8,8 @@
 
 using namespace penumbra::gpu;
 
+static_assert(sizeof(AccumSum) == 16 && offsetof(AccumSum, count) == 12 && sizeof(AccumCompensation) == 16 &&
+              offsetof(AccumCompensation, unused) == 12);
 static_assert(sizeof(BvhNode) == 32 && offsetof(BvhNode, offset) == 12 && offsetof(BvhNode, boundsMax) == 16 &&
               offsetof(BvhNode, primCount) == 28);
 static_assert(sizeof(Primitive) == 48 && offsetof(Primitive, typeAndNormals) == 12 &&

@@ -28,18 +28,20 @@ Scene sceneWithSpheres(uint32_t spp) {
 }
 
 struct Render {
-    std::vector<glm::vec4> sums;
+    std::vector<gpu::AccumSum> sums;
     Image image;
 };
 
-Render result(const Renderer& renderer) { return {renderer.accumulation().read<glm::vec4>(), renderer.readback(0.0)}; }
+Render result(const Renderer& renderer) {
+    return {renderer.accumulation().read<gpu::AccumSum>(), renderer.readback(0.0)};
+}
 
 // Pixels whose sample count is not `spp`, and pixels whose image values differ from `reference`.
-void expectSameRender(const Render& r, const Render& reference, float spp) {
+void expectSameRender(const Render& r, const Render& reference, uint32_t spp) {
     ASSERT_EQ(r.sums.size(), reference.sums.size());
     size_t wrongCount = 0, differing = 0;
     for (size_t i = 0; i < r.sums.size(); ++i) {
-        wrongCount += r.sums[i].w != spp;
+        wrongCount += r.sums[i].count != spp;
         for (int c = 0; c < 3; ++c) differing += r.image.rgb[3 * i + c] != reference.image.rgb[3 * i + c];
     }
     EXPECT_EQ(wrongCount, 0u);
@@ -85,7 +87,7 @@ TEST(LoopBudget, APixelLeftShortTakesUpItsSamplesWhereItStopped) {
                 resumed.recordPasses(cmd, 0, 3, 0, 16);
                 resumed.recordPasses(cmd, 0, 8, 0, 35);
             });
-            expectSameRender(result(resumed), reference, 8.0f);
+            expectSameRender(result(resumed), reference, 8u);
         }
     }
 }
@@ -112,14 +114,14 @@ TEST(LoopBudget, CutLoopsLeaveNoSampleOut) {
     for (uint32_t first = 0; first < spp; first += 64)
         test::gpuContext().submitAndWait([&](VkCommandBuffer cmd) { inSteps.recordPasses(cmd, first, 64, 0, 35); });
     const Render reference = result(inSteps);
-    for (const glm::vec4& s : reference.sums) ASSERT_EQ(s.w, float(spp)) << "the reference lost samples";
+    for (const gpu::AccumSum& s : reference.sums) ASSERT_EQ(s.count, spp) << "the reference lost samples";
     for (bool forced : {false, true}) {
         SCOPED_TRACE(forced ? "checks on" : "checks as the device needs");
         Renderer once(test::gpuContext(), scene);
         once.setInlineGeometry(InlineGeometry::Off);
         if (forced) once.setLoopChecks(true);
         once.renderAll({}, nullptr, RenderPacing{1000.0, 0});  // one band: every sample at once
-        expectSameRender(result(once), reference, float(spp));
+        expectSameRender(result(once), reference, spp);
         // Where the driver cuts (22.3), the test must have made it cut, or it shows nothing.
         if (loopsMayBeCutFor(test::gpuContext().info()))
             EXPECT_GT(once.loopCuts(), 0u) << "the render stayed within the driver's loop budget";

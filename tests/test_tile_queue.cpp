@@ -53,7 +53,7 @@ TEST(TileQueue, EveryWorkerCountGivesTheSameImage) {
     doc["shapes"].push_back({{"type", "sphere"}, {"center", {0.5, 0.2, 0.3}}, {"radius", 0.2}});
     const Scene scene = test::sceneFromJson(doc, "tile-rows");
     struct Render {
-        std::vector<glm::vec4> sums;
+        std::vector<gpu::AccumSum> sums;
         Image image;
     };
     auto render = [&](uint32_t workers, uint64_t maxPixelSamples) {
@@ -62,13 +62,13 @@ TEST(TileQueue, EveryWorkerCountGivesTheSameImage) {
         RenderPacing pacing;
         pacing.maxPixelSamples = maxPixelSamples;
         renderer.renderAll({}, nullptr, pacing);
-        return Render{renderer.accumulation().read<glm::vec4>(), renderer.readback(0.0)};
+        return Render{renderer.accumulation().read<gpu::AccumSum>(), renderer.readback(0.0)};
     };
     const Render reference = render(1, 0);
     size_t lit = 0;
-    for (const glm::vec4& s : reference.sums) {
-        EXPECT_EQ(s.w, 3.0f);
-        lit += s.x > 0.0f;
+    for (const gpu::AccumSum& s : reference.sums) {
+        EXPECT_EQ(s.count, 3u);
+        lit += s.sum.x > 0.0f;
     }
     EXPECT_GT(lit, reference.sums.size() / 2) << "the light should reach most pixels";
     // One workgroup per tile above; tile queues of 2 to 7 workgroups here, over whole passes
@@ -81,7 +81,7 @@ TEST(TileQueue, EveryWorkerCountGivesTheSameImage) {
             ASSERT_EQ(r.sums.size(), reference.sums.size());
             size_t wrongCount = 0, differing = 0;
             for (size_t i = 0; i < r.sums.size(); ++i) {
-                wrongCount += r.sums[i].w != 3.0f;  // a pixel rendered twice, or never
+                wrongCount += r.sums[i].count != 3u;  // a pixel rendered twice, or never
                 differing += r.image.rgb[3 * i] != reference.image.rgb[3 * i] ||
                              r.image.rgb[3 * i + 1] != reference.image.rgb[3 * i + 1] ||
                              r.image.rgb[3 * i + 2] != reference.image.rgb[3 * i + 2];

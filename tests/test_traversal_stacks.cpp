@@ -58,11 +58,11 @@ TEST(TraversalStacks, SplitBandsGiveTheSameImage) {
         renderer.setWorkerThreads(workers);
         if (stackInvocations) renderer.setStackInvocations(stackInvocations);
         renderer.renderAll();
-        return std::make_pair(renderer.accumulation().read<glm::vec4>(), renderer.readback(0.0));
+        return std::make_pair(renderer.accumulation().read<gpu::AccumSum>(), renderer.readback(0.0));
     };
     const auto [referenceSums, reference] = render(NodeReads::Texels, 1, 0);
     size_t shadowed = 0;
-    for (const glm::vec4& s : referenceSums) shadowed += s.x == 0.0f;
+    for (const gpu::AccumSum& s : referenceSums) shadowed += s.sum.x == 0.0f;
     EXPECT_GT(shadowed, 0u) << "the spheres should shadow part of the floor";
     ASSERT_TRUE(test::gpuContext().info().shaderInt64 && test::gpuContext().info().bufferDeviceAddress)
         << "the test device should read nodes through their address";
@@ -76,7 +76,7 @@ TEST(TraversalStacks, SplitBandsGiveTheSameImage) {
             const auto [sums, image] = render(NodeReads::Address, workers, stackInvocations);
             ASSERT_EQ(sums.size(), referenceSums.size());
             size_t wrongCount = 0, differing = 0;
-            for (size_t i = 0; i < sums.size(); ++i) wrongCount += sums[i].w != 3.0f;  // twice, or never
+            for (size_t i = 0; i < sums.size(); ++i) wrongCount += sums[i].count != 3u;  // twice, or never
             for (size_t i = 0; i < image.rgb.size(); ++i) differing += image.rgb[i] != reference.rgb[i];
             EXPECT_EQ(wrongCount, 0u);
             EXPECT_EQ(differing, 0u);

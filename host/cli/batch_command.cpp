@@ -7,7 +7,6 @@
 #include <unistd.h>
 #include <atomic>
 #include <chrono>
-#include <csignal>
 #include <cstdio>
 #include <filesystem>
 
@@ -15,6 +14,8 @@
 #include "cli/commands.h"
 #include "cli/slow_step_notice.h"
 #include "core/errors.h"
+#include "core/exit_status.h"
+#include "core/stop_request.h"
 #include "image/image.h"
 #include "image/image_file.h"
 #include "image/output_check.h"
@@ -28,9 +29,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
-
-std::atomic<bool> g_stop{false};
-extern "C" void onStop(int) { g_stop = true; }
 
 double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
@@ -183,12 +181,17 @@ JobTimes renderJob(Device& device, const BatchJob& job, const Scene& scene, cons
                    Clock::time_point jobStart, Totals& totals) {
     const double pixels = double(scene.film.width) * scene.film.height;
     auto progress = [&](const RenderProgress& p) { ticker.show(tag, p, pixels); };
-    Image image = device.session.render(progress, &g_stop);
+    Image image = device.session.render(progress, stopFlag());
     const double renderSeconds = image.meta.renderSeconds.value_or(0.0);
     const double seconds = secondsSince(jobStart);
     if (outputFormatOf(job.output) == OutputFormat::Png) writePng(job.output, image);
     else writeExr(job.output, image);
-    if (!job.png.empty()) writePng(job.png, image);
+    if (!job.png.empty()) try {
+            writePng(job.png, image);
+        } catch (const std::exception& e) {
+            // As `render` says it; the next run of the batch writes the PNG from the EXR.
+            throw std::runtime_error(std::string(e.what()) + " (" + job.output.string() + " was written)");
+        }
     ++totals.rendered;
     totals.renderSeconds += renderSeconds;
     totals.samples += pixels * scene.sampler.spp;
@@ -204,8 +207,8 @@ void printSummary(const Totals& totals, size_t jobsOfTask, size_t jobsInFile, co
                  "penumbra: batch %s: rendered %zu, skipped %zu, failed %zu, not run %zu, of %zu jobs (%s%zu in the "
                  "file) in %.2f s in all; %.2f M samples/s while rendering; scene uploads %zu, reused %zu; pipelines "
                  "created %zu, reused %zu\n",
-                 g_stop ? "interrupted" : "done", totals.rendered, totals.skipped, failed, totals.notRun, jobsOfTask,
-                 scope, jobsInFile, secondsSince(start),
+                 stopRequested() ? "interrupted" : "done", totals.rendered, totals.skipped, failed, totals.notRun,
+                 jobsOfTask, scope, jobsInFile, secondsSince(start),
                  totals.renderSeconds > 0 ? totals.samples / totals.renderSeconds * 1e-6 : 0.0, totals.uploads,
                  totals.uploadsReused, device.session.pipelinesCreated(), device.session.pipelinesReused());
 }
@@ -231,16 +234,17 @@ int batchCommand(const BatchOptions& options) {
     Totals totals;
     Device device;
 
-    g_stop = false;
-    auto previousInt = std::signal(SIGINT, onStop);
-    auto previousTerm = std::signal(SIGTERM, onStop);  // Slurm's scancel and time limit
+    // SIGINT and SIGTERM (Slurm's scancel and time limit) stop the batch at the next stop
+    // point: between jobs, or inside one while it loads or renders (core/stop_request.h).
+    clearStopRequest();
+    StopPoints stopPoints;
 
     for (size_t n = 0; n < mine.size(); ++n) {
         const BatchJob& job = all[mine[n]];
         char counter[64];
         std::snprintf(counter, sizeof counter, "[%zu/%zu] job %zu ", n + 1, mine.size(), mine[n]);
         const std::string tag = counter + job.output.string();
-        if (g_stop) {
+        if (stopRequested()) {
             totals.notRun = mine.size() - n;
             break;
         }
@@ -288,21 +292,19 @@ int batchCommand(const BatchOptions& options) {
             std::fprintf(stderr, "penumbra: %s: failed (bad input): %s\n", tag.c_str(), oneLine(e.what()).c_str());
         } catch (const std::exception& e) {
             ticker.end();
-            if (g_stop) {
+            if (stopRequested()) {
                 totals.notRun = mine.size() - n;
                 std::fprintf(stderr, "penumbra: %s: interrupted, nothing written\n", tag.c_str());
                 break;
             }
             ++totals.failedRuntime;
-            std::fprintf(stderr, "penumbra: %s: failed: %s\n", tag.c_str(), oneLine(e.what()).c_str());
+            std::fprintf(stderr, "penumbra: %s: failed: %s\n", tag.c_str(), oneLine(failureMessage(e)).c_str());
         }
     }
-    std::signal(SIGINT, previousInt);
-    std::signal(SIGTERM, previousTerm);
 
     printSummary(totals, mine.size(), all.size(), share, start, device);
     if (totals.failedInput > 0) return 2;
-    if (totals.failedRuntime > 0 || g_stop) return 1;
+    if (totals.failedRuntime > 0 || stopRequested()) return 1;
     return 0;
 }
 

@@ -3,7 +3,6 @@
 #include <unistd.h>
 #include <atomic>
 #include <chrono>
-#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -13,6 +12,7 @@
 #include "cli/slow_step_notice.h"
 #include "core/errors.h"
 #include "core/phases.h"
+#include "core/stop_request.h"
 #include "image/image.h"
 #include "image/output_check.h"
 #include "image/output_format.h"
@@ -20,9 +20,6 @@
 
 namespace penumbra {
 namespace {
-
-std::atomic<bool> g_interrupted{false};
-extern "C" void onInterrupt(int) { g_interrupted = true; }
 
 }  // namespace
 
@@ -39,9 +36,15 @@ int renderCommand(const RenderOptions& options) {
         format = outputFormatOf(options.output);
         if (!format) throw InputError("-o " + outputFormatProblem(options.output));
     }
+    // Loading checks the stop flag between chunks (core/stop_request.h); opening the device
+    // and compiling kernels do not, and a signal there exits at once.
+    clearStopRequest();
     Scene scene = [&] {
+        StopPoints loading;
         Phase phase("load");
-        return loadScene(options.scene, options.overrides);
+        Scene loaded = loadScene(options.scene, options.overrides);
+        throwIfStopRequested();
+        return loaded;
     }();
     std::filesystem::path output = options.output.empty() ? std::filesystem::path(scene.name + ".exr")
                                                            : std::filesystem::path(options.output);
@@ -72,30 +75,26 @@ int renderCommand(const RenderOptions& options) {
         std::fflush(stderr);
     };
     // A stop is seen at the next submission (each about 0.25 s, render/pass_bands.h); the
-    // handlers stay until the outputs are written, so that a signal during the writing
+    // stop points last until the outputs are written, so that a signal during the writing
     // lets it finish rather than leave a temporary file behind.
-    g_interrupted = false;
-    auto previousInt = std::signal(SIGINT, onInterrupt);
-    auto previousTerm = std::signal(SIGTERM, onInterrupt);
-    struct RestoreHandlers {
-        void (*sigint)(int);
-        void (*sigterm)(int);
-        ~RestoreHandlers() {
-            std::signal(SIGINT, sigint);
-            std::signal(SIGTERM, sigterm);
-        }
-    } restore{previousInt, previousTerm};
+    StopPoints rendering;
     std::optional<Phase> renderPhase(std::in_place, "render");
-    Image image = session.render(progress, &g_interrupted);
+    Image image = session.render(progress, stopFlag());
     renderPhase.reset();
     const double seconds = image.meta.renderSeconds.value_or(0.0);
 
-    if (g_interrupted) throw std::runtime_error("render interrupted");
+    if (stopRequested()) throw std::runtime_error("render interrupted");
     {
         Phase writePhase("write");
         if (*format == OutputFormat::Png) writePng(output, image, options.look);
         else writeExr(output, image);
-        if (!options.png.empty()) writePng(options.png, image, options.look);
+        // Each file is whole or absent (atomic_file.h); when the second fails (a full
+        // disk), the message says that the first was written.
+        if (!options.png.empty()) try {
+                writePng(options.png, image, options.look);
+            } catch (const std::exception& e) {
+                throw std::runtime_error(std::string(e.what()) + " (" + output.string() + " was written)");
+            }
     }
     if (showProgress) {
         std::fprintf(stderr, "\r%78s\r", "");  // the progress line

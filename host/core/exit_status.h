@@ -3,6 +3,7 @@
 // (InputError) or 1 for anything else.
 #pragma once
 
+#include <exception>
 #include <functional>
 #include <string>
 
@@ -10,6 +11,10 @@ namespace penumbra {
 
 // One line on stderr, newlines in the message turned into spaces.
 void printErrorLine(const char* program, const std::string& message);
+
+// The message for a failure: e.what(), except that running out of host memory
+// (std::bad_alloc) says so in words.
+std::string failureMessage(const std::exception& e);
 
 int runReportingErrors(const char* program, const std::function<int()>& body);
 

@@ -13,6 +13,7 @@
 #include <cstring>
 
 #include "core/errors.h"
+#include "core/stop_request.h"
 
 namespace penumbra {
 namespace {
@@ -29,6 +30,17 @@ std::string describeErrno(int errnum) {
     if (!text.empty()) text[0] = char(std::tolower((unsigned char)text[0]));
     return text;
 }
+
+// What kind of file that is not a regular one `mode` says, for the refusal.
+std::string kindOf(mode_t mode) {
+    if (S_ISFIFO(mode)) return "a FIFO";
+    if (S_ISCHR(mode)) return "a character device";
+    if (S_ISBLK(mode)) return "a block device";
+    if (S_ISSOCK(mode)) return "a socket";
+    return "not a regular file";
+}
+
+std::string notRegular(mode_t mode) { return "cannot open file (not a regular file: " + kindOf(mode) + ")"; }
 
 // Closes the descriptor on every way out of readInputFile.
 struct FileDescriptor {
@@ -47,24 +59,36 @@ std::optional<std::string> openProblem(const fs::path& file) {
     return std::nullopt;
 }
 
+void checkRegularFile(const fs::path& file, const std::string& label) {
+    struct stat st {};
+    if (::stat(file.c_str(), &st) != 0) throwInputError(label, "", "cannot open file (" + describeErrno(errno) + ")");
+    if (S_ISDIR(st.st_mode)) throwInputError(label, "", "cannot open file (" + describeErrno(EISDIR) + ")");
+    if (!S_ISREG(st.st_mode)) throwInputError(label, "", notRegular(st.st_mode));
+}
+
 std::string readInputFile(const fs::path& file, const std::string& label, uint64_t maxBytes) {
-    FileDescriptor in{::open(file.c_str(), O_RDONLY | O_CLOEXEC)};
+    // O_NONBLOCK: opening a FIFO without a writer would otherwise wait forever, deaf to
+    // signals (SA_RESTART); for a regular file it changes nothing.
+    FileDescriptor in{::open(file.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK | O_NOCTTY)};
     if (in.fd < 0) throwInputError(label, "", "cannot open file (" + describeErrno(errno) + ")");
     struct stat st {};
     if (::fstat(in.fd, &st) != 0) throwInputError(label, "", "cannot open file (" + describeErrno(errno) + ")");
     if (S_ISDIR(st.st_mode)) throwInputError(label, "", "cannot open file (" + describeErrno(EISDIR) + ")");
+    // FIFOs, devices and sockets may never end or never answer: input files are regular.
+    if (!S_ISREG(st.st_mode)) throwInputError(label, "", notRegular(st.st_mode));
     const std::string tooLarge = "file too large (more than " + std::to_string(maxBytes) + " bytes)";
-    // A regular file says its size up front; devices and pipes are read until the cap.
-    if (S_ISREG(st.st_mode) && uint64_t(st.st_size) > maxBytes) throwInputError(label, "", tooLarge);
+    if (uint64_t(st.st_size) > maxBytes) throwInputError(label, "", tooLarge);
 
     std::string text;
-    if (S_ISREG(st.st_mode)) text.reserve(size_t(st.st_size));
+    text.reserve(size_t(st.st_size));
     char chunk[1 << 16];
     while (true) {
+        throwIfStopRequested();  // a 1 GiB file is 16384 chunks: a stop waits one
         ssize_t got = ::read(in.fd, chunk, sizeof chunk);
         if (got < 0 && errno == EINTR) continue;
         if (got < 0) throwInputError(label, "", "read error: " + describeErrno(errno));
         if (got == 0) break;
+        // A file that grows while it is read is still capped.
         if (text.size() + uint64_t(got) > maxBytes) throwInputError(label, "", tooLarge);
         text.append(chunk, size_t(got));
     }

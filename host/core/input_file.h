@@ -16,10 +16,15 @@ constexpr uint64_t kMaxJsonFileBytes = uint64_t(1) << 30;
 // glTF models (.gltf/.glb) and each buffer they name: 2 GiB at most (tinygltf sizes are 32-bit).
 constexpr uint64_t kMaxModelFileBytes = uint64_t(1) << 31;
 
-// The whole file, read through open/read so that devices and pipes work; throws
-// InputError "<label>: cannot open file (<why>)", "<label>: read error: <strerror>" or
-// "<label>: file too large (more than N bytes)" once more than `maxBytes` have been seen.
+// The whole file; throws InputError "<label>: cannot open file (<why>)", "<label>: read
+// error: <strerror>" or "<label>: file too large (more than N bytes)". Input files must be
+// regular files (after symlinks): a FIFO, device or socket is refused as "cannot open file
+// (not a regular file: a FIFO)", without waiting for a writer, since one may never come
+// or never end. Throws Stopped (core/stop_request.h) when a stop is asked for meanwhile.
 std::string readInputFile(const std::filesystem::path& file, const std::string& label, uint64_t maxBytes);
+// The same refusals for a reader that opens the file itself (OpenEXR's): missing,
+// a directory, or not a regular file.
+void checkRegularFile(const std::filesystem::path& file, const std::string& label);
 
 // Why `file` cannot be opened ("no such file", "too many levels of symbolic links", "it
 // is a directory"), or nothing when it can be.

@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <string>
 
+#include "core/errors.h"
 #include "gpu/llvmpipe_width.h"
 #include "gpu/shader_objects.h"
 #include "gpu/vk_check.h"
@@ -147,14 +148,17 @@ DeviceInfo describe(VkPhysicalDevice device, uint32_t index) {
     return info;
 }
 
-// The device index from PENUMBRA_DEVICE, or -1.
+// The device index from PENUMBRA_DEVICE, or -1. Digits only, at most 9 of them: strtol
+// into an int turned 4294967296 into device 0 and saturated a 20-digit value. A value
+// that is no index is bad usage (exit status 2), as a bad --device is.
 int deviceFromEnvironment() {
     const char* text = std::getenv("PENUMBRA_DEVICE");
     if (!text || !*text) return -1;
-    char* end = nullptr;
-    long value = std::strtol(text, &end, 10);
-    if (*end != '\0' || value < 0) throw GpuError(std::string("PENUMBRA_DEVICE: not a device index: ") + text);
-    return int(value);
+    const std::string value = text;
+    if (value.size() > 9 || value.find_first_not_of("0123456789") != std::string::npos)
+        throw InputError("PENUMBRA_DEVICE: not a device index: '" + elide(value) +
+                         "' (a whole number from 0; see 'penumbra devices')");
+    return std::stoi(value);
 }
 
 int automaticChoice(const std::vector<VkPhysicalDevice>& devices, VkSurfaceKHR surface) {
@@ -237,9 +241,11 @@ Context::Context(const ContextOptions& options) {
         throw GpuError(
             "no Vulkan device found; install a Vulkan driver, e.g. Debian's mesa-vulkan-drivers for lavapipe");
     int index = options.deviceIndex >= 0 ? options.deviceIndex : deviceFromEnvironment();
-    if (index >= int(devices.size()))
-        throw GpuError("Vulkan device " + std::to_string(index) + " does not exist (" + std::to_string(devices.size()) +
-                       " found; see 'penumbra devices')");
+    const std::string missing = "Vulkan device " + std::to_string(index) + " does not exist (" +
+                                std::to_string(devices.size()) + " found; see 'penumbra devices')";
+    // PENUMBRA_DEVICE out of range is bad usage (exit status 2), as a value that is no index.
+    if (options.deviceIndex < 0 && index >= int(devices.size())) throw InputError("PENUMBRA_DEVICE: " + missing);
+    if (index >= int(devices.size())) throw GpuError(missing);
     if (index < 0) index = automaticChoice(devices, m_surface);
     if (index < 0)
         throw GpuError(m_surface ? "no Vulkan device can both compute and present to the window"

@@ -12,7 +12,6 @@
 #include <cerrno>
 #include <csignal>
 #include <cstring>
-#include <fstream>
 #include <stdexcept>
 #include <string>
 
@@ -61,6 +60,30 @@ int openStream(const fs::path& target) {
     return fd;
 }
 
+// The temporaries of writeFileAtomically for `target` ("NAME.tmp-PID-N") that a process
+// which no longer runs left behind (killed with SIGKILL, or the machine went down while
+// writing): removed when the same output is written again, so that none stays forever.
+// Another live process's (or our own) are in use and stay.
+void removeStaleTemporaries(const fs::path& target) {
+    const std::string prefix = target.filename().string() + ".tmp-";
+    const fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
+    std::error_code ec;
+    for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+        const std::string name = it->path().filename().string();
+        if (name.size() <= prefix.size() || name.compare(0, prefix.size(), prefix) != 0) continue;
+        // PID-N: digits, a dash, digits, nothing else.
+        const std::string rest = name.substr(prefix.size());
+        const size_t dash = rest.find('-');
+        if (dash == 0 || dash == std::string::npos || dash > 9 || dash + 1 == rest.size() ||
+            rest.find_first_not_of("0123456789-") != std::string::npos || rest.find('-', dash + 1) != std::string::npos)
+            continue;
+        const pid_t pid = pid_t(std::stol(rest.substr(0, dash)));
+        if (pid == ::getpid() || !(::kill(pid, 0) != 0 && errno == ESRCH)) continue;
+        std::error_code removeError;
+        if (it->is_regular_file(removeError)) fs::remove(it->path(), removeError);
+    }
+}
+
 }  // namespace
 
 fs::path finalTarget(const fs::path& path) {
@@ -79,6 +102,11 @@ bool isStreamOutput(const fs::path& path) {
     std::error_code ec;
     fs::file_status s = fs::status(path, ec);  // follows symlinks, /dev/stdout's included
     return !ec && (s.type() == fs::file_type::character || s.type() == fs::file_type::fifo);
+}
+
+size_t longestTemporaryName(const fs::path& target) {
+    constexpr size_t kSuffix = std::string_view(".tmp-").size() + 10 + 1 + 10;
+    return finalTarget(target).filename().string().size() + kSuffix;
 }
 
 void writeFileAtomically(const fs::path& requested, const std::function<void(const fs::path& tmp)>& write) {
@@ -101,6 +129,7 @@ void writeFileAtomically(const fs::path& requested, const std::function<void(con
     if (fs::exists(existing) && !replacing)
         throw std::runtime_error(prefix + "not a regular file (only those are replaced atomically)");
 
+    removeStaleTemporaries(target);
     fs::path tmp = target;
     tmp += ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
     try {
@@ -135,12 +164,15 @@ void writeOutputFile(const fs::path& target, std::string_view bytes) {
         }
         // Replaced by a regular file since the check: write that one atomically.
     }
+    // Through open/write/close, whose errno says why a write failed (a full disk: "No
+    // space left on device"), which std::ofstream does not.
     writeFileAtomically(target, [&](const fs::path& tmp) {
-        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-        if (!out) throw std::runtime_error("cannot create " + tmp.string() + ": " + std::strerror(errno));
-        out.write(bytes.data(), std::streamsize(bytes.size()));
-        out.close();
-        if (!out) throw std::runtime_error("cannot write " + tmp.string());
+        int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        if (fd < 0) throw std::runtime_error("cannot create " + tmp.string() + ": " + std::strerror(errno));
+        const bool ok = writeAll(fd, bytes);
+        const int error = errno;
+        if (::close(fd) != 0 && ok) throw std::runtime_error(std::string("write error: ") + std::strerror(errno));
+        if (!ok) throw std::runtime_error(std::string("write error: ") + std::strerror(error));
     });
 }
 

@@ -5,6 +5,7 @@
 // character devices and FIFOs, which cannot be replaced.
 #pragma once
 
+#include <cstddef>
 #include <filesystem>
 #include <functional>
 #include <string_view>
@@ -19,6 +20,11 @@ std::filesystem::path finalTarget(const std::filesystem::path& path);
 // True when `path` is (or leads to) a character device (e.g. /dev/null) or a FIFO: such
 // outputs are opened and written in place, since renaming over them would replace them.
 bool isStreamOutput(const std::filesystem::path& path);
+
+// The longest name writeFileAtomically gives the temporary of `target`: the final
+// target's file name and ".tmp-PID-N" (PID and N at most 10 digits each). Output checks
+// refuse a name whose temporary would not fit, before rendering (output_check.h).
+size_t longestTemporaryName(const std::filesystem::path& target);
 
 // Calls `write(tmp)` with a fresh temporary path beside finalTarget(requested) (same
 // directory, so the rename cannot cross file systems), then renames it over that file:

@@ -27,6 +27,8 @@
 #include <vector>
 
 #include "core/errors.h"
+#include "core/input_file.h"
+#include "core/stop_request.h"
 #include "image/atomic_file.h"
 #include "image/image.h"
 
@@ -284,9 +286,16 @@ Image readExrStream(Imf::IStream& in, int64_t fileSize, const std::string& name,
             frame.insert(kChannels[c], Imf::Slice::Make(Imf::FLOAT, pixels + c, dw, stride * sizeof(float),
                                                         size_t(width) * stride * sizeof(float)));
         file.setFrameBuffer(frame);
-        file.readPixels(dw.min.y, dw.max.y);
+        // In blocks of 256 scanlines (a multiple of every compression's lines per chunk, so
+        // no chunk is decoded twice), so that a stop asked for meanwhile waits one block.
+        for (int y = dw.min.y; y <= dw.max.y; y += 256) {
+            throwIfStopRequested();
+            file.readPixels(y, int(std::min<int64_t>(int64_t(y) + 255, dw.max.y)));
+        }
         return image;
     } catch (const InputError&) {
+        throw;
+    } catch (const Stopped&) {
         throw;
     } catch (const std::bad_alloc&) {
         throwInputError(name, "", "image too large to load");
@@ -302,6 +311,7 @@ Image readExrFile(const std::filesystem::path& path, bool headerOnly) {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) throwInputError(name, "", "no such file");
     if (std::filesystem::is_directory(path, ec)) throwInputError(name, "", "is a directory, not an image");
+    checkRegularFile(path, name);  // a FIFO would block the open below
     std::ifstream file(path, std::ios::binary);
     if (!file) throwInputError(name, "", std::string("cannot open: ") + std::strerror(errno));
     file.seekg(0, std::ios::end);

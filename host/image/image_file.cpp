@@ -11,6 +11,7 @@
 
 #include "core/errors.h"
 #include "core/input_file.h"
+#include "core/stop_request.h"
 #include "image/image.h"
 
 // Static, so that another copy in the same program (the tests have one, tinygltf may
@@ -119,6 +120,66 @@ void checkHdrData(const std::string& bytes, int64_t w, int64_t h, const std::str
     }
 }
 
+// Walks a JPEG's marker segments and entropy-coded data (ITU-T T.81, B.1 and B.2) before
+// stb_image reads any of it, and refuses what stb mishandles:
+// - a Huffman table (DHT) whose 16 code counts add up to more than 256 codes, which
+//   stb_image 2.27 writes past its 257-entry table for (found by tools/fuzz);
+// - data that ends before the end-of-image marker FF D9 (B.2.1): stb fills what is missing
+//   with zeros, so a file cut short decoded into a wrong texture.
+// Entropy-coded data holds FF only as FF 00 or a restart marker FF D0-D7 (B.1.1.5), so the
+// next other marker ends it; an EXIF thumbnail's markers lie inside its APP1 segment and are
+// skipped with it.
+void checkJpegSegments(const std::string& bytes, const std::string& label) {
+    auto corrupt = [&](const std::string& why) { throwInputError(label, "", "cannot decode JPEG image: " + why); };
+    auto byte = [&](size_t i) { return uint8_t(bytes[i]); };
+    size_t at = 2;  // after SOI
+    while (true) {
+        if (at + 2 > bytes.size()) corrupt("data ends early (no end-of-image marker)");
+        if (byte(at) != 0xFF) corrupt("marker expected at byte " + std::to_string(at));
+        const uint8_t marker = byte(at + 1);
+        if (marker == 0xFF) {  // fill byte (B.1.1.2)
+            ++at;
+            continue;
+        }
+        if (marker == 0xD9) return;                                  // EOI
+        if (marker == 0x01 || (marker >= 0xD0 && marker <= 0xD7)) {  // no length
+            at += 2;
+            continue;
+        }
+        if (at + 4 > bytes.size()) corrupt("data ends early (no end-of-image marker)");
+        const size_t end = at + 2 + (size_t(byte(at + 2)) << 8 | byte(at + 3));
+        if (end > bytes.size() || end < at + 4) corrupt("data ends early (no end-of-image marker)");
+        if (marker == 0xC4) {  // DHT: tables of 1 + 16 count bytes and their symbols (B.2.4.2)
+            for (size_t table = at + 4; table < end;) {
+                if (table + 17 > end) corrupt("bad Huffman table");
+                size_t codes = 0;
+                for (size_t i = 1; i <= 16; ++i) codes += byte(table + i);
+                if (codes > 256 || table + 17 + codes > end) corrupt("bad Huffman table");
+                table += 17 + codes;
+            }
+        }
+        at = end;
+        if (marker == 0xDA)  // SOS: entropy-coded data up to the next marker
+            while (at + 1 < bytes.size() &&
+                   !(byte(at) == 0xFF && byte(at + 1) != 0x00 && !(byte(at + 1) >= 0xD0 && byte(at + 1) <= 0xD7)))
+                at += byte(at) == 0xFF ? 2 : 1;
+    }
+}
+
+// Refuses JPEG data too short for the size its header declares, before stb decodes it (a
+// 1.6 KB file with a forged 8192 x 8192 header decoded for 18 s): every block of 8 x 8
+// samples of a component at full resolution (one has it: T.81 A.1.1) codes its DC
+// coefficient in at least one bit (a Huffman code is at least one bit long, T.81 C; stb
+// reads no arithmetic coding), so the data has at least ceil(w / 8) * ceil(h / 8) bits.
+void checkJpegSize(const std::string& bytes, int64_t w, int64_t h, const std::string& label) {
+    const uint64_t minimumBits = uint64_t((w + 7) / 8) * uint64_t((h + 7) / 8);
+    if (uint64_t(bytes.size()) * 8 < minimumBits)
+        throwInputError(label, "",
+                        "cannot decode JPEG image: data too short for its " + std::to_string(w) + "x" +
+                            std::to_string(h) + " header (at least " + std::to_string((minimumBits + 7) / 8) +
+                            " bytes, " + std::to_string(bytes.size()) + " found)");
+}
+
 const char* formatName(ImageFileFormat format) {
     return format == ImageFileFormat::Png ? "PNG" : format == ImageFileFormat::Jpeg ? "JPEG" : "HDR";
 }
@@ -139,6 +200,7 @@ StbHeader readStbHeader(const std::string& bytes, const std::string& label, Imag
     int* w = &header.width;
     int* h = &header.height;
     int* n = &header.channels;
+    if (format == ImageFileFormat::Jpeg) checkJpegSegments(bytes, label);  // before stb reads its tables
     int known = format == ImageFileFormat::Png    ? stbi__png_info(&context, w, h, n)
                 : format == ImageFileFormat::Jpeg ? stbi__jpeg_info(&context, w, h, n)
                                                   : stbi__hdr_info(&context, w, h, n);
@@ -176,21 +238,26 @@ ImageFile decodeStb(const std::string& bytes, const std::string& label, ImageFil
     image.format = format;
     image.channels = uint32_t(n);
     const size_t count = size_t(w) * size_t(h) * 4;
+    if (format == ImageFileFormat::Jpeg) checkJpegSize(bytes, w, h, label);
     // Requesting 4 channels makes stb expand grey to RGB and add an opaque alpha.
     if (format == ImageFileFormat::Hdr) {
         checkHdrData(bytes, w, h, label);
+        throwIfStopRequested();  // stb decodes in one call: a stop is seen before and after it
         std::unique_ptr<float, StbFree> pixels(stbi_loadf_from_memory(data, length, &w, &h, &n, 4));
         if (!pixels) stbFailed(label, what);
         // Allocated and written in one pass: resize would clear it first (512 MiB at 8k x 4k).
         image.rgba.assign(pixels.get(), pixels.get() + count);
     } else if (stbi_is_16_bit_from_memory(data, length)) {
+        throwIfStopRequested();
         std::unique_ptr<stbi_us, StbFree> pixels(stbi_load_16_from_memory(data, length, &w, &h, &n, 4));
         if (!pixels) stbFailed(label, what);
         image.rgba.resize(count);
         for (size_t i = 0; i < count; ++i) image.rgba[i] = float(pixels.get()[i]) / 65535.0f;
     } else {
+        throwIfStopRequested();
         std::unique_ptr<stbi_uc, StbFree> pixels(stbi_load_from_memory(data, length, &w, &h, &n, 4));
         if (!pixels) stbFailed(label, what);
+        throwIfStopRequested();
         image.rgba.resize(count);
         // 256 entries: the decoded value of every code, computed once.
         float table[256];
@@ -203,6 +270,7 @@ ImageFile decodeStb(const std::string& bytes, const std::string& label, ImageFil
     if (format != ImageFileFormat::Hdr && decode == ColorDecode::Srgb)
         for (size_t i = 0; i < count; ++i)
             if (i % 4 != 3) image.rgba[i] = srgbToLinear(image.rgba[i]);
+    throwIfStopRequested();
     // Radiance HDR holds finite non-negative values by construction (RGBE); keep it so.
     for (float& v : image.rgba)
         if (!std::isfinite(v)) throwInputError(label, "", "image holds non-finite values");
@@ -221,6 +289,7 @@ ImageFile decodeExrFile(const std::string& bytes, const std::string& label, uint
     image.height = exr.height;
     image.format = ImageFileFormat::Exr;
     image.channels = 3;
+    throwIfStopRequested();
     for (size_t i = 0; i < image.rgba.size(); ++i)
         // EXR may hold NaN or infinity (half or float): data that would reach the
         // accumulation buffer as NaN, so it is bad input.

@@ -118,6 +118,15 @@ void checkWritable(const fs::path& output, bool createDirectory) {
     if (!fs::is_directory(dir, ec)) throw std::runtime_error(prefix + dir.string() + " is not a directory");
     if (::access(dir.c_str(), W_OK) != 0)
         throw std::runtime_error(prefix + "directory " + dir.string() + " is not writable");
+    // The write goes through a temporary with a longer name (atomic_file.h): a name that
+    // fits but whose temporary does not would fail only after the render.
+    long nameMax = ::pathconf(dir.c_str(), _PC_NAME_MAX);
+    if (nameMax <= 0) nameMax = 255;
+    const size_t name = finalTarget(output).filename().string().size(), suffix = longestTemporaryName(output) - name;
+    if (name + suffix > size_t(nameMax))
+        throw std::runtime_error(prefix + "file name too long (" + std::to_string(name) + " bytes; at most " +
+                                 std::to_string(size_t(nameMax) > suffix ? size_t(nameMax) - suffix : 0) +
+                                 " here, leaving room for the temporary file's suffix)");
 }
 
 void checkOutputs(const std::vector<RunFile>& outputs, const std::vector<RunFile>& inputs, bool createDirectories) {

@@ -3,10 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <sstream>
 
 #include "core/errors.h"
+#include "core/input_file.h"
 
 namespace penumbra::preview {
 namespace {
@@ -24,7 +24,7 @@ double number(std::istringstream& in, const std::string& what, const std::string
         if (used != word.size() || !std::isfinite(value)) throw std::invalid_argument(word);
         return value;
     } catch (const std::exception&) {
-        fail(name, line, what + " is not a finite number: " + word);
+        fail(name, line, what + " is not a finite number: " + elide(word));
     }
 }
 
@@ -39,7 +39,7 @@ std::vector<ScriptEvent> parseInputScript(const std::string& text, const std::st
         std::istringstream in(raw);
         std::string word;
         if (!(in >> word)) continue;
-        if (word != "frame") fail(name, lineNumber, "expected 'frame N ...', found '" + word + "'");
+        if (word != "frame") fail(name, lineNumber, "expected 'frame N ...', found '" + elide(word) + "'");
         double frame = number(in, "frame number", name, lineNumber);
         if (frame < 1 || frame != std::floor(frame) || frame > 1e9)
             fail(name, lineNumber, "frame numbers are whole numbers from 1");
@@ -51,7 +51,7 @@ std::vector<ScriptEvent> parseInputScript(const std::string& text, const std::st
             std::string key;
             if (!(in >> key)) fail(name, lineNumber, "missing key name");
             auto action = actionForKeyName(key);
-            if (!action) fail(name, lineNumber, "unknown key '" + key + "' (keys: 1 2 3 4 h s + - p r q esc)");
+            if (!action) fail(name, lineNumber, "unknown key '" + elide(key) + "' (keys: 1 2 3 4 h s + - p r q esc)");
             event.event = InputEvent::key(*action);
         } else if (verb == "drag") {
             double dx = number(in, "drag dx", name, lineNumber);
@@ -61,7 +61,7 @@ std::vector<ScriptEvent> parseInputScript(const std::string& text, const std::st
                 if (which == "left") button = MouseButton::Left;
                 else if (which == "right") button = MouseButton::Right;
                 else if (which == "middle") button = MouseButton::Middle;
-                else fail(name, lineNumber, "unknown mouse button '" + which + "' (left, right or middle)");
+                else fail(name, lineNumber, "unknown mouse button '" + elide(which) + "' (left, right or middle)");
             }
             event.event = InputEvent::drag(button, dx, dy);
         } else if (verb == "scroll") {
@@ -72,9 +72,10 @@ std::vector<ScriptEvent> parseInputScript(const std::string& text, const std::st
                 fail(name, lineNumber, "window size must be whole numbers in 1..16384");
             event.event = InputEvent::resize(int(w), int(h));
         } else {
-            fail(name, lineNumber, "unknown event '" + verb + "' (key, drag, scroll or resize)");
+            fail(name, lineNumber, "unknown event '" + elide(verb) + "' (key, drag, scroll or resize)");
         }
-        if (std::string extra; in >> extra) fail(name, lineNumber, "unexpected '" + extra + "' at the end of the line");
+        if (std::string extra; in >> extra)
+            fail(name, lineNumber, "unexpected '" + elide(extra) + "' at the end of the line");
         events.push_back(event);
     }
     std::stable_sort(events.begin(), events.end(),
@@ -83,11 +84,8 @@ std::vector<ScriptEvent> parseInputScript(const std::string& text, const std::st
 }
 
 std::vector<ScriptEvent> loadInputScript(const std::filesystem::path& file) {
-    std::ifstream in(file, std::ios::binary);
-    if (!in) throw InputError(file.string() + ": cannot read the input script");
-    std::ostringstream text;
-    text << in.rdbuf();
-    return parseInputScript(text.str(), file.string());
+    // Under the input-file rules: a regular file of at most kMaxScriptBytes.
+    return parseInputScript(readInputFile(file, file.string(), kMaxScriptBytes), file.string());
 }
 
 }  // namespace penumbra::preview

@@ -25,7 +25,10 @@ struct ScriptEvent {
 // Parses script text; `name` labels errors. Throws InputError("NAME:LINE: why").
 // The events come back ordered by frame (stable for events of the same frame).
 std::vector<ScriptEvent> parseInputScript(const std::string& text, const std::string& name);
-// Reads and parses a script file; a missing file is an InputError naming it.
+// Scripts are small: 16 MiB at most (hundreds of thousands of events).
+inline constexpr uint64_t kMaxScriptBytes = uint64_t(1) << 24;
+// Reads and parses a script file; a missing, non-regular or larger file is an InputError
+// naming it (core/input_file.h).
 std::vector<ScriptEvent> loadInputScript(const std::filesystem::path& file);
 
 }  // namespace penumbra::preview

@@ -158,7 +158,8 @@ Preview::Preview(const Scene& scene, const PreviewSettings& settings)
     m_context.emplace(options);
     m_renderer.emplace(*m_context, scene);
     m_swapchain.emplace(*m_context, m_window->framebufferSize());
-    m_toneMapper.emplace(*m_context, m_renderer->accumulation(), width, height, m_swapchain->isSrgb());
+    m_toneMapper.emplace(*m_context, m_renderer->accumulation(), m_renderer->accumulationCompensation(), width, height,
+                         m_swapchain->isSrgb());
     m_frame.emplace(*m_context);
     m_rowBudget = settings.rowsPerFrame > 0 ? settings.rowsPerFrame : std::min<uint64_t>(height, 64);
 }
@@ -319,8 +320,8 @@ void Preview::fitSwapchain() {
         m_recreateSwapchain = false;
         if (m_swapchain->valid() && m_swapchain->isSrgb() != m_toneMapper->srgbImage()) {
             m_toneMapper.reset();
-            m_toneMapper.emplace(*m_context, m_renderer->accumulation(), m_scene.film.width, m_scene.film.height,
-                                 m_swapchain->isSrgb());
+            m_toneMapper.emplace(*m_context, m_renderer->accumulation(), m_renderer->accumulationCompensation(),
+                                 m_scene.film.width, m_scene.film.height, m_swapchain->isSrgb());
         }
     }
 }

@@ -18,8 +18,8 @@ std::vector<VkDescriptorType> toneMapBindings() {
 
 }  // namespace
 
-ToneMapper::ToneMapper(const gpu::Context& context, const gpu::Buffer& accumulation, uint32_t width, uint32_t height,
-                       bool srgbImage)
+ToneMapper::ToneMapper(const gpu::Context& context, const gpu::Buffer& accumulation, const gpu::Buffer& compensation,
+                       uint32_t width, uint32_t height, bool srgbImage)
     : m_context(context),
       m_width(width),
       m_height(height),
@@ -28,6 +28,7 @@ ToneMapper::ToneMapper(const gpu::Context& context, const gpu::Buffer& accumulat
       m_kernel(context, "preview/tonemap", toneMapBindings(), uint32_t(sizeof(gpu::ToneMapConstants))) {
     m_kernel.bind(TONEMAP_BINDING_ACCUM, accumulation);
     m_kernel.bind(TONEMAP_BINDING_PIXELS, m_pixels);
+    m_kernel.bind(TONEMAP_BINDING_COMPENSATION, compensation);
 
     const VkFormat format = srgbImage ? VK_FORMAT_R8G8B8A8_SRGB : VK_FORMAT_R8G8B8A8_UNORM;
     VkFormatProperties props;

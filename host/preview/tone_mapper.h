@@ -18,12 +18,13 @@ namespace penumbra::preview {
 
 class ToneMapper {
 public:
-    // `accumulation` is the Renderer's buffer (vec4 per pixel, sum and count) of a
+    // `accumulation` and `compensation` are the Renderer's buffers (AccumSum and
+    // AccumCompensation per pixel, shared/types.h) of a
     // width x height film. `srgbImage`: the display image is R8G8B8A8_SRGB, for blits into
     // an *_SRGB swapchain (the blit decodes and re-encodes, so bytes are encoded once);
     // otherwise R8G8B8A8_UNORM, whose bytes a UNORM swapchain shows as they are.
-    ToneMapper(const gpu::Context& context, const gpu::Buffer& accumulation, uint32_t width, uint32_t height,
-               bool srgbImage);
+    ToneMapper(const gpu::Context& context, const gpu::Buffer& accumulation, const gpu::Buffer& compensation,
+               uint32_t width, uint32_t height, bool srgbImage);
     ~ToneMapper();
     ToneMapper(const ToneMapper&) = delete;
     ToneMapper& operator=(const ToneMapper&) = delete;

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/stop_request.h"
 #include "render/alias_table.h"
 
 namespace penumbra {
@@ -47,6 +48,7 @@ std::vector<gpu::AliasEntry> buildEnvironmentTable(const EnvironmentImage& image
     std::vector<double> weights(n);
     double total = 0.0;
     for (uint32_t row = 0; row < image.height; ++row) {
+        throwIfStopRequested();  // batch: a stop during a large map's table waits one row
         double omega = environmentTexelSolidAngle(row, image.width, image.height);
         for (uint32_t col = 0; col < image.width; ++col) {
             size_t i = size_t(row) * image.width + col;

@@ -77,8 +77,11 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
     m_paramsBuffer = Buffer(context, sizeof(gpu::RenderParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, 0,
                             VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, "render parameters");
     uploadParams();
-    m_accum = Buffer(context, VkDeviceSize(m_params.width) * m_params.height * sizeof(glm::vec4),
+    m_accum = Buffer(context, VkDeviceSize(m_params.width) * m_params.height * sizeof(gpu::AccumSum),
                      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, "accumulation");
+    m_accumCompensation =
+        Buffer(context, VkDeviceSize(m_params.width) * m_params.height * sizeof(gpu::AccumCompensation),
+               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, "accumulation compensation");
     // Nodes, primitives, materials, lights and alias tables are read as texel buffers
     // (bvh.glsl, materials.glsl, light_data.glsl); the nodes also as a storage buffer or
     // through their device address, where the device reads them so (render/node_reads.h),
@@ -146,6 +149,7 @@ std::unique_ptr<gpu::Kernel> Renderer::createKernel(const KernelOptions& options
                             : std::make_unique<gpu::Kernel>(m_context, name, renderBindings(), pushBytes, spec);
     kernel->bind(BINDING_PARAMS, m_paramsBuffer);
     kernel->bind(BINDING_ACCUM, m_accum);
+    kernel->bind(BINDING_ACCUM_COMPENSATION, m_accumCompensation);
     kernel->bind(BINDING_NODES, m_nodes);
     kernel->bind(BINDING_NODE_WORDS, m_nodes);
     kernel->bind(BINDING_PRIMITIVES, m_primitives);
@@ -216,6 +220,7 @@ void Renderer::retarget(const Scene& scene) {
 
 void Renderer::reset() {
     m_accum.clear();
+    m_accumCompensation.clear();
     // And the loops cut short so far (renderSamplesCutLoopsLeft), which only kernels with the
     // checks count.
     if (m_options.loopsMayBeCut) m_counters.clear();
@@ -380,7 +385,7 @@ void Renderer::renderSamplesCutLoopsLeft(uint32_t samples, const std::atomic<boo
     if (!m_options.loopsMayBeCut) return;
     auto samplesDone = [&] {
         double sum = 0.0;
-        for (const glm::vec4& s : m_accum.read<glm::vec4>()) sum += s.w;
+        for (const gpu::AccumSum& s : m_accum.read<gpu::AccumSum>()) sum += s.count;
         return sum;
     };
     const double all = double(m_params.width) * m_params.height * samples;
@@ -418,17 +423,20 @@ uint64_t Renderer::countRays(uint32_t passes) {
 }
 
 Image Renderer::readback(double renderSeconds) const {
-    auto sums = m_accum.read<glm::vec4>();
+    auto sums = m_accum.read<gpu::AccumSum>();
+    auto compensations = m_accumCompensation.read<gpu::AccumCompensation>();
     Image image;
     image.width = m_params.width;
     image.height = m_params.height;
     image.rgb.resize(size_t(image.width) * image.height * 3);
     for (size_t i = 0; i < size_t(image.width) * image.height; ++i) {
-        glm::vec4 s = sums[i];
-        float inv = s.w > 0.0f ? 1.0f / s.w : 0.0f;
-        image.rgb[3 * i + 0] = s.x * inv;
-        image.rgb[3 * i + 1] = s.y * inv;
-        image.rgb[3 * i + 2] = s.z * inv;
+        const gpu::AccumSum& s = sums[i];
+        const glm::vec3 compensation = compensations[i].compensation;
+        // The compensated sum (shared/types.h, AccumSum) times 1/count rounded once to
+        // float: where the compensation is 0 and the count below 2^24, the same operations
+        // and bits as a plain float sum and count gave.
+        const float inv = s.count > 0 ? float(1.0 / double(s.count)) : 0.0f;
+        for (int c = 0; c < 3; ++c) image.rgb[3 * i + c] = float(double(s.sum[c]) - double(compensation[c])) * inv;
     }
     image.meta.spp = int(m_scene.sampler.spp);
     image.meta.seed = int(m_scene.sampler.seed);

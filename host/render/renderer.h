@@ -129,6 +129,7 @@ public:
     // on the GPU alone (EnvironmentTexels::LeftOut; the table freed once uploaded).
     const SceneArrays& arrays() const { return m_arrays; }
     const gpu::Buffer& accumulation() const { return m_accum; }
+    const gpu::Buffer& accumulationCompensation() const { return m_accumCompensation; }
     const gpu::RenderParams& params() const { return m_params; }
 
 private:
@@ -174,8 +175,8 @@ private:
     uint32_t m_stackDepth = 1;        // entries per traversal stack (childStackDepth)
     uint32_t m_stackInvocations = 0;  // invocations whose stacks m_stacks holds
     // Declaration order is teardown order in reverse: the kernel goes before the buffers.
-    gpu::Buffer m_paramsBuffer, m_accum, m_nodes, m_primitives, m_normals, m_materials, m_lights, m_lightTable,
-        m_meshTable, m_counters;
+    gpu::Buffer m_paramsBuffer, m_accum, m_accumCompensation, m_nodes, m_primitives, m_normals, m_materials, m_lights,
+        m_lightTable, m_meshTable, m_counters;
     gpu::Buffer m_stacks;  // the "_address" kernels' traversal stacks (render/traversal_stacks.h), else empty
     gpu::Buffer m_materialTextures, m_textureTexels, m_uvs;  // textured scenes (render/texture_arrays.h)
     gpu::Buffer m_environmentTexels, m_environmentTable;     // environment map (render/environment_map.h)

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "core/errors.h"
+#include "core/stop_request.h"
 #include "image/image_file.h"
 #include "scene/limits.h"
 #include "scene/scene_input_file.h"
@@ -33,7 +34,8 @@ std::shared_ptr<const EnvironmentImage> readEnvironmentFile(const JsonReader& fi
     map->width = image.width;
     map->height = image.height;
     map->texels.reserve(size_t(image.width) * image.height);  // each written once, in order
-    for (uint32_t y = 0; y < image.height; ++y)
+    for (uint32_t y = 0; y < image.height; ++y) {
+        throwIfStopRequested();  // an 8192 x 4096 map: a stop waits one row, not the map
         for (uint32_t x = 0; x < image.width; ++x) {
             const float* t = image.texel(x, y);
             glm::vec3 texel(t[0], t[1], t[2]);
@@ -53,6 +55,7 @@ std::shared_ptr<const EnvironmentImage> readEnvironmentFile(const JsonReader& fi
                 fileField.fail(where() + " times radiance exceeds 1e20 (the limit of radiance values)");
             map->texels.push_back(value);
         }
+    }
     return map;
 }
 

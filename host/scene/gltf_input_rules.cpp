@@ -145,9 +145,9 @@ void checkGltfDocument(std::string_view json, const std::string& label) {
             if (uri == item.end() || !uri->is_string()) continue;
             std::string text = uri->get<std::string>();
             if (!text.empty() && text[0] == '/' && !allowAnyPath())
-                throwInputError(
-                    label, "",
-                    "refusing to read \"" + text + "\": it is outside the model's folder (--allow-any-path reads it)");
+                throwInputError(label, "",
+                                "refusing to read \"" + elideUri(text) +
+                                    "\": it is outside the model's folder (--allow-any-path reads it)");
         }
     }
 }

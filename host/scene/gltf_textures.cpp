@@ -40,9 +40,9 @@ std::string GltfTextureReader::imageBytes(int index, const std::string& path) co
         auto found = m_bytes.byIndex.find(index);
         // tinygltf only warns when an external image cannot be read.
         if (found == m_bytes.byIndex.end())
-            throwInputError(
-                m_label, path,
-                image.uri.empty() ? "image has no data" : "cannot read \"" + image.uri + "\" (missing or unreadable)");
+            throwInputError(m_label, path,
+                            image.uri.empty() ? "image has no data"
+                                              : "cannot read \"" + elideUri(image.uri) + "\" (missing or unreadable)");
         return found->second;
     }
     if (size_t(image.bufferView) >= m_model.bufferViews.size())

@@ -37,7 +37,7 @@ std::string firstLine(const std::string& text) {
         size_t at = line.find("line ");
         line = at != std::string::npos ? line.substr(at) : line.substr(std::min(line.size(), line.find("] ") + 2));
     }
-    return line;
+    return elideWords(line);
 }
 
 std::string at(const char* array, size_t index) { return std::string(array) + "[" + std::to_string(index) + "]"; }
@@ -481,7 +481,11 @@ void Importer::addCamera(const tinygltf::Node& node, const glm::dmat4& world, co
         return;
     }
     double yfov = cam.perspective.yfov;
-    if (!(yfov > 0.0 && yfov < std::numbers::pi))
+    const float fovY = float(glm::degrees(yfov));
+    // Checked as the degrees the scene keeps too: a yfov a hair below pi (or above 0)
+    // rounds to 180 (or 0) degrees in float, which would otherwise be refused under
+    // camera.fov_y, a path this file does not have.
+    if (!(yfov > 0.0 && yfov < std::numbers::pi) || !(fovY > 0.0f && fovY < 180.0f))
         fail(at("cameras", node.camera) + ".perspective.yfov", "must be in (0, pi) radians");
     // glTF cameras look down their local -Z with +Y up (glTF 2.0 §3.10.1).
     glm::dvec3 eye = glm::dvec3(world * glm::dvec4(0, 0, 0, 1));
@@ -493,7 +497,7 @@ void Importer::addCamera(const tinygltf::Node& node, const glm::dmat4& world, co
     c.eye = glm::vec3(eye);
     c.target = glm::vec3(eye + glm::normalize(forward));
     c.up = glm::vec3(glm::normalize(up));
-    c.fovY = float(glm::degrees(yfov));
+    c.fovY = fovY;
     m_result.camera = c;
 }
 
@@ -581,9 +585,9 @@ GltfImport importGltf(const fs::path& file, const std::string& label) {
     // A refused or failed read is reported even where tinygltf only warns (images).
     if (!access.refused.empty())
         throwInputError(label, "",
-                        "refusing to read \"" + access.refused +
+                        "refusing to read \"" + elideUri(access.refused) +
                             "\": it is outside the model's folder (--allow-any-path reads it)");
-    if (!access.failed.empty()) throwInputError(label, "", access.failed);
+    if (!access.failed.empty()) throwInputError(label, "", elideWords(access.failed));
     if (!ok) throwInputError(label, "", err.empty() ? "not a valid glTF file" : firstLine(err));
     return Importer(model, label, images).run();
 }

@@ -360,7 +360,8 @@ vec3 finishedSample(PartialSample p, bool lightBlocked, bool bsdfBlocked) {
 // last no camera ray. Sample k - 1 is added before sample k is shaded, in sample order.
 void addPixelSamples(uvec2 pixel) {
     uint index = pixel.y * params.width + pixel.x;
-    vec4 sum = accum[index];
+    AccumSum sum = accum[index];
+    vec3 compensation = accumCompensation[index].compensation;
     uint first = firstSampleOf(sum), end = pass.sampleIndex + pass.sampleCount;
     uint count = end > first ? end - first : 0u;
     PartialSample last = noPartialSample();
@@ -378,10 +379,11 @@ void addPixelSamples(uvec2 pixel) {
                                lightBlocked, bsdfBlocked);
         // Sample k - 1 is whole where no loop has been cut yet (kernel_common.glsl).
         if (loopsWereCut()) break;
-        if (k > 0u) addSample(sum, finishedSample(last, lightBlocked, bsdfBlocked));
+        if (k > 0u) addSample(sum, compensation, finishedSample(last, lightBlocked, bsdfBlocked));
         if (camera) last = partialSample(found, hit, origin, dir, rng);
     }
     accum[index] = sum;
+    accumCompensation[index].compensation = compensation;
 }
 #else
 vec3 pixelSample(uvec2 pixel, uint sampleIndex) {

@@ -12,7 +12,10 @@
 layout(local_size_x = TILE_SIZE, local_size_y = TILE_SIZE) in;
 
 layout(std140, binding = BINDING_PARAMS) uniform Params { RenderParams params; };
-layout(std430, binding = BINDING_ACCUM) restrict buffer Accumulation { vec4 accum[]; };
+layout(std430, binding = BINDING_ACCUM) restrict buffer Accumulation { AccumSum accum[]; };
+layout(std430, binding = BINDING_ACCUM_COMPENSATION) restrict buffer Compensation {
+    AccumCompensation accumCompensation[];
+};
 layout(push_constant) uniform Pass { PassConstants pass; };
 // The kernels' atomic counters: the rays traced, when counting, the tile queue's next
 // pixel (main, below), which the host sets to 0 before each dispatch that uses it
@@ -40,7 +43,7 @@ bool loopsWereCut() {
 // the driver may cut loops short, the pixel's own next one (its sample count). A pixel that
 // an earlier pass left short then takes up its samples where it stopped, and its sums are
 // the same, bit for bit, as if nothing had been cut.
-uint firstSampleOf(vec4 sum) { return kLoopsMayBeCut != 0u ? uint(sum.w) : pass.sampleIndex; }
+uint firstSampleOf(AccumSum sum) { return kLoopsMayBeCut != 0u ? sum.count : pass.sampleIndex; }
 
 // The primitives the BVH's traversal tests before the tree (geometry/bvh.glsl).
 uvec2 bvhBesideRange() { return uvec2(params.besideFirst, params.besideCount); }
@@ -98,10 +101,16 @@ void cameraRay(uvec2 pixel, vec2 jitter, out vec3 origin, out vec3 dir) {
 
 // Adds a finished sample's radiance to a pixel's running sum. A non-finite estimate (a pdf
 // division gone wrong) counts as zero: the sample is still counted, so the sum stays an
-// average over all samples.
-void addSample(inout vec4 sum, vec3 radiance) {
+// average over all samples. Kahan's step (shared/types.h, AccumSum): `precise` keeps the
+// compiler from simplifying (t - sum) - y to 0, which would drop the compensation.
+void addSample(inout AccumSum pixel, inout vec3 compensation, vec3 radiance) {
     if (!isFiniteVec(radiance)) radiance = vec3(0.0);
-    sum += vec4(radiance, 1.0);
+    precise vec3 y = radiance - compensation;
+    precise vec3 t = pixel.sum + y;
+    precise vec3 lost = (t - pixel.sum) - y;
+    compensation = lost;
+    pixel.sum = t;
+    pixel.count += 1u;
 }
 
 // Adds the pass's samples of `pixel` (from firstSampleOf to sampleIndex + sampleCount) to
@@ -118,15 +127,17 @@ vec3 pixelSample(uvec2 pixel, uint sampleIndex);
 
 void addPixelSamples(uvec2 pixel) {
     uint index = pixel.y * params.width + pixel.x;
-    vec4 sum = accum[index];
+    AccumSum sum = accum[index];
+    vec3 compensation = accumCompensation[index].compensation;
     uint end = pass.sampleIndex + pass.sampleCount;
     for (uint s = firstSampleOf(sum); s < end; ++s) {
         vec3 radiance = pixelSample(pixel, s);
         // A sample whose loops were cut may be wrong: a later pass takes it up again.
         if (loopsWereCut()) break;
-        addSample(sum, radiance);
+        addSample(sum, compensation, radiance);
     }
     accum[index] = sum;
+    accumCompensation[index].compensation = compensation;
 }
 #endif
 

@@ -9,7 +9,10 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(std430, binding = TONEMAP_BINDING_ACCUM) readonly buffer Accumulation { vec4 accum[]; };
+layout(std430, binding = TONEMAP_BINDING_ACCUM) readonly buffer Accumulation { AccumSum accum[]; };
+layout(std430, binding = TONEMAP_BINDING_COMPENSATION) readonly buffer Compensation {
+    AccumCompensation accumCompensation[];
+};
 layout(std430, binding = TONEMAP_BINDING_PIXELS) writeonly buffer Pixels { uint pixels[]; };
 layout(push_constant) uniform Constants { ToneMapConstants toneMap; };
 
@@ -41,8 +44,10 @@ void main() {
     uvec2 pixel = gl_GlobalInvocationID.xy;
     if (pixel.x >= toneMap.width || pixel.y >= toneMap.height) return;
     uint index = pixel.y * toneMap.width + pixel.x;
-    vec4 sum = accum[index];
-    vec3 mean = sum.w > 0.0 ? sum.rgb / sum.w : vec3(0.0);
+    // The compensated sum's mean (shared/types.h, AccumSum), as Renderer::readback.
+    AccumSum sum = accum[index];
+    vec3 compensation = accumCompensation[index].compensation;
+    vec3 mean = sum.count > 0u ? (sum.sum - compensation) / float(sum.count) : vec3(0.0);
     vec3 scaled = mean * toneMap.scale;
     uint c = toneMap.curve;
     pixels[index] = encode(scaled.r, c) | (encode(scaled.g, c) << 8) | (encode(scaled.b, c) << 16) | (255u << 24);

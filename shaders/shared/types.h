@@ -20,7 +20,7 @@ using uint = std::uint32_t;
 
 // ---- Descriptor bindings of the render kernels (set 0) -------------------------------
 #define BINDING_PARAMS 0       // uniform RenderParams
-#define BINDING_ACCUM 1        // vec4 per pixel: rgb = sum of samples, w = sample count
+#define BINDING_ACCUM 1        // AccumSum per pixel (below): the sum of samples and their count
 #define BINDING_NODES 2        // WideNode[] as a texel buffer (see below; read where kNodeReads says)
 #define BINDING_PRIMITIVES 3   // Primitive[] in BVH leaf order (storage buffer: tests)
 #define BINDING_NORMALS 4      // TriangleNormals[]
@@ -38,7 +38,8 @@ using uint = std::uint32_t;
 #define BINDING_ENV_TEXELS 14         // texel buffer: environment map radiance, RGB32F + pad per texel
 #define BINDING_ENV_TABLE 15          // AliasEntry[] as a texel buffer: environment map texels (item = texel)
 #define BINDING_NODE_WORDS 16  // the same WideNode[] as a storage buffer of uvec4 (or u64vec4) words (kNodeReads)
-#define BINDING_COUNT 17
+#define BINDING_ACCUM_COMPENSATION 17  // AccumCompensation per pixel (below): what the sums rounded away
+#define BINDING_COUNT 18
 
 // ---- BVH ------------------------------------------------------------------------------
 // Flattened depth-first: an interior node's left child is the next node, `offset` is the
@@ -252,6 +253,24 @@ struct Light {
 };
 PENUMBRA_CONST uint LIGHT_TEXELS = 3u;  // RGBA32UI texels per Light (lights/light_data.glsl)
 
+// One pixel of the accumulation, written only by addSample (integrators/kernel_common.glsl):
+// Kahan's compensated sum (Higham, "Accuracy and Stability of Numerical Algorithms", 2nd
+// ed., section 4.3). `sum` is the running float sum and `compensation` what its additions
+// rounded away, so that sum - compensation is the sum of the samples to a few float
+// roundings at any count up to 2^31 (a plain float32 sum of a constant 0.3 drifted to 0.27
+// at 2^24 samples). Where every addition was exact, compensation stays 0 and `sum` is the
+// plain sum, bit for bit. The count is an integer, exact at every spp (a float count stops
+// at 2^24). Two buffers of 16 bytes a pixel rather than one of 32, so that the largest film
+// a device's maxStorageBufferRange allows stays what it was (8 M pixels on lavapipe).
+struct AccumSum {  // BINDING_ACCUM
+    vec3 sum;
+    uint count;
+};
+struct AccumCompensation {  // BINDING_ACCUM_COMPENSATION
+    vec3 compensation;
+    uint unused;
+};
+
 // Walker/Vose alias table entry: pick slot i uniformly, keep it with `probability`,
 // otherwise take `alias`. `pmf` is the discrete probability of slot i itself.
 struct AliasEntry {
@@ -461,7 +480,8 @@ struct PassConstants {
 // ---- Preview tone map (shaders/preview/tonemap.comp) ------------------------------------
 #define TONEMAP_BINDING_ACCUM 0   // the render kernels' accumulation buffer, read only
 #define TONEMAP_BINDING_PIXELS 1  // uint per pixel: sRGB-encoded R | G << 8 | B << 16 | 255 << 24
-#define TONEMAP_BINDING_COUNT 2
+#define TONEMAP_BINDING_COMPENSATION 2  // the render kernels' AccumCompensation buffer, read only
+#define TONEMAP_BINDING_COUNT 3
 
 struct ToneMapConstants {
     uint width;
