@@ -4,8 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
-#include <cstddef>
 #include <cmath>
+#include <cstddef>
 #include <cstdio>
 #include <random>
 
@@ -164,7 +164,8 @@ TEST(LightBvh, ZeroPowerItemsAreLeftOutAndAnEmptyTreeIsNeverChosen) {
 TEST(LightBvh, AMillionTrianglesBuild) {
     std::vector<LightBounds> lights = mixedLights(1000000, 9);
     for (auto& l : lights)
-        if (l.primitive == ~0u) l = flatLightBounds(l.boundsMin, l.boundsMin + 0.01f, {0, -1, 0}, 1e-4f, l.power, false, 0, l.light);
+        if (l.primitive == ~0u)
+            l = flatLightBounds(l.boundsMin, l.boundsMin + 0.01f, {0, -1, 0}, 1e-4f, l.power, false, 0, l.light);
     auto t0 = std::chrono::steady_clock::now();
     LightBvh bvh = buildLightBvh(std::move(lights), 0);
     double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -53,7 +53,9 @@ struct Accum {
     float cosThetaO = 1.0f, cosThetaE = 1.0f;
     bool twoSided = false;
 
-    void add(const LightBounds& l) { add(l.boundsMin, l.boundsMax, l.power, l.axis, l.cosThetaO, l.cosThetaE, l.twoSided); }
+    void add(const LightBounds& l) {
+        add(l.boundsMin, l.boundsMax, l.power, l.axis, l.cosThetaO, l.cosThetaE, l.twoSided);
+    }
     void add(const Accum& o) {
         if (o.any) add(o.lo, o.hi, o.power, o.axis, o.cosThetaO, o.cosThetaE, o.twoSided);
     }
@@ -80,9 +82,10 @@ float splitCost(const Accum& b, glm::vec3 nodeDiagonal, int dim) {
     float thetaO = safeAcos(b.cosThetaO), thetaE = safeAcos(b.cosThetaE);
     float thetaW = std::min(thetaO + thetaE, kPi);
     float sinThetaO = safeSqrt(1.0f - b.cosThetaO * b.cosThetaO);
-    float mOmega = 2.0f * kPi * (1.0f - b.cosThetaO) +
-                   kPi / 2.0f * (2.0f * thetaW * sinThetaO - std::cos(thetaO - 2.0f * thetaW) -
-                                 2.0f * thetaO * sinThetaO + b.cosThetaO);
+    float mOmega =
+        2.0f * kPi * (1.0f - b.cosThetaO) +
+        kPi / 2.0f *
+            (2.0f * thetaW * sinThetaO - std::cos(thetaO - 2.0f * thetaW) - 2.0f * thetaO * sinThetaO + b.cosThetaO);
     float kr = std::max({nodeDiagonal.x, nodeDiagonal.y, nodeDiagonal.z}) / nodeDiagonal[dim];
     return b.power * mOmega * kr * surfaceArea(b.hi - b.lo);
 }
@@ -210,22 +213,30 @@ LightBounds pointLightBounds(glm::vec3 position, float meanIntensity, uint32_t l
     return {position, position, 4.0f * kPi * meanIntensity, {0.0f, 0.0f, 1.0f}, -1.0f, 0.0f, false, light, ~0u};
 }
 
-LightBounds spotLightBounds(glm::vec3 position, glm::vec3 axis, float cosInner, float cosOuter,
-                            float meanIntensity, uint32_t light) {
+LightBounds spotLightBounds(glm::vec3 position, glm::vec3 axis, float cosInner, float cosOuter, float meanIntensity,
+                            uint32_t light) {
     // pbrt-v4 SpotLight::Bounds: the full cone is theta_o = the inner angle plus theta_e
     // = the falloff's width; its power is bounded by that of a point light.
     float cosThetaE = std::cos(safeAcos(cosOuter) - safeAcos(cosInner));
-    return {position, position, 4.0f * kPi * meanIntensity, glm::normalize(axis), cosInner, cosThetaE, false, light, ~0u};
+    return {position, position, 4.0f * kPi * meanIntensity, glm::normalize(axis), cosInner, cosThetaE, false,
+            light,    ~0u};
 }
 
 LightBounds sphereLightBounds(glm::vec3 center, float radius, float meanRadiance, uint32_t light) {
     float area = 4.0f * kPi * radius * radius;
-    return {center - radius, center + radius, kPi * area * meanRadiance, {0.0f, 0.0f, 1.0f}, -1.0f, 0.0f, false,
-            light, ~0u};
+    return {center - radius,
+            center + radius,
+            kPi * area * meanRadiance,
+            {0.0f, 0.0f, 1.0f},
+            -1.0f,
+            0.0f,
+            false,
+            light,
+            ~0u};
 }
 
-LightBounds flatLightBounds(glm::vec3 boundsMin, glm::vec3 boundsMax, glm::vec3 normal, float area,
-                            float meanRadiance, bool twoSided, uint32_t light, uint32_t primitive) {
+LightBounds flatLightBounds(glm::vec3 boundsMin, glm::vec3 boundsMax, glm::vec3 normal, float area, float meanRadiance,
+                            bool twoSided, uint32_t light, uint32_t primitive) {
     float power = kPi * area * meanRadiance * (twoSided ? 2.0f : 1.0f);
     return {boundsMin, boundsMax, power, glm::normalize(normal), 1.0f, 0.0f, twoSided, light, primitive};
 }
@@ -314,8 +325,7 @@ float lightBvhPmf(const LightBvh& bvh, glm::vec3 p, glm::vec3 n, uint32_t item) 
     float pmf = 1.0f;
     while (true) {
         const gpu::LightBvhNode& node = bvh.nodes[index];
-        if (node.childOrItem & gpu::LIGHT_BVH_LEAF)
-            return pmf;
+        if (node.childOrItem & gpu::LIGHT_BVH_LEAF) return pmf;
         const uint32_t second = node.childOrItem & gpu::LIGHT_BVH_INDEX_MASK;
         float c0, c1;
         childWeights(bvh, index, second, p, n, c0, c1);

@@ -20,23 +20,23 @@ namespace penumbra {
 struct LightBounds {
     glm::vec3 boundsMin{0.0f};
     glm::vec3 boundsMax{0.0f};
-    float power = 0.0f;          // phi
+    float power = 0.0f;  // phi
     glm::vec3 axis{0.0f, 0.0f, 1.0f};
-    float cosThetaO = 1.0f;      // normals lie within theta_o of axis
-    float cosThetaE = 0.0f;      // and light leaves within theta_e past each normal
+    float cosThetaO = 1.0f;  // normals lie within theta_o of axis
+    float cosThetaE = 0.0f;  // and light leaves within theta_e past each normal
     bool twoSided = false;
-    uint32_t light = 0;          // index into Light[]
-    uint32_t primitive = ~0u;    // a mesh light's triangle, else ~0u
+    uint32_t light = 0;        // index into Light[]
+    uint32_t primitive = ~0u;  // a mesh light's triangle, else ~0u
 };
 
 // Per kind, with power = the mean of RGB emission times pbrt-v4's Phi for that kind.
 LightBounds pointLightBounds(glm::vec3 position, float meanIntensity, uint32_t light);
-LightBounds spotLightBounds(glm::vec3 position, glm::vec3 axis, float cosInner, float cosOuter,
-                            float meanIntensity, uint32_t light);
+LightBounds spotLightBounds(glm::vec3 position, glm::vec3 axis, float cosInner, float cosOuter, float meanIntensity,
+                            uint32_t light);
 LightBounds sphereLightBounds(glm::vec3 center, float radius, float meanRadiance, uint32_t light);
 // A flat emitter (quad or triangle) of the given area and geometric normal.
-LightBounds flatLightBounds(glm::vec3 boundsMin, glm::vec3 boundsMax, glm::vec3 normal, float area,
-                            float meanRadiance, bool twoSided, uint32_t light, uint32_t primitive);
+LightBounds flatLightBounds(glm::vec3 boundsMin, glm::vec3 boundsMax, glm::vec3 normal, float area, float meanRadiance,
+                            bool twoSided, uint32_t light, uint32_t primitive);
 
 struct LightBvh {
     std::vector<gpu::LightBvhNode> nodes;  // empty when no item has power

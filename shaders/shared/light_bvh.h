@@ -29,10 +29,10 @@ PENUMBRA_LB_CONST PENUMBRA_LB_UINT LIGHT_BVH_INDEX_MASK = 0x3fffffffu;
 
 struct LightBvhNode {
     PENUMBRA_LB_VEC3 boundsMin;
-    float power;                // phi: summed emitted power (mean of RGB) below this node
+    float power;  // phi: summed emitted power (mean of RGB) below this node
     PENUMBRA_LB_VEC3 boundsMax;
-    PENUMBRA_LB_UINT cosines;   // low 16 bits: cos theta_o, high: cos theta_e, each floor((c + 1) / 2 * 65535)
-    PENUMBRA_LB_VEC3 axis;      // w: the axis of the normals' cone (unit)
+    PENUMBRA_LB_UINT cosines;  // low 16 bits: cos theta_o, high: cos theta_e, each floor((c + 1) / 2 * 65535)
+    PENUMBRA_LB_VEC3 axis;     // w: the axis of the normals' cone (unit)
     PENUMBRA_LB_UINT childOrItem;
 };
 
