@@ -512,8 +512,14 @@ private:
         float tanHalf = std::tan(glm::radians(std::clamp(fovY, 1.0f, 179.0f)) * 0.5f);
         float aspect = float(m_scene.film.width) / float(m_scene.film.height);
         float theta = std::atan(tanHalf * std::min(1.0f, aspect));
+        // A three-quarter view, as model viewers and product shots frame an object: from the
+        // front-right (+Z and +X, 45 degrees round the vertical) and 30 degrees above, so that a
+        // box shows three faces instead of one flat square.
+        const float azimuth = glm::radians(45.0f), elevation = glm::radians(30.0f);
+        glm::vec3 from(std::cos(elevation) * std::sin(azimuth), std::sin(elevation),
+                       std::cos(elevation) * std::cos(azimuth));
         c.target = center;
-        c.eye = center + glm::vec3(0.0f, 0.0f, radius / std::sin(theta));  // looking along -Z
+        c.eye = center + from * (radius / std::sin(theta));
         c.up = {0.0f, 1.0f, 0.0f};
         return c;
     }
