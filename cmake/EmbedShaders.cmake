@@ -5,7 +5,7 @@
 # The shaders named in INLINE_VARIANTS are also compiled with small scenes' primitives
 # inline (shaders/geometry/inline_geometry.glsl), once per capacity N in INLINE_CAPACITIES,
 # as "<name>_inline<N>": the module without the suffix carries none of the inline code,
-# whose front end llvmpipe runs again on every start (docs/PERFORMANCE.md, "Round 8").
+# whose front end llvmpipe runs again on every start (docs/performance-history/round-08.md).
 #
 # The shaders named in INT64_VARIANTS are also compiled as "<name>_int64", with
 # PENUMBRA_INT64_LOADS: they read BVH nodes 32 bytes at a time (shaders/geometry/bvh.glsl)

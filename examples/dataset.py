@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """A small dataset from one process: a camera orbit of a glTF model, one EXR a frame and a
-preview grid PNG (README "Python", "A dataset in one process").
+preview grid PNG (docs/guide/python.md).
 
 One penumbra.Renderer keeps the device, the uploaded model and the compiled kernel; each
 frame only moves the camera (no recompilation, no re-upload), so the frames cost their

@@ -105,7 +105,7 @@ int main(int argc, char** argv) {
     CLI::App* devicesCmd = app.add_subcommand("devices", "list Vulkan devices; '*' marks the one used");
 
     // Files that scenes, glTF models and job files name are used only from inside their own
-    // folder unless the inputs are trusted (README, "glTF file access"; docs/BATCH.md).
+    // folder unless the inputs are trusted (docs/design/contract-decisions.md, "glTF file access"; docs/BATCH.md).
     bool anyPath = false;
     for (CLI::App* cmd : {renderCmd, batchCmd, previewCmd})
         cmd->add_flag("--allow-any-path", anyPath,

@@ -17,7 +17,7 @@ struct PbrParams {
     glm::dvec3 baseColor{0.8};
     double metallic = 0.0;
     double roughness = 0.5;
-    // alpha = roughness^2, clamped as the renderer does (PBR_MIN_ALPHA, README).
+    // alpha = roughness^2, clamped as the renderer does (PBR_MIN_ALPHA, docs/guide/materials.md).
     double alpha() const { return std::max(roughness * roughness, double(gpu::PBR_MIN_ALPHA)); }
 };
 
@@ -51,7 +51,7 @@ inline glm::dvec3 pbrF(const PbrParams& p, glm::dvec3 n, glm::dvec3 wo, glm::dve
     return f;
 }
 
-// The sampling density the renderer documents (pbr.glsl, README): the specular lobe chosen
+// The sampling density the renderer documents (pbr.glsl, docs/design/contract-decisions.md): the specular lobe chosen
 // with probability s / (s + d), s and d the lobes' Schlick weights at n.wo, its directions
 // the reflected visible normals D_v(h) / (4 wo.h) (Heitz 2018); the rest cosine-weighted.
 // `ndfInsteadOfVndf` swaps in the density of plain NDF sampling, D(h) (n.h) / (4 wo.h): a

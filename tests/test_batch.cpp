@@ -404,7 +404,7 @@ TEST(Batch, FailingJobsFailAloneWithTheDocumentedStatus) {
 // integrator settings and scene features and, for a scene small enough to go inline
 // (render/inline_geometry.h), the same shapes, whose coordinates are compiled into the
 // kernel. Materials, emission, light power and the camera never split a pipeline; moving a
-// small scene's shapes does (docs/PERFORMANCE.md, "Round 8": what that costs and what
+// small scene's shapes does (docs/performance-history/round-08.md: what that costs and what
 // keeping the coordinates out of the kernel cost instead); a large scene's never does.
 TEST(Batch, KernelCacheCompilesEachIntegratorOnce) {
     const gpu::Context& context = test::gpuContext();

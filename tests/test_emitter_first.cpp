@@ -153,8 +153,8 @@ json largeSphereRoom() {
     };
 }
 
-// The inline scenes' rule, at the scenes its constants were fitted to (docs/PERFORMANCE.md,
-// "Round 28"; BrdfRayFates::emitter, lights, primitives): where callgrind counted fewer
+// The inline scenes' rule, at the scenes its constants were fitted to (docs/performance-history/round-29.md;
+// BrdfRayFates::emitter, lights, primitives): where callgrind counted fewer
 // instructions per sample with the path, and where it counted more.
 TEST(EmitterFirst, InlineRuleWeighsTheLightLoopAgainstTheClosestHit) {
     EXPECT_TRUE(emitterFirstPaysInline(0.009, 1, 30));  // Cornell box, one quad light: 0.85x

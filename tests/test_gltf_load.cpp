@@ -123,9 +123,10 @@ TEST(GltfLoad, FramingCameraWithoutGltfCamera) {
     b.addMeshNode(b.triangle());
     Scene s = loadScene(writeFile(freshTempDir() / "frame.gltf", b.gltf()));
     // Bounds [0,1]x[0,1]x[0]: centre (0.5, 0.5, 0), bounding radius sqrt(2)/2; square film and
-    // fov 40 degrees put the eye sqrt(2)/2 / sin(20 deg) = 2.0674 along +z.
+    // fov 40 degrees put the eye sqrt(2)/2 / sin(20 deg) = 2.0674 away, in the three-quarter
+    // direction (cos 30 sin 45, sin 30, cos 30 cos 45): 45 degrees round from +z, 30 above.
     expectVec(s.camera.target, {0.5f, 0.5f, 0.0f});
-    expectVec(s.camera.eye, {0.5f, 0.5f, 2.0674f}, 1e-3f);
+    expectVec(s.camera.eye, {1.76604f, 1.53372f, 1.26604f}, 1e-3f);
     EXPECT_FLOAT_EQ(s.camera.fovY, 40.0f);
 }
 
@@ -312,7 +313,45 @@ TEST(GltfLoad, UnsupportedRequiredExtension) {
     b.doc["extensionsUsed"] = {"EXT_meshopt_compression"};
     b.doc["extensionsRequired"] = {"EXT_meshopt_compression"};
     auto file = writeFile(freshTempDir() / "ext.gltf", b.gltf());
-    EXPECT_EQ(loadError(file), file.string() + ": extensionsRequired: unsupported required extension \"EXT_meshopt_compression\"");
+    EXPECT_EQ(loadError(file),
+              file.string() +
+                  ": extensionsRequired[0]: unsupported required extension \"EXT_meshopt_compression\" "
+                  "(Penumbra reads KHR_lights_punctual and KHR_materials_emissive_strength)");
+}
+
+// A Draco-compressed mesh's accessors have no bufferView: the file must be refused for the
+// extension it requires, not for the accessor that tinygltf cannot read without it.
+TEST(GltfLoad, CompressedMeshNamesItsRequiredExtension) {
+    GltfBuilder b;
+    b.addMeshNode(b.triangle());
+    b.doc["accessors"][0].erase("bufferView");
+    b.doc["extensionsUsed"] = {"KHR_lights_punctual", "KHR_draco_mesh_compression"};
+    b.doc["extensionsRequired"] = {"KHR_lights_punctual", "KHR_draco_mesh_compression"};
+    auto file = writeFile(freshTempDir() / "draco.gltf", b.gltf());
+    std::string message = loadError(file);
+    EXPECT_EQ(message.rfind(file.string() + ": extensionsRequired[1]: unsupported required extension "
+                                            "\"KHR_draco_mesh_compression\"",
+                            0),
+              0u)
+        << message;
+}
+
+// Extensions a file only uses are ignored with one note naming them (each once, capped).
+TEST(GltfLoad, IgnoredOptionalExtensionsGetOneNote) {
+    GltfBuilder b;
+    b.addMeshNode(b.triangle());
+    b.doc["extensionsUsed"] = {"KHR_materials_clearcoat", "KHR_lights_punctual", "KHR_texture_transform",
+                               "KHR_materials_clearcoat", std::string(500, 'X')};
+    auto file = writeFile(freshTempDir() / "optional.gltf", b.gltf());
+    Scene s = loadScene(file);
+    EXPECT_EQ(noteStartingWith(s, file.string() + ": ignoring"),
+              file.string() + ": ignoring optional extensions KHR_materials_clearcoat, KHR_texture_transform, " +
+                  std::string(61, 'X') + "... (the model renders without them)");
+
+    GltfBuilder plain;  // supported ones only: no note
+    plain.addMeshNode(plain.triangle());
+    plain.doc["extensionsUsed"] = {"KHR_lights_punctual"};
+    EXPECT_EQ(noteStartingWith(loadScene(writeFile(file, plain.gltf())), file.string() + ": ignoring"), "");
 }
 
 TEST(GltfLoad, MalformedFilesAreInputErrors) {

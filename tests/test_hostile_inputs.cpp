@@ -1,4 +1,4 @@
-// Hostile inputs against the image readers, job files and merge (README, "input rules"):
+// Hostile inputs against the image readers, job files and merge (docs/design/contract-decisions.md, "input rules"):
 // each case once hung the program, exhausted its memory or gave a wrong result. Those that
 // could hang or grow run `penumbra` as a child under a time and memory limit
 // (runPenumbraBounded), so that a regression fails here instead of stalling the test run.

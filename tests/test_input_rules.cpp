@@ -1,5 +1,5 @@
-// The input rules every reader shares (README, "Where the contract was silent or
-// ambiguous"): nesting depth, duplicate keys, the size cap, errno's words for failures,
+// The input rules every reader shares (docs/design/contract-decisions.md): nesting depth, duplicate keys, the size
+// cap, errno's words for failures,
 // number ranges, glTF versions and integer fields, glTF file access, no echo of file
 // contents, and linear parsing (JSON paths turned into text only for a message).
 #include <unistd.h>

@@ -1,11 +1,11 @@
-// The lockstep replay behind penumbra_bench --lanes (tools/lane_replay.h): what a SIMD group
+// The lockstep replay behind penumbra_bench --lanes (bvh/lane_replay.h): what a SIMD group
 // runs for its lanes' recorded rounds, in the while-while and the if-if loop.
 #include <cstdint>
 #include <vector>
 
 #include <gtest/gtest.h>
 
-#include "lane_replay.h"
+#include "bvh/lane_replay.h"
 
 using namespace penumbra;
 

@@ -1173,7 +1173,7 @@ TEST(LightSamplingChi2, RejectsAreaPdfForSolidAngleSamples) {
 // --gtest_also_run_disabled_tests): the spherical warps with the fallback switched off, on the
 // normal through the centre of a rectangle, a parallelogram and a triangle, at solid angles
 // from 1e-7 sr to nearly 2 pi; prints the chi-square p-value and the pdf's integral. Not a
-// pass/fail test: where the warps break is what it reports (README, "Quad and triangle sampling").
+// pass/fail test: where the warps break is what it reports (docs/guide/integrators.md, "Quad and triangle sampling").
 TEST(LightSamplingMeasure, DISABLED_SphericalWarpsAcrossSolidAngles) {
     const double omegas[] = {1e-1, 1e-2, 1e-3, 3e-4, 1e-4, 3e-5, 1e-5, 1e-6,
                              1e-7, 5.5,  6.0,  6.1,  6.2,  6.25, 6.27, 6.28};

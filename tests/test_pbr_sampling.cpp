@@ -257,7 +257,7 @@ TEST_P(PbrSampling, ChiSquarePdfFormulaReciprocityAndFurnace) {
         // formula integrated on the CPU, within 5 standard errors (< 1e-6 by chance) plus
         // twice the quadrature's change from N to 2N cells; for metallic 1 it is GGX's
         // single-scattering albedo, <= 1. (The dielectric's is not bounded by 1: glTF's
-        // (1 - F(v.h)) diffuse weight is not 1 minus the specular albedo; README.)
+        // (1 - F(v.h)) diffuse weight is not 1 minus the specular albedo; docs/guide/materials.md.)
         const dvec3 albedo = sum / N, sigma = glm::sqrt(glm::max(sum2 / N - albedo * albedo, 0.0) / N);
         const double quadratureError = 2.0 * std::abs(q2.albedo - q1.albedo);
         EXPECT_NEAR(albedo.x, q2.albedo, 5.0 * sigma.x + quadratureError + 1e-6) << name;

@@ -292,7 +292,7 @@ TEST(SceneLoad, ExampleScenesLoad) {
 }
 
 // quad_sampling and triangle_sampling (SCENE_FORMAT.md v2): defaults, values, the header's
-// integrator object (which lists them when given: README), bad values.
+// integrator object (which lists them when given: docs/design/contract-decisions.md), bad values.
 TEST(SceneLoad, PolygonSamplingOptions) {
     Scene none = loadScene(writeFile(freshTempDir() / "none.json", "{}"));
     EXPECT_EQ(none.integrator.quadSampling, QuadSampling::SolidAngle);

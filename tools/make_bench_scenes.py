@@ -6,7 +6,7 @@
   sphere_room.json   a closed diffuse room of six quads lit by three sphere lights of radii 0.08,
                      0.3 and 0.6, 128x128 at 256 spp; direct integrator with its defaults
                      (MIS, solid-angle sphere sampling): the scene on which Penumbra trailed
-                     Mitsuba 3 (docs/PERFORMANCE.md, "Round 28").
+                     Mitsuba 3 (docs/performance-history/round-29.md).
 
 Usage: tools/make_bench_scenes.py [--triangles N] [--out DIR]   (run from the repository root)
 Standard library only. The mesh comes from build/penumbra_bench --write-mesh, its one

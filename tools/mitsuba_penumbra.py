@@ -4,7 +4,7 @@ written as Mitsuba plugins in Python: the normalized Phong BRDF of docs/SCENE_FO
 files under penumbra_tools/, the `pbr` BRDF and the `spot` light. Used by tools/penumbra_tools/mitsuba_compare/ (run through tools/mitsuba_compare.py);
 import after mi.set_variant().
 
-Mapping (see docs/PERFORMANCE.md, "Scene translation"):
+Mapping (see docs/design/benchmarks.md):
   camera      -> perspective, fov_axis 'y', fov = fov_y, to_world = look_at(eye, target, up)
   film        -> hdrfilm width x height, rfilter box, pixel_format rgb
   sampler     -> independent, sample_count = spp, seed = seed

@@ -58,9 +58,9 @@
 #endif
 
 #include "bvh/bvh.h"
+#include "bvh/lane_replay.h"
 #include "gpu/context.h"
 #include "gpu/gpu_timer.h"
-#include "lane_replay.h"
 #include "render/pass_bands.h"
 #include "render/probe_rays.h"
 #include "render/renderer.h"

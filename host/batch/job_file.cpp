@@ -167,7 +167,7 @@ bool hasExtension(const std::string& name, const std::string& ext) {
 }
 
 // `name` relative to the job file's folder `base`; unless any path is allowed, it must
-// lie inside that folder, as a glTF model's URIs must lie inside the model's (README,
+// lie inside that folder, as a glTF model's URIs must lie inside the model's (docs/design/contract-decisions.md,
 // "Job files and their folder"): a job file from elsewhere cannot read or replace files
 // anywhere on the disk, nor create folders there.
 fs::path resolve(const JsonReader& where, const fs::path& base, const std::string& name) {

@@ -40,7 +40,7 @@ struct Aabb {
 struct BvhOptions {
     uint32_t maxLeafSize = 4;  // primitives per leaf at most (fewer when SAH says so)
     // SAH bins per axis at nodes of at least that many primitives; smaller nodes get one per
-    // primitive, at least 16 (docs/PERFORMANCE.md, Round 15: 64 against 16).
+    // primitive, at least 16 (docs/performance-history/round-15.md: 64 against 16).
     uint32_t binCount = 64;
     // Primitives beside the tree (Bvh::besideCount): at most maxBeside, and only in scenes of
     // at least besideFrom primitives, where the tree is deep enough for them to cost it
@@ -51,8 +51,7 @@ struct BvhOptions {
 
 // A primitive goes beside the tree when its box has at least this share of the surface area
 // of the scene's box (most rays enter its box, so the tree saves them nothing), or when it
-// is a light by itself (its light's shadow rays all end on it). docs/PERFORMANCE.md,
-// "Round 22".
+// is a light by itself (its light's shadow rays all end on it). docs/performance-history/round-22.md.
 constexpr float kBesideAreaShare = 0.25f;
 
 struct Bvh {

@@ -17,7 +17,7 @@
 //   BVH4 builder: the large boxes are the ones most rays test).
 // On the 1M-triangle bench scene the optimal collapse takes 4% fewer node steps per camera
 // ray and 2% per AO ray, about a fifth fewer wide nodes (64.6 -> 61.1 bytes of geometry
-// per triangle), and 1.2% fewer instructions per sample (docs/PERFORMANCE.md, "Round 16").
+// per triangle), and 1.2% fewer instructions per sample (docs/performance-history/round-16.md).
 // Either way every wide child is at least one binary level below its parent, so the wide
 // tree is no deeper than the binary one (at most BVH_MAX_DEPTH), which bounds the
 // traversal stack.

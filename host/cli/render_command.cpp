@@ -62,7 +62,7 @@ int renderCommand(const RenderOptions& options) {
     const bool showProgress = !options.quiet && isatty(STDERR_FILENO);
     {
         // penumbra:render_seconds is the time spent rendering samples: scene upload, BVH and
-        // the driver's shader compilation come before it, here (README, "render_seconds").
+        // the driver's shader compilation come before it, here (docs/design/contract-decisions.md, "render_seconds").
         SlowStepNotice compiling("compiling kernels...", showProgress);
         Phase phase("prepare");  // upload, kernel creation and its first dispatch (the JIT)
         session.prepare(scene, false);

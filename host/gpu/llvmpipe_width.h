@@ -1,6 +1,6 @@
 // How many SIMD lanes llvmpipe (lavapipe's code generator) gives a kernel: 8 (256-bit
 // vectors) by default, 16 where LP_NATIVE_VECTOR_WIDTH=512 asks for them. Whether 16 pay
-// depends on the CPU and on the driver's version (docs/PERFORMANCE.md, "Round 23"):
+// depends on the CPU and on the driver's version (docs/performance-history/round-23.md):
 //
 //   CPU                         Mesa 22.3.6          Mesa 25.0.7                 Mesa 26.2.6
 //   Intel Xeon, AVX-512         0.016x (60x slower)  1.15-1.33x, same images     aborts on BVH scenes

@@ -30,10 +30,10 @@ struct ImageMetadata {
     std::optional<int> sampleOffset;      // penumbra:sample_offset
     std::optional<std::string> integrator;  // penumbra:integrator (JSON text)
     std::optional<double> renderSeconds;  // penumbra:render_seconds
-    // penumbra:sampler, "sobol" or "independent": beyond SCENE_FORMAT.md's list (README).
+    // penumbra:sampler, "sobol" or "independent": beyond SCENE_FORMAT.md's list (docs/design/contract-decisions.md).
     // Renders made before the sampler option lack it; they used independent samples.
     std::optional<std::string> sampler;
-    // penumbra:pieces (README): the exact sample pieces of a merged image, written by merge
+    // penumbra:pieces (docs/design/contract-decisions.md): the exact sample pieces of a merged image, written by merge
     // as "SEED:FIRST-END,..." (END exclusive). Absent in renders: one piece, from the above.
     std::optional<std::vector<SamplePiece>> pieces;
 };

@@ -1,5 +1,5 @@
 // The preview's keys: one table maps GLFW keys and the names an input script uses to
-// actions, and renders the list for `penumbra preview --help` and the README.
+// actions, and renders the list for `penumbra preview --help` and docs/guide/preview.md.
 // What an action does to the camera, integrator or image is the preview loop's business.
 #pragma once
 
@@ -31,7 +31,7 @@ std::optional<Action> actionForGlfwKey(int key);
 // "r", "q", "esc" (case-insensitive).
 std::optional<Action> actionForKeyName(std::string_view name);
 
-// The key and mouse list, one binding per line, for --help and the README.
+// The key and mouse list, one binding per line, for --help and docs/guide/preview.md.
 std::string keyHelp();
 
 }  // namespace penumbra::preview

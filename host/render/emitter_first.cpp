@@ -1,6 +1,6 @@
 // The emitter-first rule (emitter_first.h): the exactness conditions, the CPU probe of where
 // BRDF-sampled rays end and what their closest hits cost, and the thresholds measured in
-// docs/PERFORMANCE.md ("Round 4", "Round 5").
+// docs/performance-history/round-04.md and docs/performance-history/round-05.md.
 #include "render/emitter_first.h"
 
 #include <algorithm>

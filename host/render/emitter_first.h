@@ -1,7 +1,7 @@
 // When the direct integrator's BRDF-sampled rays test the emitters first
 // (shaders/integrators/emitter_first.glsl): where that is the same estimator as the
-// closest hit, and where it was measured to pay (docs/PERFORMANCE.md, "Round 4" and
-// "Round 5"), judged from a few hundred CPU rays that imitate the BRDF-sampled rays of a
+// closest hit, and where it was measured to pay (docs/performance-history/round-04.md and
+// docs/performance-history/round-05.md), judged from a few hundred CPU rays that imitate the BRDF-sampled rays of a
 // render.
 #pragma once
 
@@ -38,7 +38,7 @@ struct BrdfRayFates {
 // (bvh/bvh.h) with a fixed pattern, so the answer is the same on every run.
 BrdfRayFates brdfRayFates(const Scene& scene, const SceneArrays& arrays);
 
-// emitterFirstExact, and the rule measured in docs/PERFORMANCE.md ("Round 5"): the path
+// emitterFirstExact, and the rule measured in docs/performance-history/round-05.md: the path
 // saves the closest-hit traversal of every ray that finds no emitter, and costs an emitter
 // loop for every ray and an any-hit traversal for the SIMD groups where some ray finds an
 // emitter. So it pays where few rays find an emitter and the closest hit is dear: in closed
@@ -47,7 +47,7 @@ BrdfRayFates brdfRayFates(const Scene& scene, const SceneArrays& arrays);
 // the closest hit is cheap (open scenes of a few shapes: most rays leave after a few box
 // tests). With the four-wide tree the measured scenes put the break-even between 2.0 units
 // of work (the MIS scene: 0.92x) and 7.0 (the glTF model: 1.22x); the threshold is where
-// the straight line through those two gains crosses 1 (docs/PERFORMANCE.md, "Round 7").
+// the straight line through those two gains crosses 1 (docs/performance-history/round-07.md).
 bool emitterFirstPays(const Scene& scene, const SceneArrays& arrays);
 constexpr double kEmitterFirstMinWork = 3.5;      // BrdfRayFates::closestHitWork at least
 constexpr double kEmitterFirstMaxEmitter = 0.05;  // BrdfRayFates::emitter at most
@@ -60,8 +60,8 @@ constexpr double kEmitterFirstMaxEmitter = 0.05;  // BrdfRayFates::emitter at mo
 // emitter (a fraction `emitter` of the rays, BrdfRayFates::emitter). So it pays where
 //   lights * kEmitterFirstInlineLightCost + (1 - (1 - emitter)^lanes) * primitives < primitives,
 // costs counted in inline primitive tests. The constants were fitted to callgrind's
-// instructions per sample of both paths on four inline scenes (docs/PERFORMANCE.md,
-// "Round 28"): a Cornell box with one quad light gains, a room with one sphere light gains a
+// instructions per sample of both paths on four inline scenes (docs/performance-history/round-29.md): a Cornell box
+// with one quad light gains, a room with one sphere light gains a
 // little, and rooms with three sphere lights lose 12-16%, which the BVH scenes' rule above
 // (that knows no light count) took in a large room.
 bool emitterFirstPaysInline(double emitter, uint32_t lights, uint32_t primitives);

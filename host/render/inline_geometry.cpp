@@ -108,8 +108,7 @@ InlineGeometryWords inlineGeometryWords(const Bvh& bvh) {
     // they fit the kernel's INLINE_MAX_GROUPS groups; otherwise runs of INLINE_GROUP_SIZE
     // consecutive primitives in leaf order (always fits: at most INLINE_MAX_PRIMITIVES).
     // The fewest groups first: the kernel variant's capacity follows the slots in use, and a
-    // larger variant takes llvmpipe's front end longer on every start (docs/PERFORMANCE.md,
-    // "Round 8").
+    // larger variant takes llvmpipe's front end longer on every start (docs/performance-history/round-08.md).
     std::vector<Cluster> clusters, groups;
     collectClusters(bvh, 0, clusters);
     bool merged = false;

@@ -1,6 +1,6 @@
 // Small scenes skip the BVH: every primitive goes into the kernel as specialization
 // constants (shaders/geometry/inline_geometry.glsl) and every ray tests each in turn.
-// Where that pays was measured (docs/PERFORMANCE.md, "Round 8"). The price: the kernel
+// Where that pays was measured (docs/performance-history/round-08.md). The price: the kernel
 // depends on the coordinates, so each distinct small geometry compiles its own pipeline
 // (a batch sweeping one pays per job); keeping them in a uniform buffer instead, so that
 // pipelines depend on the shape types alone, was measured slower (same section).
@@ -29,7 +29,7 @@ bool inlineGeometryPays(const SceneArrays& arrays);
 uint32_t inlineKernelCapacity(uint32_t count);
 
 // A group's box is tested before its primitives when it holds at least this many and its
-// area is below this share of the scene box's (docs/PERFORMANCE.md, "Round 9").
+// area is below this share of the scene box's (docs/performance-history/round-09.md).
 constexpr size_t kInlineGroupTestedFrom = 3;
 constexpr float kInlineGroupTestedBelow = 0.5f;
 

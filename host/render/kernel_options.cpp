@@ -102,7 +102,7 @@ KernelOptions makeKernelOptions(const Scene& scene, const SceneArrays& arrays, E
     // Inline scenes have a rule of their own (emitter_first.h): on Mesa 25, which skips the
     // branches no SIMD lane takes, a BRDF-sampled ray that misses every emitter skips the
     // occlusion test and the emitter's surface point, as through the BVH, but the closest
-    // hit it saves is cheap (docs/PERFORMANCE.md, "Round 9" and "Round 28").
+    // hit it saves is cheap (docs/performance-history/round-09.md and docs/performance-history/round-29.md).
     const uint32_t inlinePrimitives = inlined ? uint32_t(arrays.bvh.primitives.size()) : 0u;
     const bool on = emitterFirst == EmitterFirst::Exact  ? emitterFirstExact(scene.integrator, arrays)
                     : emitterFirst == EmitterFirst::Rule ? emitterFirstPaysFor(scene, arrays, inlinePrimitives)

@@ -1,14 +1,14 @@
 // Where the traversal reads BVH nodes from on a given device (SPEC_NODE_READS,
 // shaders/geometry/bvh.glsl): a texel buffer or a storage buffer holding the same bytes, or
 // that buffer through its device address.
-// Measured on lavapipe (docs/PERFORMANCE.md, "Round 10"): Mesa 22.3 compiles a texel fetch
+// Measured on lavapipe (docs/performance-history/round-10.md): Mesa 22.3 compiles a texel fetch
 // into an inline gather and a storage-buffer load inside the traversal loop into a loop
 // over the SIMD lanes, and renders a million triangles 1.23-1.35x faster from texels;
 // Mesa 25.0 compiles the texel fetch into an indirect call, and the storage buffer is
 // 1.23-1.42x faster there on a million triangles (1.07x on the mesh-light scene), and
-// faster again, 1.07-1.10x ("Round 11"), read in two loads of 32 bytes instead of four of
+// faster again, 1.07-1.10x (docs/performance-history/round-11.md), read in two loads of 32 bytes instead of four of
 // 16 where the device has 64-bit integers (the kernels' "_int64" variants), and faster again,
-// 1.06-1.17x ("Round 12"), with the same loads made through the buffer's device address,
+// 1.06-1.17x (docs/performance-history/round-12.md), with the same loads made through the buffer's device address,
 // which lavapipe 25.0 compiles into hardware gathers (the "_address" variants).
 #pragma once
 

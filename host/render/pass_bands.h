@@ -27,7 +27,7 @@
 // still in the CPU's caches. On lavapipe (2 cores), 16 samples per dispatch rendered
 // 1.29-1.34x the samples per CPU second of one sample per dispatch on the 1M-triangle
 // bench scene and 1.24x on the Cornell box, 4 samples 1.17-1.25x and 1.17x (penumbra_bench
-// --samples-per-dispatch; docs/PERFORMANCE.md, "Round 16"). Whole passes over the film
+// --samples-per-dispatch; docs/performance-history/round-16.md). Whole passes over the film
 // are the sweeps whose one band holds every row.
 //
 // Why several bands per submission: on lavapipe a submission has a fixed cost of about
@@ -35,8 +35,8 @@
 // against about 0.04 ms for a dispatch within one submission (`penumbra_bench --low-spp`).
 // One submission per strip made the first pass at least eight submissions: at 256 x 160 on
 // 2 cores, renders of 1-8 spp took 1.2-1.9x as long as the same passes in one submission
-// (docs/PERFORMANCE.md, "Round 21"). The x3 and x4 growth cut a Cornell box of 4 spp from
-// five submissions to three: 1.19x ("Round 23").
+// (docs/performance-history/round-21.md). The x3 and x4 growth cut a Cornell box of 4 spp from
+// five submissions to three: 1.19x (docs/performance-history/round-23.md).
 #pragma once
 
 #include <cstddef>

@@ -4,8 +4,8 @@
 // num_threads). With one workgroup per tile, a thread whose range costs less, or that the
 // operating system ran for longer, finishes first and waits for the other: on the
 // 1M-triangle bench scene the render kept 1.43 of 2 cores busy with the tiles in order,
-// and 1.82-1.88 with the tile rows interleaved over the threads (docs/PERFORMANCE.md,
-// "Round 11" and "Round 20").
+// and 1.82-1.88 with the tile rows interleaved over the threads (docs/performance-history/round-11.md and
+// docs/performance-history/round-20.md).
 // So on such a device a dispatch is a tile queue: one workgroup per worker thread, whose
 // invocations each take the band's next pixel from an atomic counter until none is left
 // (integrators/kernel_common.glsl, main). The thread that would have waited renders pixels

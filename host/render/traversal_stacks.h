@@ -4,7 +4,7 @@
 // traverses together), reached through its device address instead of a local array.
 // On lavapipe 25.0 a store to a local array at a per-lane index is a loop over the SIMD
 // lanes with a branch on each lane's mask bit, which mispredicts as lanes push at random; a
-// store through an address is one masked scatter (docs/PERFORMANCE.md, "Round 13").
+// store through an address is one masked scatter (docs/performance-history/round-13.md).
 // The buffer holds the stacks of one dispatch, so its size bounds a dispatch's invocations:
 // a pass band that needs more is recorded as several dispatches of fewer tile rows, each
 // followed by a barrier, since the next one reuses the same entries. A tile queue's few

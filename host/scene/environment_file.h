@@ -1,5 +1,5 @@
 // The `file` of an `environment` light (SCENE_FORMAT.md): an equirectangular OpenEXR or
-// Radiance HDR image, read through image/image_file and checked as scene input (README,
+// Radiance HDR image, read through image/image_file and checked as scene input (docs/guide/integrators.md,
 // "Environment maps": formats, texel values and size limits).
 #pragma once
 

@@ -14,6 +14,7 @@
 
 #include "core/errors.h"
 #include "core/input_file.h"
+#include "scene/gltf_extensions.h"
 #include "scene/json_parse.h"
 
 namespace penumbra {
@@ -123,7 +124,7 @@ std::string_view glbJsonChunk(const std::string& bytes, const std::string& label
 // The input rules every JSON reader shares (depth, duplicate keys, syntax without echo),
 // applied before tinygltf, whose value conversion recurses; then the version: glTF 1.0
 // files parse as JSON but mean something else.
-void checkGltfDocument(std::string_view json, const std::string& label) {
+std::vector<std::string> checkGltfDocument(std::string_view json, const std::string& label) {
     nlohmann::json doc = parseJsonText(json, label);
     if (!doc.is_object()) throwInputError(label, "", "expected a JSON object");
     auto asset = doc.find("asset");
@@ -150,6 +151,7 @@ void checkGltfDocument(std::string_view json, const std::string& label) {
                                     "\": it is outside the model's folder (--allow-any-path reads it)");
         }
     }
+    return checkGltfExtensions(doc, label);
 }
 
 tinygltf::FsCallbacks confinedFsCallbacks(GltfFileAccess& access) {

@@ -10,7 +10,7 @@
 namespace penumbra {
 
 // The options of `settings.type` only, every one written out, except quad_sampling and
-// triangle_sampling where nothing set them (README: "Where the contract was silent"), so
+// triangle_sampling where nothing set them (docs/design/contract-decisions.md), so
 // that the header of a scene that does not use them stays as it was before those options.
 nlohmann::json integratorJson(const IntegratorSettings& settings);
 

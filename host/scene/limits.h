@@ -1,5 +1,5 @@
-// The ranges scene values must lie in (README, "Where the contract was silent or
-// ambiguous"): what the intersection code and the float32 accumulation handle exactly.
+// The ranges scene values must lie in (docs/design/contract-decisions.md): what the intersection code and the
+// float32 accumulation handle exactly.
 // Values outside are refused when loading, never rendered wrongly.
 #pragma once
 

@@ -17,6 +17,7 @@
 
 #include "core/errors.h"
 #include "core/input_file.h"
+#include "scene/gltf_extensions.h"
 #include "scene/gltf_import.h"
 #include "scene/gltf_input_rules.h"
 #include "scene/gltf_textures.h"
@@ -502,10 +503,6 @@ void Importer::addCamera(const tinygltf::Node& node, const glm::dmat4& world, co
 }
 
 GltfImport Importer::run() {
-    static const char* supported[] = {"KHR_lights_punctual", "KHR_materials_emissive_strength"};
-    for (const std::string& ext : m_model.extensionsRequired)
-        if (std::find(std::begin(supported), std::end(supported), ext) == std::end(supported))
-            fail("extensionsRequired", "unsupported required extension \"" + ext + "\"");
     checkHierarchy();
     loadMaterials();
 
@@ -563,7 +560,8 @@ GltfImport importGltf(const fs::path& file, const std::string& label) {
     std::string bytes = readInputFile(file, label, kMaxModelFileBytes);
     // A .glb starts with the magic "glTF"; anything else is read as JSON (.gltf).
     bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
-    checkGltfDocument(binary ? glbJsonChunk(bytes, label) : std::string_view(bytes), label);
+    std::vector<std::string> ignoredExtensions =
+        checkGltfDocument(binary ? glbJsonChunk(bytes, label) : std::string_view(bytes), label);
 
     tinygltf::TinyGLTF loader;
     // Images are kept undecoded here and decoded by gltf_textures.cpp when a material uses them.
@@ -589,7 +587,10 @@ GltfImport importGltf(const fs::path& file, const std::string& label) {
                             "\": it is outside the model's folder (--allow-any-path reads it)");
     if (!access.failed.empty()) throwInputError(label, "", elideWords(access.failed));
     if (!ok) throwInputError(label, "", err.empty() ? "not a valid glTF file" : firstLine(err));
-    return Importer(model, label, images).run();
+    GltfImport result = Importer(model, label, images).run();
+    std::string note = ignoredGltfExtensionsNote(ignoredExtensions);
+    if (!note.empty()) result.notes.push_back(label + ": " + note);
+    return result;
 }
 
 }  // namespace penumbra

@@ -350,7 +350,7 @@ private:
     void readGltfShape(const JsonReader& r, const Shape& settings) {
         JsonReader fileField = r.at("file");
         // A model given on the command line is the user's own choice; one that a scene
-        // names must lie in the scene's folder (README, "glTF file access").
+        // names must lie in the scene's folder (docs/design/contract-decisions.md, "glTF file access").
         fs::path file = sceneRelativeInputFile(fileField, m_baseDir, !m_modelAlone);
         GltfImport model = importGltf(file, file.string());
         // to_world comes after the file's own node transforms, which importGltf applied, and
@@ -512,8 +512,14 @@ private:
         float tanHalf = std::tan(glm::radians(std::clamp(fovY, 1.0f, 179.0f)) * 0.5f);
         float aspect = float(m_scene.film.width) / float(m_scene.film.height);
         float theta = std::atan(tanHalf * std::min(1.0f, aspect));
+        // A three-quarter view, as model viewers and product shots frame an object: from the
+        // front-right (+Z and +X, 45 degrees round the vertical) and 30 degrees above, so that a
+        // box shows three faces instead of one flat square.
+        const float azimuth = glm::radians(45.0f), elevation = glm::radians(30.0f);
+        glm::vec3 from(std::cos(elevation) * std::sin(azimuth), std::sin(elevation),
+                       std::cos(elevation) * std::cos(azimuth));
         c.target = center;
-        c.eye = center + glm::vec3(0.0f, 0.0f, radius / std::sin(theta));  // looking along -Z
+        c.eye = center + from * (radius / std::sin(theta));
         c.up = {0.0f, 1.0f, 0.0f};
         return c;
     }

@@ -10,7 +10,7 @@
 namespace penumbra {
 
 // `baseDir / field.string()`, once it can be opened and, when `confined` and any path is
-// not allowed, lies inside `baseDir` (README, "glTF file access"). Fails on `field` with
+// not allowed, lies inside `baseDir` (docs/design/contract-decisions.md, "glTF file access"). Fails on `field` with
 // "cannot open \"FILE\" (why)" or "refusing to read \"NAME\": it is outside the scene's
 // folder (--allow-any-path reads it)". `confined` is false only for a model given on the
 // command line, which is the user's own choice.

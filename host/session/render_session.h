@@ -40,7 +40,7 @@ public:
     bool prepare(const Scene& scene, bool sharesUpload);
 
     // Renders the prepared scene to its spp and reads it back; penumbra:render_seconds is
-    // the passes' time (README, "render_seconds"). `cancel` stops it within a submission
+    // the passes' time (docs/design/contract-decisions.md, "render_seconds"). `cancel` stops it within a submission
     // (std::runtime_error "render interrupted"). After any failure the renderer is dropped,
     // its state unknown, so that the next prepare uploads anew.
     Image render(const std::function<void(const RenderProgress&)>& progress = {},

@@ -1,4 +1,4 @@
-"""Penumbra's renderer for scripts: scenes in, numpy arrays out (README "Python").
+"""Penumbra's renderer for scripts: scenes in, numpy arrays out (docs/guide/python.md).
 
     import penumbra
     img = penumbra.render("scenes/cornell.json", spp=16, seed=1)   # or a dict scene

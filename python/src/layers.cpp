@@ -12,7 +12,7 @@ namespace py = pybind11;
 namespace penumbra::python {
 namespace {
 
-// The EXR header attributes (SCENE_FORMAT.md "Output"; README for sampler and pieces), by
+// The EXR header attributes (SCENE_FORMAT.md "Output"; docs/design/contract-decisions.md for sampler and pieces), by
 // their names without "penumbra:".
 py::dict metaFromImage(const ImageMetadata& m) {
     py::dict meta;

@@ -1,5 +1,5 @@
 // The extension module penumbra._penumbra: the functions and classes python/penumbra
-// re-exports (README "Python", docs/SCENE_FORMAT.md "Python"). Errors: InputError (bad
+// re-exports (docs/guide/python.md, docs/SCENE_FORMAT.md "Python"). Errors: InputError (bad
 // input, exit status 2 on the command line) becomes SceneError, any other failure
 // RenderError, each with the command line's one-line message.
 #include <filesystem>
@@ -132,7 +132,7 @@ py::list devices() {
 PYBIND11_MODULE(_penumbra, m) {
     using namespace penumbra;
     using namespace penumbra::python;
-    m.doc() = "Penumbra's renderer for scripts (README \"Python\")";
+    m.doc() = "Penumbra's renderer for scripts (docs/guide/python.md)";
 
     // Kept for the life of the process, as the module itself is.
     static PyObject* sceneError = PyErr_NewException("penumbra.SceneError", PyExc_ValueError, nullptr);

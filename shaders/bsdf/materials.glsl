@@ -1,7 +1,7 @@
 // The scene's materials, read once per shading point. A texel buffer rather than a storage
 // buffer: on llvmpipe (Mesa 22.3) a storage-buffer load after a branch becomes a loop over
 // the SIMD lanes with bounds-check branches, a texel fetch a branch-free gather (see
-// geometry/bvh.glsl and docs/PERFORMANCE.md, "Round 2").
+// geometry/bvh.glsl and docs/performance-history/round-02.md).
 #ifndef PENUMBRA_MATERIALS_GLSL
 #define PENUMBRA_MATERIALS_GLSL
 

@@ -30,9 +30,9 @@ float schlickWeight(float c) {
 // f(wi, wo), the same operations on the same values must give the same result. A driver
 // free to fuse products into fmas can fuse differently at the two call sites. Near D's
 // peak |n x h| is about alpha, so one product fused in the cross product moves D by about
-// 2^-24 / alpha, relatively. That broke reciprocity on an NVIDIA H200 (docs/PERFORMANCE.md,
-// "On a GPU: NVIDIA H200"). The dot and cross products are spelled out (preciseDot,
-// preciseCross in common/math.glsl), since `precise` does not reach inside them ("Round 17").
+// 2^-24 / alpha, relatively. That broke reciprocity on an NVIDIA H200 (docs/performance-history/own-bench.md). The
+// dot and cross products are spelled out (preciseDot,
+// preciseCross in common/math.glsl), since `precise` does not reach inside them (docs/performance-history/round-17.md).
 float ggxD(float alpha, vec3 n, vec3 h) {
     precise float cosH = preciseDot(n, h);
     precise vec3 t = preciseCross(n, h);

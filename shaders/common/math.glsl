@@ -43,8 +43,8 @@ float sqr(float x) { return x * x; }
 // dot(a, b) and cross(a, b) with no fused multiply-add in them, for code whose rounding must
 // not depend on the driver. `precise` (SPIR-V NoContraction) keeps separate instructions from
 // being fused, but dot and cross are one instruction each (OpDot, GLSL.std.450 Cross), which a
-// driver may compute with fmas inside: Mesa 26's lavapipe does (docs/PERFORMANCE.md, "Round
-// 17"). Spelled out, every product and sum is its own instruction, in glm's order (glm::dot:
+// driver may compute with fmas inside: Mesa 26's lavapipe does (docs/performance-history/round-17.md). Spelled out,
+// every product and sum is its own instruction, in glm's order (glm::dot:
 // x + y, then + z; glm::cross), which the CPU mirrors in host/bvh compute with -ffp-contract=off.
 float preciseDot(vec3 a, vec3 b) {
     precise float d = a.x * b.x + a.y * b.y + a.z * b.z;
@@ -63,7 +63,7 @@ vec3 preciseCross(vec3 a, vec3 b) {
 // tan(pi/8), then moved into the quadrant of (x, y). Only selects and one division, where
 // the built-in with a Newton step needed a sin and a cos more; every sample of a quad light
 // in solid angle takes several of these, and the change made the Cornell box's samples
-// 1.12x faster on llvmpipe (docs/PERFORMANCE.md, "Round 5"). atan2Accurate(0, 0) = 0.
+// 1.12x faster on llvmpipe (docs/performance-history/round-05.md). atan2Accurate(0, 0) = 0.
 float atan2Accurate(float y, float x) {
     float ax = abs(x), ay = abs(y);
     float lo = min(ax, ay), hi = max(ax, ay);

@@ -17,14 +17,14 @@
 // nodes through a texel buffer, a storage buffer or that buffer's device address, as the
 // specialization constant kNodeReads says: llvmpipe 22.3 turns a storage-buffer load inside a loop into a loop over
 // the SIMD lanes with a bounds-check branch per component, a texel fetch into a branch-free
-// gather of four words (docs/PERFORMANCE.md, "Round 2: the data the kernels read"); 25.0
+// gather of four words (docs/performance-history/round-02.md); 25.0
 // still loops over the lanes for the storage buffer, but a texel fetch has become an
 // indirect call to a function of the descriptor's, and on the BVH's nodes the loop is the
-// faster of the two ("Round 10"). host/render/node_reads.h picks per driver.
+// faster of the two (docs/performance-history/round-10.md). host/render/node_reads.h picks per driver.
 layout(binding = BINDING_NODES) uniform usamplerBuffer nodeTexels;
 // The "_int64" kernels view the storage buffer in 32-byte words: a node is two loads, and on
 // lavapipe 25.0 each load is a loop over the SIMD lanes, so halving the loads measured
-// 1.07-1.10x ("Round 11"); the module then needs 64-bit integers (shaderInt64).
+// 1.07-1.10x (docs/performance-history/round-11.md); the module then needs 64-bit integers (shaderInt64).
 #ifdef PENUMBRA_INT64_LOADS
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 layout(std430, binding = BINDING_NODE_WORDS) readonly restrict buffer NodeQuads { u64vec4 nodeQuads[]; };
@@ -32,7 +32,7 @@ layout(std430, binding = BINDING_NODE_WORDS) readonly restrict buffer NodeQuads 
 // The "_address" kernels make the same loads through the buffer's device address. On
 // lavapipe 25.0 a load from a device address is a hardware gather, without the storage
 // buffer's loop over the SIMD lanes and bounds check per component: the seven 64-bit words
-// a node step uses are 14 vpgatherqq of four lanes each. 1.06-1.17x ("Round 12"). Nothing
+// a node step uses are 14 vpgatherqq of four lanes each. 1.06-1.17x (docs/performance-history/round-12.md). Nothing
 // checks the index, which the tree's own child references give and the traversal tests
 // compare with the CPU's. The kernel defines bvhNodeAddress() (kernel_common.glsl: from
 // PassConstants).
@@ -44,7 +44,7 @@ uvec2 bvhNodeAddress();
 // array: on lavapipe 25.0 a store to a local array at a per-lane index is a loop over the
 // SIMD lanes with a branch on each lane's mask bit, which mispredicts as the lanes push at
 // random; a store through an address is one masked scatter (vpscatterqd), a load one
-// gather. 1.12-1.17x on scenes of 30k-1M primitives ("Round 13"). The kernel defines the
+// gather. 1.12-1.17x on scenes of 30k-1M primitives (docs/performance-history/round-13.md). The kernel defines the
 // buffer's address, the entries per invocation and which invocation this is
 // (kernel_common.glsl: from PassConstants and the dispatch; render/traversal_stacks.h sizes
 // the buffer: childStackDepth entries, one per child still to visit, see traverse). An index
@@ -106,7 +106,7 @@ struct Hit {
 // lanes and executes every branch under a mask, so a single loop with an "interior or
 // leaf" branch pays for box tests and a primitive test in every iteration of every lane;
 // here the lanes do their box tests together and their primitive tests together (what it
-// bought: docs/PERFORMANCE.md, "What each optimisation bought").
+// bought: docs/performance-history/round-01.md).
 
 // max and min of operands that are never NaN, as a comparison and a select: GLSL's max and
 // min must return the other operand of a NaN, which llvmpipe does with two more
@@ -158,7 +158,8 @@ uint intersectWideNode(uint node, vec3 origin, vec3 invDir, float tMax, out vec4
     ref = uvec4(planesB.zw, refsB.xy);
     // Planes built from their bits (wide_node.glsl) save a conversion and a multiply per
     // plane against corner + float(q) * step: a step of the "_address" kernels on lavapipe
-    // 25.0 takes 383 instructions instead of 410, 1.01-1.04x on 30k-1M triangles ("Round 19").
+    // 25.0 takes 383 instructions instead of 410, 1.01-1.04x on 30k-1M triangles
+    // (docs/performance-history/round-19.md).
     vec3 base = uintBitsToFloat(frame.xyz);
     uvec3 exponentBits = ((uvec3(frame.w) >> uvec3(0u, 8u, 16u)) & 0xffu) << 23u;
     // intersectBox (intersect.glsl) for the four boxes: the near planes chosen by the sign
@@ -291,19 +292,20 @@ bool isInteriorRef(uint ref) { return (ref >> BVH_COUNT_SHIFT) == 0u; }
 
 // The loop behind both queries. From a node, the ray goes on to the nearest child it hits
 // (for `anyHit` too: a blocked shadow ray meets its blocker sooner, 1.03-1.09x on a million
-// triangles, "Round 13"). What the stack keeps of the other children it hits depends on
+// triangles, docs/performance-history/round-13.md). What the stack keeps of the other children it hits depends on
 // where the stack lives:
 // - In memory through a device address (the "_address" kernels), one entry per child: the
 //   children hit are sorted by entry distance and all but the nearest pushed, farthest
 //   first, so a popped child is taken up at once. Up to three pushes a step cost three
 //   masked scatters there, less than testing the parent's four boxes again when it comes
-//   back: about 1.05x on a million triangles (0.97-1.09 over seven A/Bs, "Round 18"). WIDE_NODE_ARITY - 1 entries per
+//   back: about 1.05x on a million triangles (0.97-1.09 over seven A/Bs, docs/performance-history/round-18.md).
+// WIDE_NODE_ARITY - 1 entries per
 //   node on the path from the root suffice (render/traversal_stacks.h sizes them).
 // - In a local array (every other kernel), one entry per node: the node with its other
 //   children's bits, tested again when popped with only those bits allowed, so a child that
 //   now lies behind the closest hit found meanwhile fails its box test there. A push to a
 //   local array is a loop over the SIMD lanes on lavapipe, and three of them per step cost
-//   more than the test again ("Round 7"). One entry per node on the path from the root, so
+//   more than the test again (docs/performance-history/round-07.md). One entry per node on the path from the root, so
 //   BVH_MAX_DEPTH entries suffice (host/bvh/wide.cpp: the wide tree is no deeper than the
 //   binary one).
 // With `anyHit` it returns at the first hit found. `anyHit` is a constant at both call
@@ -331,7 +333,7 @@ bool traverse(vec3 origin, vec3 dir, float tMax, bool anyHit, uvec2 ignore, out 
 #endif
     // The primitives beside the tree, in order, before it (host/bvh/bvh.h says which and
     // why): a large floor is then one test here, not a round of the loop below for most rays
-    // and a level of the tree for the rest, 1.08x on a million triangles ("Round 22"). A
+    // and a level of the tree for the rest, 1.08x on a million triangles (docs/performance-history/round-22.md). A
     // uniform loop, usually of none; the tests are the leaves', so traceAnyIgnoring's
     // reasoning holds here too.
     uvec2 beside = bvhBesideRange();
@@ -345,7 +347,8 @@ bool traverse(vec3 origin, vec3 dir, float tMax, bool anyHit, uvec2 ignore, out 
     // The nodes' address, read once here: read inside intersectWideNode, its push constants
     // were loaded again, with a bounds check, at every step (lavapipe 25.0's generated code),
     // as the stack's stores might alias them for all the compiler knows. With the pushes'
-    // test in descendOneNode, 1.01x on a million triangles and 1.05x on mesh_light ("Round 19").
+    // test in descendOneNode, 1.01x on a million triangles and 1.05x on mesh_light
+    // (docs/performance-history/round-19.md).
     NodeQuadsAt nodes = NodeQuadsAt(bvhNodeAddress());
     uint ref = 0u;  // the root, an interior node
     while (true) {
@@ -465,11 +468,11 @@ bool startSecondSlot(AnyHitRay r, uvec2 beside, out Hit hit, out bool live, out 
 // whether A hit, and in `blockedB` / `blockedC` whether B / C did. Each loop below holds a
 // step of each slot, so the CPU overlaps the two slots' dependent chains (a node's gather,
 // its box tests, the stack): two chains in flight where traverse has one, as sixteen lanes
-// bought over eight ("Round 15", two rays per invocation, 1.08-1.30x per step). A step runs
+// bought over eight (docs/performance-history/round-15.md, two rays per invocation, 1.08-1.30x per step). A step runs
 // only while some lane's ray needs it (Mesa 24.3 and later skip a branch no lane takes), so
 // each ray costs the steps it would cost alone. Ray C takes the second slot where ray B
 // ends, in that lane alone: the group then runs as long as its longest A or B-then-C,
-// where a traversal of C after the loop would add its own longest lane ("Round 27"). Each
+// where a traversal of C after the loop would add its own longest lane (docs/performance-history/round-27.md). Each
 // ray visits its nodes and primitives in the order traverse would, with the same tests, so
 // its result is traverse's bit for bit: only the interleaving differs. The kernel traces a
 // sample's camera ray together with the previous sample's first shadow ray and BRDF ray

@@ -9,7 +9,7 @@
 // generated sampling function) and keeps a per-lane stack, and eight rays in SIMD lanes
 // run every loop until the slowest has finished; here the shapes are constants, so an
 // axis-aligned wall's zero edge components fold away and a primitive test is a few dozen
-// SIMD instructions for all eight rays (docs/PERFORMANCE.md, "Round 8").
+// SIMD instructions for all eight rays (docs/performance-history/round-08.md).
 #ifndef PENUMBRA_INLINE_GEOMETRY_GLSL
 #define PENUMBRA_INLINE_GEOMETRY_GLSL
 
@@ -20,7 +20,7 @@
 // INLINE_MAX_PRIMITIVES, set where cmake/EmbedShaders.cmake compiles the "<kernel>_inline<N>"
 // variants (the host picks the smallest that holds the scene: render/inline_geometry.h).
 // llvmpipe's front end inlines every trace site's tests before the constants remove the
-// unused ones, and pays for that on every start (docs/PERFORMANCE.md, "Round 8").
+// unused ones, and pays for that on every start (docs/performance-history/round-08.md).
 #if !defined(PENUMBRA_INLINE_CAPACITY) || PENUMBRA_INLINE_CAPACITY % INLINE_CAPACITY_STEP != 0 || \
     PENUMBRA_INLINE_CAPACITY > INLINE_MAX_PRIMITIVES || INLINE_CAPACITY_STEP != 16
 #error "PENUMBRA_INLINE_CAPACITY: a multiple of 16 (the groups below) up to INLINE_MAX_PRIMITIVES"
@@ -107,7 +107,7 @@ void inlineRecord(bool found, uint index, float t, vec2 uv, inout Hit hit) {
 // the box test (constant conditions). The box is tested as the BVH tests its nodes
 // (intersectBox, up to the nearest hit so far). Where no lane's ray hits it, a driver that
 // skips the branches no lane takes (Mesa >= 24.3) skips the group's tests; Mesa 22.3 runs
-// them anyway, masked, and pays for the box test too (docs/PERFORMANCE.md, "Round 9").
+// them anyway, masked, and pays for the box test too (docs/performance-history/round-09.md).
 #define INLINE_GROUP(g, a, b, c, d, e, f, h, i)                                                                  \
     if (INLINE_GROUP_SIZE * (g) < kInlineCount) {                                                                \
         float tEntry;                                                                                            \

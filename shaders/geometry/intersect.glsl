@@ -6,8 +6,8 @@
 // `precise` (SPIR-V NoContraction). Otherwise a driver may fuse a product and a sum into
 // one fma, and NVIDIA's does. On an H200, rays starting just outside a sphere made the
 // sphere test's c = |f|^2 - r^2 cancel, so the fused rounding moved t by over 1e-4 from the
-// CPU's: the GPU was no less accurate, it just rounded differently (docs/PERFORMANCE.md,
-// "On a GPU: NVIDIA H200"). The CPU side compiles with -ffp-contract=off for the same
+// CPU's: the GPU was no less accurate, it just rounded differently (docs/performance-history/own-bench.md). The CPU
+// side compiles with -ffp-contract=off for the same
 // reason. On lavapipe 25.0 `precise` changes no instruction count (tools/bench-instructions).
 //
 // `precise` alone is not enough for dot and cross, which a driver may compute with fmas
@@ -33,8 +33,7 @@
 // lanes that execute every branch, so a scene with triangles and quads paid for both
 // tests on every primitive.
 // Computed without early returns: llvmpipe runs 8 rays in SIMD lanes, and one final test
-// costs far less than a masked exit after each step (docs/PERFORMANCE.md, "Earlier
-// experiments").
+// costs far less than a masked exit after each step (docs/performance-history/earlier-experiments.md).
 // A parallel ray or degenerate shape gives det = 0, so u, v, tHit are infinite or NaN and
 // every comparison below fails. uv = (u, v).
 bool intersectFlat(vec3 p0, vec3 e1, vec3 e2, bool parallelogram, vec3 origin, vec3 dir, float tMax, out float t,

@@ -8,7 +8,7 @@
 // The four children's planes on one axis, given as ray distances: byte c of `words` is child
 // c's q, its plane base + plane(E, q), where plane(E, q) is the float whose exponent field
 // is E (`exponentBits` = E << 23) and whose mantissa holds q in bits 8-15: built from the
-// bits, with no conversion of q and no multiply ("Round 19" of docs/PERFORMANCE.md). Then
+// bits, with no conversion of q and no multiply (docs/performance-history/round-19.md). Then
 // (plane - origin) * invDir, in that order, as intersectBox computes a slab distance.
 vec4 wideChildPlaneDistances(uint words, float base, uint exponentBits, float origin, float invDir) {
     uvec4 q = (uvec4(words) >> uvec4(0u, 8u, 16u, 24u)) & 0xffu;

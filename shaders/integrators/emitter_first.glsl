@@ -7,7 +7,8 @@
 // primitive as the closest-hit traversal finds them (the same intersectPrimitive), and it
 // counts exactly when nothing lies strictly nearer, as for the closest hit. The host turns
 // the path on (SPEC_EMITTER_FIRST = the light count) only where that holds and where it
-// was measured to pay (render/emitter_first.cpp, docs/PERFORMANCE.md "Round 4" and "Round 5").
+// was measured to pay (render/emitter_first.cpp, docs/performance-history/round-04.md and
+// docs/performance-history/round-05.md).
 #ifndef PENUMBRA_EMITTER_FIRST_GLSL
 #define PENUMBRA_EMITTER_FIRST_GLSL
 

@@ -12,7 +12,7 @@
 // rather than storage buffers: llvmpipe (Mesa 22.3) turns a storage-buffer load after a
 // branch into a loop over the SIMD lanes with bounds-check branches, a texel fetch into a
 // branch-free gather (the same change for nodes, primitives and materials bought
-// 1.5-1.9x: docs/PERFORMANCE.md, "Round 2"). Light i is texels 3i (type, first, count,
+// 1.5-1.9x: docs/performance-history/round-02.md). Light i is texels 3i (type, first, count,
 // flags), 3i + 1 (emission, area), 3i + 2 (position, selectionProb); alias entry i is
 // texel i.
 layout(binding = BINDING_LIGHTS) uniform usamplerBuffer lightTexels;

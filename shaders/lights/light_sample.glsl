@@ -25,7 +25,7 @@ struct LightSample {
 // (LightSample.quadSolidAnglePdf), which lightPdf then uses instead of computing the
 // quad's solid angle again. `known` must be a constant at the call site: where it is true
 // the computation is compiled out, which is the point, since llvmpipe (Mesa 22.3) runs both
-// sides of every branch (docs/PERFORMANCE.md, "Round 6").
+// sides of every branch (docs/performance-history/round-06.md).
 struct KnownQuadDensity {
     bool known;
     float solidAnglePdf;  // as LightSample.quadSolidAnglePdf

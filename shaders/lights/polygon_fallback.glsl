@@ -24,7 +24,7 @@ vec3 primitiveFrontNormal(Primitive p) {
 // also keeps away from x almost in the light's plane inside its outline, where the spherical
 // polygon nears a hemisphere and the warps' arcs degenerate: a polygon whose vertices are all
 // at least asin(s) above its plane lies inside a disk seen within 2 pi (1 - s) = 6.09 sr.
-// Both bounds were chosen by measurement (README, "Quad and triangle sampling";
+// Both bounds were chosen by measurement (docs/guide/integrators.md, "Quad and triangle sampling";
 // LightSamplingMeasure in tests/test_light_sampling.cpp): with the fallback off, chi-square
 // of the spherical-rectangle map fails at 3e-4 sr and at 1 degree and passes at 1e-3 sr and
 // 3 degrees; every warp fails above 6.25 sr and passes at 6.2 sr (the spherical-triangle warp

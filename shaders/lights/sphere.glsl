@@ -30,7 +30,7 @@ float spherePdf(vec3 x, vec3 center, float r, vec3 y, vec3 ny, float d, uint sph
     }
     // Spelled out (preciseDot, common/math.glsl): at the visible cap's rim cosY cancels to
     // near 0, where a fused rounding moved the pdf enough for the cap chart's chi-square to
-    // fail on Mesa 26 (p = 3e-6; docs/PERFORMANCE.md, "Round 17").
+    // fail on Mesa 26 (p = 3e-6; docs/performance-history/round-17.md).
     precise vec3 w = y - x;
     precise float cosY = abs(preciseDot(w, ny) / sqrt(preciseDot(w, w)));
     if (cosY <= 0.0) return 0.0;

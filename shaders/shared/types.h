@@ -62,10 +62,10 @@ struct BvhNode {
 // one rounding, in the sum. The shader builds plane(E, q) from the bits, with no conversion
 // of q to a float and no multiply: the planes lie 2^(E - 142) apart, and base is the
 // smallest corner of the children's boxes less 2^(E - 127), rounded down
-// (docs/PERFORMANCE.md, "Round 19"). The builder rounds q_lo down and q_hi up until the float
+// (docs/performance-history/round-19.md). The builder rounds q_lo down and q_hi up until the float
 // result contains the child's box: the decoded box is never smaller. One traversal step
 // reads one node, 64 bytes, and tests four boxes; the binary child pairs it replaced needed
-// 64 bytes for two (docs/PERFORMANCE.md, "Round 7").
+// 64 bytes for two (docs/performance-history/round-07.md).
 //
 //   base    the frame's base, per axis (above)
 //   meta    bits 0-7, 8-15, 16-23: E of the x, y, z planes; bits 24-27: which children exist
@@ -317,8 +317,8 @@ PENUMBRA_CONST uint SAMPLER_SOBOL = 1u;        // padded Owen-scrambled Sobol' (
 // RenderParams: llvmpipe runs eight invocations in SIMD lanes and executes both sides of
 // every branch under a mask, so a runtime switch pays for all the code it skips. Fixing
 // them per pipeline lets the compiler drop the unused strategies, light types, primitive
-// types and materials (what it bought: docs/PERFORMANCE.md, "What each optimisation
-// bought"). host/render/kernel_options.cpp fills them; shaders/common/specialization.glsl
+// types and materials (what it bought: docs/performance-history/round-01.md). host/render/kernel_options.cpp fills
+// them; shaders/common/specialization.glsl
 // declares them.
 #define SPEC_COUNT_RAYS 0        // 1: count traced rays into BINDING_COUNTERS (benchmarks)
 #define SPEC_STRATEGY 1          // STRATEGY_*

@@ -1,5 +1,5 @@
 # The benchmark tools' own pieces that a measurement rests on: the sphere-light room that
-# tools/make_bench_scenes.py writes (docs/PERFORMANCE.md, "Round 28") is the scene it says,
+# tools/make_bench_scenes.py writes (docs/performance-history/round-29.md) is the scene it says,
 # and tools/bench-render-ab reads the header that `penumbra render` wrote. Standard library
 # only, beside the CLI.
 import importlib.machinery

@@ -1,5 +1,5 @@
-# Ctrl-C during a render raises KeyboardInterrupt within a second of the signal (README
-# "Python"): a child process renders a long render, the test sends it SIGINT.
+# Ctrl-C during a render raises KeyboardInterrupt within a second of the signal (docs/guide/python.md): a child
+# process renders a long render, the test sends it SIGINT.
 import os
 import selectors
 import signal

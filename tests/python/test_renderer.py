@@ -2,7 +2,6 @@
 # the format lets a script make between frames (camera, film size, spp, seed, material
 # numbers, light powers) reuse the compiled kernel: Renderer.kernel_compilations counts the
 # driver compilations (pipelines created, gpu/kernel_cache.h).
-import math
 import threading
 import time
 

@@ -3,6 +3,7 @@ those of the previous run), then agreement and time-to-error at a reduced film s
 Writes results.json into build/mitsuba-compare after every scene, the report to stdout
 and into docs/PERFORMANCE.md."""
 import argparse
+import importlib
 import json
 import os
 import statistics
@@ -26,8 +27,8 @@ TTE_SCENES = ("cornell", "veach_mis")
 
 def need_imports():
     try:
-        import numpy  # noqa: F401
-        import mitsuba  # noqa: F401
+        for name in ("numpy", "mitsuba"):
+            importlib.import_module(name)
     except ImportError as e:
         sys.exit(f"mitsuba_compare: {e}; {INSTALL_HINT}")
 

@@ -14,8 +14,8 @@
 // ray is done takes its next ray at the next round (while-while) or iteration (if-if), the
 // refill of finished lanes that persistent-thread traversal does. The set-up of a new ray
 // is left out, so the refill's figures are an upper bound.
-#ifndef PENUMBRA_TOOLS_LANE_REPLAY_H
-#define PENUMBRA_TOOLS_LANE_REPLAY_H
+#ifndef PENUMBRA_BVH_LANE_REPLAY_H
+#define PENUMBRA_BVH_LANE_REPLAY_H
 
 #include <cstdint>
 #include <vector>

@@ -1,5 +1,5 @@
 // Lockstep replay of recorded traversal rounds (lane_replay.h says what each form costs).
-#include "lane_replay.h"
+#include "bvh/lane_replay.h"
 
 #include <algorithm>
 #include <cstddef>
