@@ -16,6 +16,7 @@
 #include "scene/json_reader.h"
 #include "scene/limits.h"
 #include "scene/load.h"
+#include "scene/aov_names.h"
 #include "scene/material_parse.h"
 #include "scene/material_textures.h"
 #include "scene/mesh_file.h"
@@ -89,9 +90,10 @@ public:
 
 private:
     void readFilm(const JsonReader& r) {
-        r.expectKeys({"width", "height"}, "film");
+        r.expectKeys({"width", "height", "aovs"}, "film");
         if (auto w = r.find("width")) m_scene.film.width = uint32_t(w->integer(1, 16384));
         if (auto h = r.find("height")) m_scene.film.height = uint32_t(h->integer(1, 16384));
+        if (auto a = r.find("aovs")) m_scene.film.aovs = readAovNames(*a);
     }
 
     void readSampler(const JsonReader& r) {

@@ -8,6 +8,7 @@
 #include "common/math.glsl"
 #include "common/rng.glsl"
 #include "geometry/ray_count.glsl"
+#include "integrators/aov_sums.glsl"
 
 layout(local_size_x = TILE_SIZE, local_size_y = TILE_SIZE) in;
 
@@ -119,14 +120,17 @@ vec3 pixelSample(uvec2 pixel, uint sampleIndex);
 void addPixelSamples(uvec2 pixel) {
     uint index = pixel.y * params.width + pixel.x;
     vec4 sum = accum[index];
+    AovSums aovs = loadAovSums(index);
     uint end = pass.sampleIndex + pass.sampleCount;
     for (uint s = firstSampleOf(sum); s < end; ++s) {
         vec3 radiance = pixelSample(pixel, s);
         // A sample whose loops were cut may be wrong: a later pass takes it up again.
         if (loopsWereCut()) break;
         addSample(sum, radiance);
+        addAovSample(aovs, pixel, s, radiance);
     }
     accum[index] = sum;
+    storeAovSums(index, aovs);
 }
 #endif
 
