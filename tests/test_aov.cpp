@@ -43,7 +43,10 @@ json aovScene(const json& aovs, int spp = kSpp, int seed = 3) {
          {{"b_plane", {{"type", "diffuse"}, {"albedo", {0.2, 0.4, 0.6}}}},
           {"a_ball", {{"type", "phong"}, {"kd", {0.1, 0.2, 0.3}}, {"ks", {0.3, 0.1, 0.05}}, {"exponent", 10}}}}},
         {"shapes",
-         {{{"type", "quad"}, {"origin", {-1.5, -1.5, -2}}, {"edge_u", {3, 0, 0}}, {"edge_v", {0, 3, 0}},
+         {{{"type", "quad"},
+           {"origin", {-1.5, -1.5, -2}},
+           {"edge_u", {3, 0, 0}},
+           {"edge_v", {0, 3, 0}},
            {"material", "b_plane"}},
           {{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1}, {"material", "a_ball"}},
           // A sphere light beside the camera, out of its view: shadows and MIS noise.
@@ -112,8 +115,7 @@ const AovLayer& layer(const Image& image, const std::string& name) {
 }  // namespace
 
 TEST(Aov, DepthPositionNormalAndAlbedoMatchClosedForms) {
-    const Image image =
-        test::renderJson(aovScene({"albedo", "normal", "position", "depth"}), "aov-closed-forms");
+    const Image image = test::renderJson(aovScene({"albedo", "normal", "position", "depth"}), "aov-closed-forms");
     ASSERT_EQ(image.aovs.size(), 4u);
     const double z = test::zScore(1e-6, kSize * kSize * 10);
     int checked = 0;

@@ -75,7 +75,7 @@ std::vector<AovLayer> aovLayers(const std::vector<std::string>& names, const std
     std::vector<AovLayer> layers;
     for (const std::string& name : names) {
         const bool vector3 = name == "normal" || name == "position";
-        AovLayer layer = name == "albedo"   ? floatLayer(name, {"albedo.R", "albedo.G", "albedo.B"}, pixels)
+        AovLayer layer = name == "albedo"     ? floatLayer(name, {"albedo.R", "albedo.G", "albedo.B"}, pixels)
                          : name == "variance" ? floatLayer(name, {"variance.R", "variance.G", "variance.B"}, pixels)
                          : vector3            ? floatLayer(name, {name + ".X", name + ".Y", name + ".Z"}, pixels)
                          : name == "depth"    ? floatLayer(name, {"depth.Z"}, pixels)

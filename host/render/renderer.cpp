@@ -123,9 +123,9 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
 
     // The AOV sums (shared/aov.h); a placeholder for scenes without AOVs, whose kernels
     // never touch it (kAovs == 0).
-    const VkDeviceSize aovBytes = m_options.aovs != 0
-                                      ? VkDeviceSize(m_params.width) * m_params.height * gpu::AOV_VEC4S * sizeof(glm::vec4)
-                                      : sizeof(glm::vec4);
+    const VkDeviceSize aovBytes = m_options.aovs != 0 ? VkDeviceSize(m_params.width) * m_params.height *
+                                                            gpu::AOV_VEC4S * sizeof(glm::vec4)
+                                                      : sizeof(glm::vec4);
     m_aovSums = Buffer(context, aovBytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT,
                        "AOV sums");
 
@@ -212,9 +212,10 @@ void Renderer::updateKernel() {
 
 void Renderer::retarget(const Scene& scene) {
     const Scene& old = m_scene;
-    if (scene.film.width != old.film.width || scene.film.height != old.film.height || scene.film.aovs != old.film.aovs ||
-        scene.integrator.lightSelection != old.integrator.lightSelection || scene.shapes.size() != old.shapes.size() ||
-        scene.materials.size() != old.materials.size() || scene.lights.size() != old.lights.size())
+    if (scene.film.width != old.film.width || scene.film.height != old.film.height ||
+        scene.film.aovs != old.film.aovs || scene.integrator.lightSelection != old.integrator.lightSelection ||
+        scene.shapes.size() != old.shapes.size() || scene.materials.size() != old.materials.size() ||
+        scene.lights.size() != old.lights.size())
         throw std::logic_error("Renderer::retarget: " + scene.path + " does not share the uploaded scene of " +
                                old.path);
     const bool sameType = scene.integrator.type == old.integrator.type;

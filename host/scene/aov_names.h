@@ -11,8 +11,8 @@
 
 namespace penumbra {
 
-inline constexpr std::array<std::string_view, 8> kAovNames = {
-    "albedo", "normal", "position", "depth", "shape_id", "primitive_id", "material_id", "variance"};
+inline constexpr std::array<std::string_view, 8> kAovNames = {"albedo",   "normal",       "position",    "depth",
+                                                              "shape_id", "primitive_id", "material_id", "variance"};
 
 // film.aovs: an array of distinct known names. Fails at the element (film.aovs[i]) that
 // is no string, no known name, or a repeat.

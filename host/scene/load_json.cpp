@@ -9,6 +9,7 @@
 
 #include "core/errors.h"
 #include "core/input_file.h"
+#include "scene/aov_names.h"
 #include "scene/enum_names.h"
 #include "scene/environment_file.h"
 #include "scene/gltf_import.h"
@@ -16,7 +17,6 @@
 #include "scene/json_reader.h"
 #include "scene/limits.h"
 #include "scene/load.h"
-#include "scene/aov_names.h"
 #include "scene/material_parse.h"
 #include "scene/material_textures.h"
 #include "scene/mesh_file.h"

@@ -333,7 +333,7 @@ PENUMBRA_CONST uint SAMPLER_SOBOL = 1u;        // padded Owen-scrambled Sobol' (
 #define SPEC_INLINE_GROUP_FIRST (SPEC_INLINE_FIRST + INLINE_MAX_PRIMITIVES * INLINE_PRIMITIVE_WORDS)
 #define SPEC_NODE_READS (SPEC_INLINE_GROUP_FIRST + INLINE_MAX_GROUPS * INLINE_GROUP_WORDS)  // NODE_READS_*
 #define SPEC_LOOPS_MAY_BE_CUT (SPEC_NODE_READS + 1)  // 1: the driver may end loops early (render/loop_budget.h)
-#define SPEC_AOVS (SPEC_LOOPS_MAY_BE_CUT + 1)  // AOV_* bits of the layers to accumulate (shared/aov.h); 0: none
+#define SPEC_AOVS (SPEC_LOOPS_MAY_BE_CUT + 1)        // AOV_* bits of the layers to accumulate (shared/aov.h); 0: none
 #define SPEC_COUNT (SPEC_AOVS + 1)
 // Where the traversal reads a BVH node from (SPEC_NODE_READS): the texel buffer at
 // BINDING_NODES or the storage buffer at BINDING_NODE_WORDS, the same bytes. Which is faster
