@@ -7,6 +7,7 @@
 #include <vector>
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
 #include "core/errors.h"
@@ -21,7 +22,7 @@ namespace {
 void printError(const std::string& message) { printErrorLine("penumbra", message); }
 
 void addRenderOptions(CLI::App* cmd, RenderOptions& options, std::vector<std::string>& sets, std::string& spp,
-                      std::string& seed, std::string& width, std::string& height) {
+                      std::string& seed, std::string& width, std::string& height, std::string& aov) {
     cmd->add_option("scene", options.scene, "scene file (.json) or glTF model (.gltf/.glb)")->required();
     cmd->add_option("--set", sets, "override a scene value by its JSON path: PATH=VALUE (repeatable)")
         ->allow_extra_args(false);
@@ -29,6 +30,7 @@ void addRenderOptions(CLI::App* cmd, RenderOptions& options, std::vector<std::st
     cmd->add_option("--seed", seed, "random seed (= --set sampler.seed=S)");
     cmd->add_option("--width", width, "film width (= --set film.width=W)");
     cmd->add_option("--height", height, "film height (= --set film.height=H)");
+    cmd->add_option("--aov", aov, "AOV layers beside R, G, B: a,b,... (= --set film.aovs=[\"a\",\"b\",...])");
     cmd->add_option("--device", options.device, "Vulkan device index (see 'penumbra devices'; or PENUMBRA_DEVICE)");
     cmd->add_flag("--quiet", options.quiet, "no progress or notes on stderr");
     cmd->add_option("--exposure", options.look.exposure, "PNG and preview: radiance times 2^EV (default 0)")
@@ -39,14 +41,26 @@ void addRenderOptions(CLI::App* cmd, RenderOptions& options, std::vector<std::st
         ->check(CLI::IsMember({"clamp", "filmic"}));
 }
 
+// "albedo,depth" -> ["albedo","depth"], checked later as film.aovs is.
+std::string aovListJson(const std::string& list) {
+    nlohmann::json names = nlohmann::json::array();
+    size_t start = 0;
+    for (size_t comma; (comma = list.find(',', start)) != std::string::npos; start = comma + 1)
+        names.push_back(list.substr(start, comma - start));
+    names.push_back(list.substr(start));
+    return names.dump();
+}
+
 std::vector<Override> collectOverrides(const std::vector<std::string>& sets, const std::string& spp,
-                                       const std::string& seed, const std::string& width, const std::string& height) {
+                                       const std::string& seed, const std::string& width, const std::string& height,
+                                       const std::string& aov) {
     std::vector<Override> overrides;
     for (const std::string& s : sets) overrides.push_back(parseOverride(s));
     if (!spp.empty()) overrides.push_back({"sampler.spp", spp});
     if (!seed.empty()) overrides.push_back({"sampler.seed", seed});
     if (!width.empty()) overrides.push_back({"film.width", width});
     if (!height.empty()) overrides.push_back({"film.height", height});
+    if (!aov.empty()) overrides.push_back({"film.aovs", aovListJson(aov)});
     return overrides;
 }
 
@@ -63,9 +77,9 @@ int main(int argc, char** argv) {
 
     RenderOptions render;
     std::vector<std::string> sets;
-    std::string spp, seed, width, height;
+    std::string spp, seed, width, height, aov;
     CLI::App* renderCmd = app.add_subcommand("render", "render a scene or glTF model to OpenEXR");
-    addRenderOptions(renderCmd, render, sets, spp, seed, width, height);
+    addRenderOptions(renderCmd, render, sets, spp, seed, width, height, aov);
     renderCmd->add_option("-o,--output", render.output,
                           "output .exr, or .png for an sRGB PNG alone (default: SCENE-stem.exr here)");
     renderCmd->add_option("--png", render.png, "also write an sRGB 8-bit PNG");
@@ -84,7 +98,7 @@ int main(int argc, char** argv) {
 
     PreviewOptions preview;
     CLI::App* previewCmd = app.add_subcommand("preview", "show a scene converging in a window; change camera and strategy live");
-    addRenderOptions(previewCmd, preview.base, sets, spp, seed, width, height);
+    addRenderOptions(previewCmd, preview.base, sets, spp, seed, width, height, aov);
     previewCmd->add_option("--frames", preview.frames, "exit after N frames, converged ones included (default: when the window closes)");
     previewCmd->add_option("--screenshot", preview.screenshot, "at exit, write the tone-mapped image as PNG");
     previewCmd->add_option("--script", preview.script, "timed input events (format below)");
@@ -127,12 +141,12 @@ int main(int argc, char** argv) {
     setAllowAnyPath(anyPath);
     return runReportingErrors("penumbra", [&]() -> int {
         if (renderCmd->parsed()) {
-            render.overrides = collectOverrides(sets, spp, seed, width, height);
+            render.overrides = collectOverrides(sets, spp, seed, width, height, aov);
             return renderCommand(render);
         }
         if (batchCmd->parsed()) return batchCommand(batch);
         if (previewCmd->parsed()) {
-            preview.base.overrides = collectOverrides(sets, spp, seed, width, height);
+            preview.base.overrides = collectOverrides(sets, spp, seed, width, height, aov);
             return previewCommand(preview);
         }
         if (mergeCmd->parsed()) return mergeCommand(mergeInputs, mergeOutput);

@@ -43,6 +43,7 @@ constexpr const char* kIntegrator = "penumbra:integrator";
 constexpr const char* kRenderSeconds = "penumbra:render_seconds";
 constexpr const char* kSampler = "penumbra:sampler";
 constexpr const char* kPieces = "penumbra:pieces";
+constexpr const char* kAovs = "penumbra:aovs";
 constexpr const char* kChannels[3] = {"R", "G", "B"};
 
 // Far beyond any film we render, small enough that a corrupt header claiming a huge
@@ -321,6 +322,35 @@ Image readExrFile(const std::filesystem::path& path, bool headerOnly) {
     return readExrStream(stream, fileSize, name, nullptr, headerOnly);
 }
 
+// The AOV layers' channels (float, or UINT for ids) and penumbra:aovs, their names.
+void insertAovChannels(const Image& image, Imf::Header& header, Imf::FrameBuffer& frame) {
+    if (image.aovs.empty()) return;
+    std::string names;
+    for (const AovLayer& layer : image.aovs) {
+        names += (names.empty() ? "" : ",") + layer.name;
+        const size_t pixels = size_t(image.width) * image.height;
+        if (!layer.ids.empty()) {
+            if (layer.ids.size() != pixels || layer.channels.size() != 1)
+                throw std::runtime_error("AOV " + layer.name + " does not match the image size");
+            header.channels().insert(layer.channels[0], Imf::Channel(Imf::UINT));
+            char* base = reinterpret_cast<char*>(const_cast<uint32_t*>(layer.ids.data()));
+            frame.insert(layer.channels[0],
+                         Imf::Slice(Imf::UINT, base, sizeof(uint32_t), sizeof(uint32_t) * image.width));
+            continue;
+        }
+        const size_t n = layer.channels.size();
+        if (n == 0 || layer.floats.size() != pixels * n)
+            throw std::runtime_error("AOV " + layer.name + " does not match the image size");
+        char* base = reinterpret_cast<char*>(const_cast<float*>(layer.floats.data()));
+        for (size_t c = 0; c < n; ++c) {
+            header.channels().insert(layer.channels[c], Imf::Channel(Imf::FLOAT));
+            frame.insert(layer.channels[c], Imf::Slice(Imf::FLOAT, base + c * sizeof(float), n * sizeof(float),
+                                                       n * sizeof(float) * image.width));
+        }
+    }
+    header.insert(kAovs, Imf::StringAttribute(names));
+}
+
 }  // namespace
 
 void writeExr(const std::filesystem::path& path, const Image& image) {
@@ -351,6 +381,7 @@ void writeExr(const std::filesystem::path& path, const Image& image) {
         char* base = reinterpret_cast<char*>(const_cast<float*>(image.rgb.data()));
         for (int c = 0; c < 3; ++c)
             frame.insert(kChannels[c], Imf::Slice(Imf::FLOAT, base + c * sizeof(float), xStride, yStride));
+        insertAovChannels(image, header, frame);
 
         // The file is finished (offset table written) when OutputFile is destroyed.
         Imf::OutputFile file(stream, header);

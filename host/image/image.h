@@ -48,11 +48,21 @@ std::vector<SamplePiece> samplePiecesOf(const ImageMetadata& meta);
 // Sorted by (seed, first), touching runs of one seed joined.
 std::vector<SamplePiece> normalizeSamplePieces(std::vector<SamplePiece> pieces);
 
+// One AOV layer (SCENE_FORMAT.md "AOVs (v3)"): float channels (`floats`, channels.size()
+// per pixel, interleaved) or one uint channel of ids (`ids`, one per pixel).
+struct AovLayer {
+    std::string name;                   // "albedo", ..., as in film.aovs
+    std::vector<std::string> channels;  // EXR channel names, e.g. "albedo.R"
+    std::vector<float> floats;
+    std::vector<uint32_t> ids;
+};
+
 struct Image {
     uint32_t width = 0;
     uint32_t height = 0;
     std::vector<float> rgb;  // width * height * 3, row-major, pixel (0,0) top left
     ImageMetadata meta;
+    std::vector<AovLayer> aovs;  // film.aovs' layers, in that order; written beside R, G, B
 
     float* pixel(uint32_t x, uint32_t y) { return &rgb[(size_t(y) * width + x) * 3]; }
     const float* pixel(uint32_t x, uint32_t y) const { return &rgb[(size_t(y) * width + x) * 3]; }

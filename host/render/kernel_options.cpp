@@ -1,6 +1,8 @@
 // Integrator options and scene features -> specialization constants (see kernel_options.h).
 #include "render/kernel_options.h"
 
+#include "render/aov_layers.h"
+
 #include <algorithm>
 #include <stdexcept>
 #include <string>
@@ -49,6 +51,7 @@ std::vector<uint32_t> KernelOptions::specialization() const {
     std::copy(inlineGeometry.groups.begin(), inlineGeometry.groups.end(), values.begin() + SPEC_INLINE_GROUP_FIRST);
     values[SPEC_NODE_READS] = nodeReads;
     values[SPEC_LOOPS_MAY_BE_CUT] = loopsMayBeCut;
+    values[SPEC_AOVS] = aovs;
     return values;
 }
 
@@ -108,6 +111,7 @@ KernelOptions makeKernelOptions(const Scene& scene, const SceneArrays& arrays, E
                     : emitterFirst == EmitterFirst::Rule ? emitterFirstPaysFor(scene, arrays, inlinePrimitives)
                                                          : false;
     o.emitterFirstLights = on ? uint32_t(arrays.lights.size()) : 0u;
+    o.aovs = aovBits(scene.film.aovs);
     return o;
 }
 

@@ -23,6 +23,7 @@ struct KernelOptions {
     InlineGeometryWords inlineGeometry;      // no slots, or the primitives inline (render/inline_geometry.h)
     uint32_t nodeReads = NODE_READS_TEXELS;  // NODE_READS_*: set per device (render/node_reads.h)
     uint32_t loopsMayBeCut = 0;              // 1: set per device (render/loop_budget.h)
+    uint32_t aovs = 0;                       // AOV_* bits of film.aovs (shared/aov.h); 0: none compiled
 
     // Values in constant_id order, for gpu::Pipeline.
     std::vector<uint32_t> specialization() const;

@@ -12,6 +12,7 @@
 
 #include "gpu/gpu_timer.h"
 #include "gpu/vk_check.h"
+#include "render/aov_layers.h"
 #include "render/environment_map.h"
 #include "render/loop_budget.h"
 #include "render/pass_bands.h"
@@ -19,6 +20,7 @@
 #include "render/traversal_stacks.h"
 #include "scene/enum_names.h"
 #include "scene/integrator_json.h"
+#include "shared/aov.h"
 
 namespace penumbra {
 namespace {
@@ -122,6 +124,14 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
         m_environmentTexels.write(mapTexels * sizeof(glm::vec4),
                                   [&](void* out) { writeEnvironmentTexels(*map, static_cast<glm::vec4*>(out)); });
 
+    // The AOV sums (shared/aov.h); a placeholder for scenes without AOVs, whose kernels
+    // never touch it (kAovs == 0).
+    const VkDeviceSize aovBytes = m_options.aovs != 0 ? VkDeviceSize(m_params.width) * m_params.height *
+                                                            gpu::AOV_VEC4S * sizeof(glm::vec4)
+                                                      : sizeof(glm::vec4);
+    m_aovSums = Buffer(context, aovBytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT,
+                       "AOV sums");
+
     allocateStacks();
     m_kernel = createKernel(m_options);
     reset();
@@ -165,6 +175,7 @@ std::unique_ptr<gpu::Kernel> Renderer::createKernel(const KernelOptions& options
     kernel->bind(BINDING_UVS, m_uvs);
     kernel->bind(BINDING_ENV_TEXELS, m_environmentTexels);
     kernel->bind(BINDING_ENV_TABLE, m_environmentTable);
+    kernel->bind(BINDING_AOV, m_aovSums);
     return kernel;
 }
 
@@ -206,8 +217,9 @@ void Renderer::updateKernel() {
 void Renderer::retarget(const Scene& scene) {
     const Scene& old = m_scene;
     if (scene.film.width != old.film.width || scene.film.height != old.film.height ||
-        scene.integrator.lightSelection != old.integrator.lightSelection || scene.shapes.size() != old.shapes.size() ||
-        scene.materials.size() != old.materials.size() || scene.lights.size() != old.lights.size())
+        scene.film.aovs != old.film.aovs || scene.integrator.lightSelection != old.integrator.lightSelection ||
+        scene.shapes.size() != old.shapes.size() || scene.materials.size() != old.materials.size() ||
+        scene.lights.size() != old.lights.size())
         throw std::logic_error("Renderer::retarget: " + scene.path + " does not share the uploaded scene of " +
                                old.path);
     const bool sameType = scene.integrator.type == old.integrator.type;
@@ -221,6 +233,7 @@ void Renderer::retarget(const Scene& scene) {
 void Renderer::reset() {
     m_accum.clear();
     m_accumCompensation.clear();
+    if (m_options.aovs != 0) m_aovSums.clear();
     // And the loops cut short so far (renderSamplesCutLoopsLeft), which only kernels with the
     // checks count.
     if (m_options.loopsMayBeCut) m_counters.clear();
@@ -444,6 +457,8 @@ Image Renderer::readback(double renderSeconds) const {
     image.meta.integrator = integratorJson(m_scene.integrator).dump();
     image.meta.renderSeconds = renderSeconds;
     image.meta.sampler = toName(m_scene.sampler.type);
+    if (m_options.aovs != 0)
+        image.aovs = aovLayers(m_scene.film.aovs, m_aovSums.read<glm::vec4>(), image, m_scene, m_arrays.bvh);
     return image;
 }
 

@@ -9,6 +9,7 @@
 
 #include "core/errors.h"
 #include "core/input_file.h"
+#include "scene/aov_names.h"
 #include "scene/enum_names.h"
 #include "scene/environment_file.h"
 #include "scene/gltf_import.h"
@@ -89,9 +90,10 @@ public:
 
 private:
     void readFilm(const JsonReader& r) {
-        r.expectKeys({"width", "height"}, "film");
+        r.expectKeys({"width", "height", "aovs"}, "film");
         if (auto w = r.find("width")) m_scene.film.width = uint32_t(w->integer(1, 16384));
         if (auto h = r.find("height")) m_scene.film.height = uint32_t(h->integer(1, 16384));
+        if (auto a = r.find("aovs")) m_scene.film.aovs = readAovNames(*a);
     }
 
     void readSampler(const JsonReader& r) {

@@ -23,6 +23,10 @@ struct Camera {
 struct Film {
     uint32_t width = 512;
     uint32_t height = 512;
+    // film.aovs (SCENE_FORMAT.md "AOVs (v3)"): layer names, checked and in the file's order.
+    std::vector<std::string> aovs;
+
+    bool operator==(const Film&) const = default;
 };
 
 // How a pixel's samples are placed (shaders/common/rng.glsl). Sobol' is the default, as
@@ -209,6 +213,7 @@ struct Scene {
 // uploaded anew (reusing by path rendered the old content).
 inline bool sharesUpload(const Scene& uploaded, const Scene& next) {
     return uploaded.film.width == next.film.width && uploaded.film.height == next.film.height &&
+           uploaded.film.aovs == next.film.aovs &&
            uploaded.integrator.lightSelection == next.integrator.lightSelection &&
            uploaded.materials == next.materials && uploaded.shapes == next.shapes && uploaded.lights == next.lights &&
            uploaded.textures == next.textures;

@@ -15,6 +15,7 @@
 
 #include "bsdf/materials.glsl"
 #include "textures/textures.glsl"
+#include "integrators/aov.glsl"
 
 vec3 pixelSample(uvec2 pixel, uint sampleIndex) {
     Rng rng = pixelRng(pixel, sampleIndex);

@@ -36,6 +36,7 @@ const bool kShadowRaysWait = false;
 
 #include "bsdf/materials.glsl"
 #include "textures/textures.glsl"
+#include "integrators/aov.glsl"
 
 // How area lights are sampled, for sampleLight and lightPdf alike.
 LightSamplingModes lightModes() {
@@ -362,6 +363,7 @@ void addPixelSamples(uvec2 pixel) {
     uint index = pixel.y * params.width + pixel.x;
     AccumSum sum = accum[index];
     vec3 compensation = accumCompensation[index].compensation;
+    AovSums aovs = loadAovSums(index);
     uint first = firstSampleOf(sum), end = pass.sampleIndex + pass.sampleCount;
     uint count = end > first ? end - first : 0u;
     PartialSample last = noPartialSample();
@@ -379,11 +381,16 @@ void addPixelSamples(uvec2 pixel) {
                                lightBlocked, bsdfBlocked);
         // Sample k - 1 is whole where no loop has been cut yet (kernel_common.glsl).
         if (loopsWereCut()) break;
-        if (k > 0u) addSample(sum, compensation, finishedSample(last, lightBlocked, bsdfBlocked));
+        if (k > 0u) {
+            vec3 radiance = finishedSample(last, lightBlocked, bsdfBlocked);
+            addSample(sum, compensation, radiance);
+            addAovSample(aovs, pixel, first + k - 1u, radiance);
+        }
         if (camera) last = partialSample(found, hit, origin, dir, rng);
     }
     accum[index] = sum;
     accumCompensation[index].compensation = compensation;
+    storeAovSums(index, aovs);
 }
 #else
 vec3 pixelSample(uvec2 pixel, uint sampleIndex) {

@@ -8,6 +8,7 @@
 #include "common/math.glsl"
 #include "common/rng.glsl"
 #include "geometry/ray_count.glsl"
+#include "integrators/aov_sums.glsl"
 
 layout(local_size_x = TILE_SIZE, local_size_y = TILE_SIZE) in;
 
@@ -129,15 +130,18 @@ void addPixelSamples(uvec2 pixel) {
     uint index = pixel.y * params.width + pixel.x;
     AccumSum sum = accum[index];
     vec3 compensation = accumCompensation[index].compensation;
+    AovSums aovs = loadAovSums(index);
     uint end = pass.sampleIndex + pass.sampleCount;
     for (uint s = firstSampleOf(sum); s < end; ++s) {
         vec3 radiance = pixelSample(pixel, s);
         // A sample whose loops were cut may be wrong: a later pass takes it up again.
         if (loopsWereCut()) break;
         addSample(sum, compensation, radiance);
+        addAovSample(aovs, pixel, s, radiance);
     }
     accum[index] = sum;
     accumCompensation[index].compensation = compensation;
+    storeAovSums(index, aovs);
 }
 #endif
 

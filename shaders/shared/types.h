@@ -39,7 +39,8 @@ using uint = std::uint32_t;
 #define BINDING_ENV_TABLE 15          // AliasEntry[] as a texel buffer: environment map texels (item = texel)
 #define BINDING_NODE_WORDS 16  // the same WideNode[] as a storage buffer of uvec4 (or u64vec4) words (kNodeReads)
 #define BINDING_ACCUM_COMPENSATION 17  // AccumCompensation per pixel (below): what the sums rounded away
-#define BINDING_COUNT 18
+#define BINDING_AOV 18                 // AOV_VEC4S vec4 per pixel: the AOV sums (shared/aov.h), when SPEC_AOVS != 0
+#define BINDING_COUNT 19
 
 // ---- BVH ------------------------------------------------------------------------------
 // Flattened depth-first: an interior node's left child is the next node, `offset` is the
@@ -351,7 +352,8 @@ PENUMBRA_CONST uint SAMPLER_SOBOL = 1u;        // padded Owen-scrambled Sobol' (
 #define SPEC_INLINE_GROUP_FIRST (SPEC_INLINE_FIRST + INLINE_MAX_PRIMITIVES * INLINE_PRIMITIVE_WORDS)
 #define SPEC_NODE_READS (SPEC_INLINE_GROUP_FIRST + INLINE_MAX_GROUPS * INLINE_GROUP_WORDS)  // NODE_READS_*
 #define SPEC_LOOPS_MAY_BE_CUT (SPEC_NODE_READS + 1)  // 1: the driver may end loops early (render/loop_budget.h)
-#define SPEC_COUNT (SPEC_LOOPS_MAY_BE_CUT + 1)
+#define SPEC_AOVS (SPEC_LOOPS_MAY_BE_CUT + 1)        // AOV_* bits of the layers to accumulate (shared/aov.h); 0: none
+#define SPEC_COUNT (SPEC_AOVS + 1)
 // Where the traversal reads a BVH node from (SPEC_NODE_READS): the texel buffer at
 // BINDING_NODES or the storage buffer at BINDING_NODE_WORDS, the same bytes. Which is faster
 // depends on the driver (host/render/node_reads.h says which each gets, and why).
