@@ -38,6 +38,7 @@ import drjit as dr
 import mitsuba as mi
 
 from penumbra_tools.mitsuba_pbr import PenumbraPbr, pbr_dict
+from penumbra_tools.mitsuba_two_sided import TwoSidedBsdf
 from penumbra_tools.mitsuba_spot import PenumbraSpot, spot_dict
 from penumbra_tools.vec import cross, dot, length, sub
 
@@ -47,9 +48,9 @@ from penumbra_tools.vec import cross, dot, length, sub
 # Sampling picks the diffuse lobe with probability mean(kd)/(mean(kd)+mean(ks)), else the
 # cos^n lobe around the mirror direction; the pdf is always the full two-lobe mixture.
 # ---------------------------------------------------------------------------------------
-class PenumbraPhong(mi.BSDF):
+class PenumbraPhong(TwoSidedBsdf):
     def __init__(self, props):
-        mi.BSDF.__init__(self, props)
+        TwoSidedBsdf.__init__(self, props)
         kd = [props.get("kd_" + c, 0.5) for c in "rgb"]
         ks = [props.get("ks_" + c, 0.5) for c in "rgb"]
         self.kd = mi.Color3f(*kd)
@@ -57,17 +58,6 @@ class PenumbraPhong(mi.BSDF):
         self.n = float(props.get("exponent", 20.0))
         md, ms = sum(kd) / 3.0, sum(ks) / 3.0
         self.p_diffuse = md / (md + ms) if md + ms > 0 else 1.0
-        flags = mi.BSDFFlags.FrontSide | mi.BSDFFlags.BackSide
-        self.m_components = [mi.BSDFFlags.DiffuseReflection | flags, mi.BSDFFlags.GlossyReflection | flags]
-        self.m_flags = self.m_components[0] | self.m_components[1]
-
-    # Both directions onto the side of the surface that wi (towards the viewer) is on.
-    @staticmethod
-    def _to_front(si, wo):
-        flip = mi.Frame3f.cos_theta(si.wi) < 0
-        wi = mi.Vector3f(si.wi.x, si.wi.y, dr.select(flip, -si.wi.z, si.wi.z))
-        wo = mi.Vector3f(wo.x, wo.y, dr.select(flip, -wo.z, wo.z))
-        return wi, wo, flip
 
     def _cos_pow(self, cos_a):
         if self.n == 0.0:
@@ -83,18 +73,6 @@ class PenumbraPhong(mi.BSDF):
         pdf = self.p_diffuse * cos_o * dr.inv_pi + (1.0 - self.p_diffuse) * ((self.n + 1.0) * 0.5 * dr.inv_pi) * lobe
         return dr.select(valid, f * cos_o, 0.0), dr.select(valid, pdf, 0.0)
 
-    def eval(self, ctx, si, wo, active=True):
-        wi, wo, _ = self._to_front(si, wo)
-        return self._eval_pdf(wi, wo)[0]
-
-    def pdf(self, ctx, si, wo, active=True):
-        wi, wo, _ = self._to_front(si, wo)
-        return self._eval_pdf(wi, wo)[1]
-
-    def eval_pdf(self, ctx, si, wo, active=True):
-        wi, wo, _ = self._to_front(si, wo)
-        return self._eval_pdf(wi, wo)
-
     def eval_diffuse_reflectance(self, si, active=True):
         return self.kd
 
@@ -108,21 +86,7 @@ class PenumbraPhong(mi.BSDF):
         s, c = dr.sincos(2.0 * dr.pi * sample2.y)
         wo_g = mi.Frame3f(refl).to_world(mi.Vector3f(sin_a * c, sin_a * s, cos_a))
         wo = dr.select(diffuse, wo_d, wo_g)
-        value, pdf = self._eval_pdf(wi, wo)
-        bs = mi.BSDFSample3f()
-        bs.wo = mi.Vector3f(wo.x, wo.y, dr.select(flip, -wo.z, wo.z))
-        bs.pdf = pdf
-        bs.eta = 1.0
-        bs.sampled_component = dr.select(diffuse, mi.UInt32(0), mi.UInt32(1))
-        bs.sampled_type = dr.select(diffuse, mi.UInt32(+mi.BSDFFlags.DiffuseReflection),
-                                    mi.UInt32(+mi.BSDFFlags.GlossyReflection))
-        return bs, dr.select(pdf > 0, value / dr.maximum(pdf, 1e-30), 0.0)
-
-    def traverse(self, callback):
-        pass
-
-    def parameters_changed(self, keys):
-        pass
+        return self._sampled(wi, wo, flip, sample1 >= self.p_diffuse)
 
     def to_string(self):
         return f"PenumbraPhong[n={self.n}]"

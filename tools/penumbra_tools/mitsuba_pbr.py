@@ -13,6 +13,8 @@ Import after mi.set_variant()."""
 import drjit as dr
 import mitsuba as mi
 
+from penumbra_tools.mitsuba_two_sided import TwoSidedBsdf
+
 MIN_ALPHA = 1e-4  # PBR_MIN_ALPHA of shaders/shared/types.h
 DIELECTRIC_F0 = 0.04  # glTF Appendix B's f0 of the dielectric layer
 
@@ -27,9 +29,9 @@ def _smith_root(cos_t, a2):
     return dr.sqrt(cos_t * cos_t + a2 * (1.0 - cos_t * cos_t))
 
 
-class PenumbraPbr(mi.BSDF):
+class PenumbraPbr(TwoSidedBsdf):
     def __init__(self, props):
-        mi.BSDF.__init__(self, props)
+        TwoSidedBsdf.__init__(self, props)
         base = [float(props.get("base_" + c, 0.8)) for c in "rgb"]
         self.base = mi.Color3f(*base)
         self.base_mean = sum(base) / 3.0
@@ -38,16 +40,6 @@ class PenumbraPbr(mi.BSDF):
         self.alpha = max(rough * rough, MIN_ALPHA)
         self.f0 = DIELECTRIC_F0
         self.distr = mi.MicrofacetDistribution(mi.MicrofacetType.GGX, self.alpha, True)
-        flags = mi.BSDFFlags.FrontSide | mi.BSDFFlags.BackSide
-        self.m_components = [mi.BSDFFlags.DiffuseReflection | flags, mi.BSDFFlags.GlossyReflection | flags]
-        self.m_flags = self.m_components[0] | self.m_components[1]
-
-    @staticmethod
-    def _to_front(si, wo):
-        flip = mi.Frame3f.cos_theta(si.wi) < 0
-        wi = mi.Vector3f(si.wi.x, si.wi.y, dr.select(flip, -si.wi.z, si.wi.z))
-        wo = mi.Vector3f(wo.x, wo.y, dr.select(flip, -wo.z, wo.z))
-        return wi, wo, flip
 
     def _p_specular(self, cos_v):
         """pbrSpecularProbability: each lobe's share of a Fresnel estimate at n.v."""
@@ -83,18 +75,6 @@ class PenumbraPbr(mi.BSDF):
         f = dr.select(ln > 0, f, 0.0)
         return dr.select(valid, f * cos_l, 0.0), dr.select(valid, pdf, 0.0)
 
-    def eval(self, ctx, si, wo, active=True):
-        v, l, _ = self._to_front(si, wo)
-        return self._eval_pdf(v, l)[0]
-
-    def pdf(self, ctx, si, wo, active=True):
-        v, l, _ = self._to_front(si, wo)
-        return self._eval_pdf(v, l)[1]
-
-    def eval_pdf(self, ctx, si, wo, active=True):
-        v, l, _ = self._to_front(si, wo)
-        return self._eval_pdf(v, l)
-
     def eval_diffuse_reflectance(self, si, active=True):
         return self.base * (1.0 - self.metallic)
 
@@ -106,21 +86,7 @@ class PenumbraPbr(mi.BSDF):
         l_spec = mi.reflect(v, m)
         l_diff = mi.warp.square_to_cosine_hemisphere(sample2)
         l = dr.select(specular, l_spec, l_diff)
-        value, pdf = self._eval_pdf(v, l)
-        bs = mi.BSDFSample3f()
-        bs.wo = mi.Vector3f(l.x, l.y, dr.select(flip, -l.z, l.z))
-        bs.pdf = pdf
-        bs.eta = 1.0
-        bs.sampled_component = dr.select(specular, mi.UInt32(1), mi.UInt32(0))
-        bs.sampled_type = dr.select(specular, mi.UInt32(+mi.BSDFFlags.GlossyReflection),
-                                    mi.UInt32(+mi.BSDFFlags.DiffuseReflection))
-        return bs, dr.select(pdf > 0, value / dr.maximum(pdf, 1e-30), 0.0)
-
-    def traverse(self, callback):
-        pass
-
-    def parameters_changed(self, keys):
-        pass
+        return self._sampled(v, l, flip, specular)
 
     def to_string(self):
         return f"PenumbraPbr[metallic={self.metallic}, alpha={self.alpha}]"
