@@ -101,4 +101,15 @@ vec3 offsetRayOrigin(vec3 p, vec3 n) {
     return mix(pI, p + OFFSET_FLOAT_SCALE * n, lessThan(abs(p), vec3(OFFSET_ORIGIN)));
 }
 
+// The normals a two-sided surface is shaded with, seen from wo (towards the viewer): the
+// geometric normal turned to the viewer's side, the shading normal turned to the same side
+// as it, and, where that shading normal still faces away from the viewer (it would reflect
+// nothing), the geometric one instead. The direct integrator shades with these and the
+// normal AOV reports them (integrators/direct.comp, integrators/aov.glsl).
+void viewerSideNormals(SurfacePoint sp, vec3 wo, out vec3 ng, out vec3 ns) {
+    ng = dot(sp.geometricNormal, wo) >= 0.0 ? sp.geometricNormal : -sp.geometricNormal;
+    ns = dot(sp.shadingNormal, ng) >= 0.0 ? sp.shadingNormal : -sp.shadingNormal;
+    if (dot(ns, wo) <= 0.0) ns = ng;
+}
+
 #endif

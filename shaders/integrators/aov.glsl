@@ -46,11 +46,9 @@ void addAovSample(inout AovSums a, uvec2 pixel, uint sampleIndex, vec3 radiance)
     a.v[2].w += 1.0;
     if (aovWanted(AOV_POSITION)) a.v[2].xyz += sp.position;
     if (aovWanted(AOV_NORMAL)) {
-        // Facing the camera as the integrator shades it (direct.comp, partialSample).
-        vec3 wo = -dir;
-        vec3 ng = dot(sp.geometricNormal, wo) >= 0.0 ? sp.geometricNormal : -sp.geometricNormal;
-        vec3 ns = dot(sp.shadingNormal, ng) >= 0.0 ? sp.shadingNormal : -sp.shadingNormal;
-        if (dot(ns, wo) <= 0.0) ns = ng;
+        // Facing the camera as the integrator shades it (geometry/surface.glsl).
+        vec3 ng, ns;
+        viewerSideNormals(sp, -dir, ng, ns);
         a.v[1].xyz += ns;
     }
     // Emitters have albedo 0 (SCENE_FORMAT.md).

@@ -333,10 +333,7 @@ PartialSample partialSample(bool found, Hit hit, vec3 origin, vec3 dir, inout Rn
     Shading s;
     s.x = sp.position;
     s.wo = -dir;
-    s.ng = dot(sp.geometricNormal, s.wo) >= 0.0 ? sp.geometricNormal : -sp.geometricNormal;
-    s.ns = dot(sp.shadingNormal, s.ng) >= 0.0 ? sp.shadingNormal : -sp.shadingNormal;
-    // A shading normal facing away from the viewer would reflect nothing: fall back.
-    if (dot(s.ns, s.wo) <= 0.0) s.ns = s.ng;
+    viewerSideNormals(sp, s.wo, s.ng, s.ns);
     s.origin = offsetRayOrigin(s.x, s.ng);
     s.flatPrimitive = sp.primitiveType == PRIM_SPHERE ? NO_HIT : hit.primitive;
     s.m = applyTextures(loadMaterial(sp.material), sp.material, sp.uv);
