@@ -132,7 +132,7 @@ TEST(EmitterFirst, RuleTakesTheScenesItWasMeasuredOn) {
 }
 
 // A diffuse room of six quads, 8 x 4 x 8, lit by three sphere lights of radii 0.08, 0.3 and
-// 0.6 (build/bench/sphere_room.json, tools/make_bench_scenes.py, scaled up): few of its
+// 0.6 (build/bench/sphere_room.json, tools/scenes/make_bench_scenes.py, scaled up): few of its
 // BRDF-sampled rays find an emitter (about 4%), so the BVH scenes' rule takes it.
 json largeSphereRoom() {
     auto quad = [](json origin, json u, json v) {

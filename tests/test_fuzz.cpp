@@ -1,7 +1,7 @@
 // A seeded mutation fuzzer over the committed corpus (tests/fuzz/corpus): every mutant goes
 // through the scene, job-file, glTF, mesh-file or image reader (fuzz/fuzz_inputs.h) and must be read or
 // refused with an InputError; a crash fails the whole test binary. The seed is fixed, so
-// a run is reproducible; tools/fuzz runs the same readers under libFuzzer, ASan and UBSan
+// a run is reproducible; tools/dev/fuzz runs the same readers under libFuzzer, ASan and UBSan
 // for as long as wanted. Bounded by a number of mutants and a wall-clock cap (~1 minute),
 // and nothing about time is asserted.
 #include <algorithm>

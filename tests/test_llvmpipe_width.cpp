@@ -1,7 +1,7 @@
 // llvmpipe's SIMD width: 16 lanes only where they were measured faster (an Intel CPU with
 // AVX-512 and Mesa 25.0; host/gpu/llvmpipe_width.h), and a render process that really gets
 // the width the rule gives for the driver the loader finds. Run on Debian's Mesa 22.3 and
-// unstable's 26.2 too (tools/test-other-mesa), where 16 lanes rendered 60x slower and
+// unstable's 26.2 too (tools/mesa/test-other-mesa), where 16 lanes rendered 60x slower and
 // aborted: there the rendering process must keep 8.
 #include <cstdlib>
 #include <fstream>

@@ -146,7 +146,7 @@ TEST(SmallRefusals, ForgedJpegSizeIsRefusedFromTheHeader) {
 }
 
 TEST(SmallRefusals, JpegHuffmanTableOfMoreThan256CodesIsRefused) {
-    // stb_image 2.27 writes past its 257-entry table for such a table (tools/fuzz found it,
+    // stb_image 2.27 writes past its 257-entry table for such a table (tools/dev/fuzz found it,
     // ASan/UBSan: index 257 out of bounds); the marker walk refuses it before stb reads it.
     const fs::path dir = test::freshTempDir();
     std::string jpeg = noiseJpeg();

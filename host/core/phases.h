@@ -1,4 +1,4 @@
-// Where one process's time and memory go, phase by phase (tools/bench/startup reads it):
+// Where one process's time and memory go, phase by phase (tools/bench/bench/startup reads it):
 // with PENUMBRA_PHASES set in the environment, each phase prints one line on stderr when
 // it ends,
 //     penumbra: phase NAME SECONDS s, rss MIB MiB, peak MIB MiB

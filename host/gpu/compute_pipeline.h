@@ -1,7 +1,7 @@
 // A compute pipeline's Vulkan objects made from SPIR-V: the shader module, the layout of
 // descriptor set 0, the pipeline layout (one push-constant range) and the pipeline with its
 // specialization constants. gpu::Pipeline owns what this makes for the embedded shaders; the
-// micro-benchmarks (tools/microbenchmarks) for SPIR-V files of their own.
+// micro-benchmarks (tools/bench/microbenchmarks) for SPIR-V files of their own.
 #pragma once
 
 #include <cstdint>

@@ -25,7 +25,7 @@ namespace penumbra::gpu {
 // with the shaderObject feature (Mesa 23.1 and later; 22.3 keeps pipelines).
 bool kernelsAsShaderObjects(const DeviceInfo& info);
 
-// How a shader object was made, for the tests and tools/bench/startup.
+// How a shader object was made, for the tests and tools/bench/bench/startup.
 enum class ShaderObjectSource { Compiled, FromDisk };
 
 // A compute shader object of `spirv` with constant_id i = specialization[i] (applied before

@@ -1,6 +1,6 @@
 // Comparison figures: renders composited side by side (or in a grid) into one 8-bit sRGB
 // image, each under a label strip with text drawn from stb_easy_font's quads. Rendering the
-// panels and writing the PNG are left to the caller (tools/penumbra_figure.cpp, writePngRgb8).
+// panels and writing the PNG are left to the caller (tools/figures/penumbra_figure.cpp, writePngRgb8).
 #pragma once
 
 #include <cstdint>

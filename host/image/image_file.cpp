@@ -123,7 +123,7 @@ void checkHdrData(const std::string& bytes, int64_t w, int64_t h, const std::str
 // Walks a JPEG's marker segments and entropy-coded data (ITU-T T.81, B.1 and B.2) before
 // stb_image reads any of it, and refuses what stb mishandles:
 // - a Huffman table (DHT) whose 16 code counts add up to more than 256 codes, which
-//   stb_image 2.27 writes past its 257-entry table for (found by tools/fuzz);
+//   stb_image 2.27 writes past its 257-entry table for (found by tools/dev/fuzz);
 // - data that ends before the end-of-image marker FF D9 (B.2.1): stb fills what is missing
 //   with zeros, so a file cut short decoded into a wrong texture.
 // Entropy-coded data holds FF only as FF 00 or a restart marker FF D0-D7 (B.1.1.5), so the

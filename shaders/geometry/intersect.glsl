@@ -8,7 +8,7 @@
 // sphere test's c = |f|^2 - r^2 cancel, so the fused rounding moved t by over 1e-4 from the
 // CPU's: the GPU was no less accurate, it just rounded differently (docs/performance-history/own-bench.md). The CPU
 // side compiles with -ffp-contract=off for the same
-// reason. On lavapipe 25.0 `precise` changes no instruction count (tools/bench-instructions).
+// reason. On lavapipe 25.0 `precise` changes no instruction count (tools/bench/bench-instructions).
 //
 // `precise` alone is not enough for dot and cross, which a driver may compute with fmas
 // inside them (Mesa 26's lavapipe does): the tests use preciseDot and preciseCross

@@ -1,6 +1,6 @@
 // Decoding a wide node's quantized child planes (shared/types.h, WideNode), shared by the
 // traversal (geometry/bvh.glsl) and the traversal-step micro-benchmark
-// (tools/microbenchmarks/shaders/step.comp). host/bvh/wide.cpp decodes them with the same
+// (tools/bench/microbenchmarks/shaders/step.comp). host/bvh/wide.cpp decodes them with the same
 // operations (decodeWideChild).
 #ifndef PENUMBRA_WIDE_NODE_GLSL
 #define PENUMBRA_WIDE_NODE_GLSL

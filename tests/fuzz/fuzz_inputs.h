@@ -2,7 +2,7 @@
 // file, 'j' job file read and expanded, 'g' glTF model, .glb when the rest starts with
 // "glTF", 'o' OBJ mesh, 'p' PLY mesh, 'i' image file as a texture reads it: PNG, JPEG,
 // Radiance HDR or OpenEXR told by its first bytes, 'x' OpenEXR as merge and compare read
-// it: header, then pixels, then merge's checks), the rest is the file. Shared by the libFuzzer target (tools/fuzz) and the seeded mutation loop in
+// it: header, then pixels, then merge's checks), the rest is the file. Shared by the libFuzzer target (tools/dev/fuzz) and the seeded mutation loop in
 // the test suite (test_fuzz.cpp).
 #pragma once
 

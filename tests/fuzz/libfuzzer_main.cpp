@@ -1,4 +1,4 @@
-// libFuzzer entry point for the input readers (built by tools/fuzz with clang, ASan and
+// libFuzzer entry point for the input readers (built by tools/dev/fuzz with clang, ASan and
 // UBSan): any exception other than InputError aborts, so that libFuzzer keeps the input.
 #include <cstdio>
 #include <cstdlib>

@@ -1,4 +1,4 @@
-"""Every scene in scenes/ through tools/mitsuba_penumbra.py: Mitsuba 3 (llvm_ad_rgb) and Penumbra
+"""Every scene in scenes/ through tools/penumbra_tools/mitsuba_penumbra.py: Mitsuba 3 (llvm_ad_rgb) and Penumbra
 render it at the same tiny size, and their per-channel image means must agree within
 Z standard errors (paired_z: each renderer renders twice, the noise is estimated from the
 difference of its two renders), and so must each quadrant's. Scenes of tests/mitsuba/scenes cover what scenes/ lacks. Then a
@@ -87,7 +87,7 @@ def main():
         print(f"SKIPPED: Mitsuba's llvm_ad_rgb variant is unavailable ({e}); tools/setup installs libllvm19")
         sys.exit(77)
     sys.path.insert(0, os.path.join(src, "tools"))
-    import mitsuba_penumbra as mp
+    from penumbra_tools import mitsuba_penumbra as mp
     import penumbra_tools.mitsuba_pbr as pbr
     failures = []
     penumbra_images = {}

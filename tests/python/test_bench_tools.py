@@ -1,6 +1,6 @@
 # The benchmark tools' own pieces that a measurement rests on: the sphere-light room that
-# tools/make_bench_scenes.py writes (docs/performance-history/round-29.md) is the scene it says,
-# and tools/bench-render-ab reads the header that `penumbra render` wrote. Standard library
+# tools/scenes/make_bench_scenes.py writes (docs/performance-history/round-29.md) is the scene it says,
+# and tools/bench/bench-render-ab reads the header that `penumbra render` wrote. Standard library
 # only, beside the CLI.
 import importlib.machinery
 import importlib.util
@@ -10,7 +10,7 @@ from conftest import SOURCE_DIR
 
 
 def load_tool(name, file_name):
-    """A tool of tools/ as a module (bench-render-ab has no .py)."""
+    """A tool of tools/ (its path below tools/) as a module (bench-render-ab has no .py)."""
     path = str(SOURCE_DIR / "tools" / file_name)
     loader = importlib.machinery.SourceFileLoader(name, path)
     module = importlib.util.module_from_spec(importlib.util.spec_from_loader(name, loader))
@@ -19,7 +19,7 @@ def load_tool(name, file_name):
 
 
 def sphere_room():
-    return load_tool("make_bench_scenes", "make_bench_scenes.py").sphere_room()
+    return load_tool("make_bench_scenes", "scenes/make_bench_scenes.py").sphere_room()
 
 
 def test_sphere_room_is_diffuse_quads_and_three_sphere_lights():
@@ -41,7 +41,7 @@ def test_bench_render_ab_reads_the_header_penumbra_wrote(cli, tmp_path):
     out = tmp_path / "room.exr"
     done = cli("render", scene, "--spp", 3, "--seed", 7, "--width", 32, "--height", 32, "--quiet", "-o", out)
     assert done.returncode == 0, done.stderr
-    tool = load_tool("bench_render_ab", "bench-render-ab")
+    tool = load_tool("bench_render_ab", "bench/bench-render-ab")
     attributes = tool.exr_attributes(str(out))
     assert attributes["penumbra:spp"] == 3 and attributes["penumbra:seed"] == 7
     assert attributes["penumbra:sampler"] == "sobol"

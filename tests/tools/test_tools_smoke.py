@@ -3,7 +3,7 @@
 # (scenes/*.json, scenes/models/torus_knot.*, scenes/sky_sun.hdr), so that a change to a
 # generator or a hand edit of its output cannot drift apart unnoticed.
 # Registered in CTest by tests/CMakeLists.txt (tools.test_tools_smoke); pyflakes checks the
-# same files in tools/lint.
+# same files in tools/dev/lint.
 import filecmp
 import os
 import pathlib
@@ -15,11 +15,12 @@ import pytest
 SOURCE_DIR = pathlib.Path(os.environ.get("PENUMBRA_SOURCE_DIR", pathlib.Path(__file__).parents[2]))
 TOOLS = SOURCE_DIR / "tools"
 
-# Python tools with an argparse command line. tools/mitsuba_penumbra.py is a module that
+# Python tools with an argparse command line. tools/penumbra_tools/mitsuba_penumbra.py is a module that
 # needs Mitsuba (the translation test covers it); make_models.py, make_scenes.py and
 # make_sky.py are run for real below.
-HELP_TOOLS = ["bench-ab", "bench-instructions", "bench-python-orbit", "kernel-profile", "make_bench_scenes.py",
-              "make_sky.py", "mesa-compare", "mesa-sid", "mitsuba_compare.py", "penumbra_tools/startup_bench.py"]
+HELP_TOOLS = ["bench/bench-ab", "bench/bench-instructions", "bench/bench-python-orbit", "bench/kernel-profile",
+              "scenes/make_bench_scenes.py", "scenes/make_sky.py", "mesa/mesa-compare", "mesa/mesa-sid",
+              "mitsuba/mitsuba_compare.py", "penumbra_tools/startup_bench.py"]
 
 
 def shell_tools():
@@ -50,7 +51,7 @@ def test_every_shell_tool_parses():
 
 
 def test_make_scenes_reproduces_the_committed_scenes(tmp_path):
-    subprocess.run([sys.executable, str(TOOLS / "make_scenes.py")], cwd=tmp_path, check=True, timeout=120)
+    subprocess.run([sys.executable, str(TOOLS / "scenes" / "make_scenes.py")], cwd=tmp_path, check=True, timeout=120)
     made = sorted(p.name for p in (tmp_path / "scenes").iterdir())
     assert made, "make_scenes.py wrote nothing"
     for name in made:
@@ -58,7 +59,7 @@ def test_make_scenes_reproduces_the_committed_scenes(tmp_path):
 
 
 def test_make_models_reproduces_the_committed_model(tmp_path):
-    subprocess.run([sys.executable, str(TOOLS / "make_models.py"), str(tmp_path)], check=True, timeout=300,
+    subprocess.run([sys.executable, str(TOOLS / "scenes" / "make_models.py"), str(tmp_path)], check=True, timeout=300,
                    capture_output=True)
     for name in ("torus_knot.gltf", "torus_knot.glb"):
         assert filecmp.cmp(tmp_path / name, SOURCE_DIR / "scenes" / "models" / name, shallow=False), name
@@ -66,5 +67,5 @@ def test_make_models_reproduces_the_committed_model(tmp_path):
 
 def test_make_sky_reproduces_the_committed_map(tmp_path):
     out = tmp_path / "sky.hdr"
-    subprocess.run([sys.executable, str(TOOLS / "make_sky.py"), "-o", str(out)], check=True, timeout=300)
+    subprocess.run([sys.executable, str(TOOLS / "scenes" / "make_sky.py"), "-o", str(out)], check=True, timeout=300)
     assert filecmp.cmp(out, SOURCE_DIR / "scenes" / "sky_sun.hdr", shallow=False)

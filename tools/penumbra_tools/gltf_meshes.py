@@ -1,6 +1,6 @@
 """The triangle meshes of a glTF 2.0 file (.gltf with data: or file buffers, or .glb), with
 their node transforms applied and their metallic-roughness factors, as plain numpy arrays:
-what tools/mitsuba_penumbra.py needs of a `gltf` shape (docs/SCENE_FORMAT.md, "glTF input").
+what tools/penumbra_tools/mitsuba_penumbra.py needs of a `gltf` shape (docs/SCENE_FORMAT.md, "glTF input").
 A reader for trusted files of the project, not a validator: Penumbra's own loader
 (host/scene/load_gltf.cpp) checks its input. Files with textures or KHR_lights_punctual
 lights raise NotImplementedError; cameras are ignored (as Penumbra ignores a `gltf` shape's);

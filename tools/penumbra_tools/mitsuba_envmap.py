@@ -1,5 +1,5 @@
 """Penumbra's environment map (`environment` with `file`, docs/SCENE_FORMAT.md) as Mitsuba 3's
-`envmap`, for tools/mitsuba_penumbra.py. Both use the same orientation (u = atan2(d.x, -d.z) /
+`envmap`, for tools/penumbra_tools/mitsuba_penumbra.py. Both use the same orientation (u = atan2(d.x, -d.z) /
 (2 pi), v = acos(d.y) / pi, row 0 at +y). Two differences are bridged by writing a copy of the
 map into a work folder:
 - `radiance` is a per-channel factor in Penumbra, one scalar `scale` in Mitsuba: the copy is

@@ -1,5 +1,5 @@
 """Penumbra's `pbr` material as a Mitsuba 3 BSDF written in Python (`penumbra_pbr`), for
-tools/mitsuba_penumbra.py: glTF 2.0 metallic-roughness exactly as docs/SCENE_FORMAT.md and
+tools/penumbra_tools/mitsuba_penumbra.py: glTF 2.0 metallic-roughness exactly as docs/SCENE_FORMAT.md and
 shaders/bsdf/pbr.glsl define it (the glTF specification, Appendix B):
 
   f = (1 - metallic) [ (1 - F(0.04)) base/pi + F(0.04) D V ] + metallic F(base) D V

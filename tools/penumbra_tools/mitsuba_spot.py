@@ -1,5 +1,5 @@
 """Penumbra's `spot` light as a Mitsuba 3 emitter written in Python (`penumbra_spot`), for
-tools/mitsuba_penumbra.py. Mitsuba's own `spot` cannot be used: its falloff is linear in the
+tools/penumbra_tools/mitsuba_penumbra.py. Mitsuba's own `spot` cannot be used: its falloff is linear in the
 angle between beam_width and cutoff_angle, while Penumbra's (shaders/lights/spot.glsl, glTF
 KHR_lights_punctual) is s^2 with s = clamp((cos t - cos outer) / (cos inner - cos outer), 0, 1).
 A delta light like Mitsuba's `point`: one direction, "pdf" 1, never hit; only what the direct

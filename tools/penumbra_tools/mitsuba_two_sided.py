@@ -1,5 +1,5 @@
 """What Penumbra's BRDFs translated as Python Mitsuba plugins share (penumbra_phong in
-tools/mitsuba_penumbra.py, penumbra_pbr in mitsuba_pbr.py): Penumbra's materials are
+tools/penumbra_tools/mitsuba_penumbra.py, penumbra_pbr in mitsuba_pbr.py): Penumbra's materials are
 two-sided, so both directions are mirrored onto the viewer's side of the surface before
 the BRDF is evaluated, and every sample is one of two reflection lobes (0: diffuse,
 1: glossy). A subclass defines _eval_pdf(wi, wo) -> (f cos, pdf) in the local frame with

@@ -1,11 +1,11 @@
 """Whole-process start-up, side by side: `penumbra render` against a fresh Python process
-that imports Mitsuba 3, loads the same scene (tools/mitsuba_penumbra.py's translation),
+that imports Mitsuba 3, loads the same scene (tools/penumbra_tools/mitsuba_penumbra.py's translation),
 renders and writes the EXR, as a user of each would run one small image. Both with their
 disk caches warm (one untimed run each first). Per scene: the median wall time and the
 median peak resident memory of `--runs` alternating runs, and Penumbra's phases
 (PENUMBRA_PHASES: load, context, renderer, first_dispatch, render, write) from one more run.
 
-Run through tools/bench-startup, which makes the Python environment Mitsuba needs.
+Run through tools/bench/bench-startup, which makes the Python environment Mitsuba needs.
 """
 import argparse
 import json
@@ -21,7 +21,7 @@ TOOLS = os.path.join(ROOT, "tools")
 PENUMBRA = os.path.join(ROOT, "build", "penumbra")
 
 # (scene, width, height): the Cornell box at the size of a quick look, the MIS scene and the
-# million-triangle displaced plane (tools/make_bench_scenes.py) at their own sizes.
+# million-triangle displaced plane (tools/scenes/make_bench_scenes.py) at their own sizes.
 DEFAULT_SCENES = [("scenes/cornell.json", 160, 120), ("scenes/veach_mis.json", None, None),
                   ("build/bench/displaced_1m.json", None, None)]
 
@@ -31,7 +31,7 @@ import json, sys
 sys.path.insert(0, {tools!r})
 import mitsuba as mi
 mi.set_variant("llvm_ad_rgb")
-import mitsuba_penumbra as mp
+from penumbra_tools import mitsuba_penumbra as mp
 with open({scene!r}) as f:
     scene = json.load(f)
 if {width!r}:
@@ -86,13 +86,13 @@ def main():
     ap.add_argument("--runs", type=int, default=5, help="alternating runs per program and scene (default 5)")
     ap.add_argument("--spp", type=int, default=16)
     ap.add_argument("--python", default=os.path.join(ROOT, "build", "venv-mitsuba", "bin", "python"),
-                    help="a Python with mitsuba 3 (tools/bench-startup makes it)")
+                    help="a Python with mitsuba 3 (tools/bench/bench-startup makes it)")
     ap.add_argument("--scenes", nargs="+", help="scene files (at their own film size)")
     ap.add_argument("--json", help="also write the results here")
     args = ap.parse_args()
     scenes = [(s, None, None) for s in args.scenes] if args.scenes else DEFAULT_SCENES
     if any("build/bench/" in s for s, _, _ in scenes):
-        subprocess.run([sys.executable, os.path.join(TOOLS, "make_bench_scenes.py")], check=True, cwd=ROOT,
+        subprocess.run([sys.executable, os.path.join(TOOLS, "scenes", "make_bench_scenes.py")], check=True, cwd=ROOT,
                        stdout=subprocess.DEVNULL)
     results = []
     with tempfile.TemporaryDirectory() as tmp:

@@ -1,5 +1,5 @@
 """Penumbra vs Mitsuba 3 on the same machine: throughput, start-up, image agreement and
-time-to-error for the benchmark scenes (tools/bench-mitsuba runs tools/mitsuba_compare.py,
+time-to-error for the benchmark scenes (tools/bench/bench-mitsuba runs tools/mitsuba/mitsuba_compare.py,
 which runs cli.main). One concern per module:
 
   paths           where the programs, the work folder and the report live; logging

@@ -67,7 +67,7 @@ def main(description):
     os.makedirs(WORK, exist_ok=True)
     scenes = args.scenes or DEFAULT_SCENES
     if any("build/bench/" in s for s in scenes):
-        subprocess.run([sys.executable, os.path.join(TOOLS, "make_bench_scenes.py")], check=True, cwd=ROOT,
+        subprocess.run([sys.executable, os.path.join(TOOLS, "scenes", "make_bench_scenes.py")], check=True, cwd=ROOT,
                        stdout=subprocess.DEVNULL)
 
     results_path = os.path.join(WORK, "results.json")

@@ -1,5 +1,5 @@
 """One Mitsuba variant in a fresh process, driven by a JSON job on the command line
-(`tools/mitsuba_compare.py --worker JOB`): time renders, render an image, or render at
+(`tools/mitsuba/mitsuba_compare.py --worker JOB`): time renders, render an image, or render at
 rising spp until an error target (time-to-error). The process prints one RESULT line."""
 import json
 import os
@@ -27,7 +27,7 @@ def worker(job):
     import mitsuba as mi
     mi.set_variant(job["variant"])
     sys.path.insert(0, TOOLS)
-    import mitsuba_penumbra as mp
+    from penumbra_tools import mitsuba_penumbra as mp
 
     scene_json = load_scene(job["scene"], job.get("width"), job.get("height"))
     t_import = time.time() - t_start

@@ -40,7 +40,7 @@ def fmt(x, d=2):
 
 def report(info, results, args):
     L = []
-    L.append(f"Measured {info['date']} by `tools/bench-mitsuba{' ' + ' '.join(args.argv) if args.argv else ''}`.")
+    L.append(f"Measured {info['date']} by `tools/bench/bench-mitsuba{' ' + ' '.join(args.argv) if args.argv else ''}`.")
     reused = [r["name"] for r in results if r.get("reused")]
     if reused:
         when = sorted({r["timed_at"] for r in results if r.get("reused")})

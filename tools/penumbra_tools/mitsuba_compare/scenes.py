@@ -1,5 +1,5 @@
 """What the comparison reads from a Penumbra scene file: film size, spp, and whether the
-Mitsuba translation calls back into Python (tools/mitsuba_penumbra.py's plugins)."""
+Mitsuba translation calls back into Python (tools/penumbra_tools/mitsuba_penumbra.py's plugins)."""
 import json
 
 
