@@ -12,14 +12,7 @@
 #include "gpu_fixture.h"
 #include "image/image.h"
 #include "image/image_file.h"
-
-#define STB_IMAGE_WRITE_STATIC
-#define STB_IMAGE_WRITE_IMPLEMENTATION
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
-#include <stb_image_write.h>
-#pragma GCC diagnostic pop
+#include "image/stb_image_write_static.h"
 
 using namespace penumbra;
 namespace fs = std::filesystem;

@@ -18,14 +18,6 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#define STB_IMAGE_WRITE_STATIC
-#define STB_IMAGE_WRITE_IMPLEMENTATION
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
-#include <stb_image_write.h>
-#pragma GCC diagnostic pop
-
 #include "core/errors.h"
 #include "core/exit_status.h"
 #include "gltf_builder.h"
@@ -33,6 +25,7 @@
 #include "image/atomic_file.h"
 #include "image/image.h"
 #include "image/image_file.h"
+#include "image/stb_image_write_static.h"
 #include "preview/input_script.h"
 #include "render_helpers.h"
 #include "scene/load.h"

@@ -8,15 +8,7 @@
 
 #include "image/atomic_file.h"
 #include "image/image.h"
-
-// Static, so the library's own copy (tinygltf may bring one) can never clash with ours.
-#define STB_IMAGE_WRITE_STATIC
-#define STB_IMAGE_WRITE_IMPLEMENTATION
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
-#include <stb_image_write.h>
-#pragma GCC diagnostic pop
+#include "image/stb_image_write_static.h"
 
 namespace penumbra {
 
