@@ -17,7 +17,8 @@
 #include "textures/textures.glsl"
 #include "integrators/aov.glsl"
 
-vec3 pixelSample(uvec2 pixel, uint sampleIndex) {
+vec3 pixelSample(uvec2 pixel, uint sampleIndex, out AovFirstHit aov) {
+    aov = aovMiss();
     Rng rng = pixelRng(pixel, sampleIndex);
 
     vec3 origin, dir;
@@ -28,7 +29,14 @@ vec3 pixelSample(uvec2 pixel, uint sampleIndex) {
     // Two-sided shading: use the side facing the viewer.
     vec3 ng = dot(sp.geometricNormal, dir) < 0.0 ? sp.geometricNormal : -sp.geometricNormal;
     vec3 ns = dot(sp.shadingNormal, ng) < 0.0 ? -sp.shadingNormal : sp.shadingNormal;
-    vec3 albedo = applyTextures(loadMaterial(sp.material), sp.material, sp.uv).kd;
+    Material m = applyTextures(loadMaterial(sp.material), sp.material, sp.uv);
+    vec3 albedo = m.kd;
+    if (kAovs != 0u) {
+        // The AOV's normal is the direct integrator's viewer-side normal, the same in every kernel.
+        vec3 aovNg, aovNs;
+        viewerSideNormals(sp, -dir, aovNg, aovNs);
+        aov = aovFirstHit(sp, hit.t, aovNs, m);
+    }
 
     vec2 u = rand2(rng);
     vec3 local;

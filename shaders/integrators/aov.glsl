@@ -1,9 +1,9 @@
 // The AOV layers' per-sample work (SCENE_FORMAT.md "AOVs (v3)"; the hook and the sums'
-// layout: integrators/aov_sums.glsl, shared/aov.h). Each sample's camera ray is made again
-// from the sample's own numbers, the same ray the integrator traced, and traced once more
-// for its first hit: the layers average over exactly the image's samples (so they match it
-// at silhouettes, as denoisers want) while the integrator's code stays as it was. The
-// second trace costs only kernels with AOVs (kAovs != 0).
+// layout: integrators/aov_sums.glsl, shared/aov.h). The float layers average over exactly
+// the image's samples (so they match it at silhouettes, as denoisers want): each kernel
+// hands over the first hit its camera ray found (aovFirstHit, where it shades that hit).
+// Only the ids trace a ray of their own, once per pixel. All of it costs only kernels with
+// AOVs (kAovs != 0).
 #ifndef PENUMBRA_AOV_GLSL
 #define PENUMBRA_AOV_GLSL
 
@@ -18,7 +18,12 @@ vec3 aovAlbedo(Material m) {
     return m.kd;  // diffuse albedo and pbr base_color both live in kd (shared/types.h)
 }
 
-void addAovSample(inout AovSums a, uvec2 pixel, uint sampleIndex, vec3 radiance) {
+// `ns` from viewerSideNormals (geometry/surface.glsl), `m` after textures.
+AovFirstHit aovFirstHit(SurfacePoint sp, float t, vec3 ns, Material m) {
+    return AovFirstHit(true, t, sp.position, ns, sp.light == NO_LIGHT ? aovAlbedo(m) : vec3(0.0));
+}
+
+void addAovSample(inout AovSums a, uvec2 pixel, uint sampleIndex, vec3 radiance, AovFirstHit first) {
     if (kAovs == 0u) return;
     a.v[0].w += 1.0;
     if (aovWanted(AOV_VARIANCE)) {
@@ -34,26 +39,12 @@ void addAovSample(inout AovSums a, uvec2 pixel, uint sampleIndex, vec3 radiance)
         bool found = traceClosestIgnoring(origin, dir, FLOAT_MAX, cameraRayIgnores(), hit);
         a.v[3].w = uintBitsToFloat(found ? hit.primitive : NO_HIT);
     }
-    if (!aovWanted(AOV_ALBEDO | AOV_NORMAL | AOV_POSITION | AOV_DEPTH)) return;
-    Rng rng = pixelRng(pixel, sampleIndex);
-    vec3 origin, dir;
-    cameraRay(pixel, rand2(rng), origin, dir);
-    Hit hit;
-    if (!traceClosestIgnoring(origin, dir, FLOAT_MAX, cameraRayIgnores(), hit)) return;  // a miss adds 0
-    SurfacePoint sp = surfaceAt(hit, origin, dir);
-    // dir is a unit vector: t is the distance from the eye.
-    a.v[1].w += hit.t;
+    if (!first.found) return;  // a miss adds 0
+    a.v[1].w += first.t;
     a.v[2].w += 1.0;
-    if (aovWanted(AOV_POSITION)) a.v[2].xyz += sp.position;
-    if (aovWanted(AOV_NORMAL)) {
-        // Facing the camera as the integrator shades it (geometry/surface.glsl).
-        vec3 ng, ns;
-        viewerSideNormals(sp, -dir, ng, ns);
-        a.v[1].xyz += ns;
-    }
-    // Emitters have albedo 0 (SCENE_FORMAT.md).
-    if (aovWanted(AOV_ALBEDO) && sp.light == NO_LIGHT)
-        a.v[0].xyz += aovAlbedo(applyTextures(loadMaterial(sp.material), sp.material, sp.uv));
+    if (aovWanted(AOV_POSITION)) a.v[2].xyz += first.position;
+    if (aovWanted(AOV_NORMAL)) a.v[1].xyz += first.normal;
+    if (aovWanted(AOV_ALBEDO)) a.v[0].xyz += first.albedo;
 }
 
 #endif

@@ -314,9 +314,10 @@ struct PartialSample {
     vec3 emitted;
     vec3 reflected;
     WaitingTerms waiting;
+    AovFirstHit aov;  // for the AOV layers (integrators/aov.glsl); unused where kAovs is 0
 };
 
-PartialSample noPartialSample() { return PartialSample(vec3(0.0), vec3(0.0), noWaitingTerms()); }
+PartialSample noPartialSample() { return PartialSample(vec3(0.0), vec3(0.0), noWaitingTerms(), aovMiss()); }
 
 // The sample that the camera ray (origin, dir) found. `rng` goes on from the camera ray's
 // numbers.
@@ -337,6 +338,7 @@ PartialSample partialSample(bool found, Hit hit, vec3 origin, vec3 dir, inout Rn
     s.origin = offsetRayOrigin(s.x, s.ng);
     s.flatPrimitive = sp.primitiveType == PRIM_SPHERE ? NO_HIT : hit.primitive;
     s.m = applyTextures(loadMaterial(sp.material), sp.material, sp.uv);
+    if (kAovs != 0u) p.aov = aovFirstHit(sp, hit.t, s.ns, s.m);
     p.reflected = reflectedRadiance(s, rng, p.waiting);
     return p;
 }
@@ -381,7 +383,7 @@ void addPixelSamples(uvec2 pixel) {
         if (k > 0u) {
             vec3 radiance = finishedSample(last, lightBlocked, bsdfBlocked);
             addSample(sum, compensation, radiance);
-            addAovSample(aovs, pixel, first + k - 1u, radiance);
+            addAovSample(aovs, pixel, first + k - 1u, radiance, last.aov);
         }
         if (camera) last = partialSample(found, hit, origin, dir, rng);
     }
@@ -390,13 +392,14 @@ void addPixelSamples(uvec2 pixel) {
     storeAovSums(index, aovs);
 }
 #else
-vec3 pixelSample(uvec2 pixel, uint sampleIndex) {
+vec3 pixelSample(uvec2 pixel, uint sampleIndex, out AovFirstHit aov) {
     Rng rng = pixelRng(pixel, sampleIndex);
     vec3 origin, dir;
     cameraRay(pixel, rand2(rng), origin, dir);
     Hit hit;
     bool found = traceClosestIgnoring(origin, dir, FLOAT_MAX, cameraRayIgnores(), hit);
     PartialSample p = partialSample(found, hit, origin, dir, rng);
+    aov = p.aov;
     return finishedSample(p, p.waiting.light.blocked, p.waiting.bsdf.blocked);
 }
 #endif

@@ -123,8 +123,9 @@ void addSample(inout AccumSum pixel, inout vec3 compensation, vec3 radiance) {
 #ifdef PENUMBRA_KERNEL_SAMPLE_LOOP
 void addPixelSamples(uvec2 pixel);
 #else
-// One pixel sample's radiance estimate: each integrator kernel defines it.
-vec3 pixelSample(uvec2 pixel, uint sampleIndex);
+// One pixel sample's radiance estimate, and what its camera ray found for the AOV layers
+// (left a miss where kAovs is 0): each integrator kernel defines it.
+vec3 pixelSample(uvec2 pixel, uint sampleIndex, out AovFirstHit aov);
 
 void addPixelSamples(uvec2 pixel) {
     uint index = pixel.y * params.width + pixel.x;
@@ -133,11 +134,12 @@ void addPixelSamples(uvec2 pixel) {
     AovSums aovs = loadAovSums(index);
     uint end = pass.sampleIndex + pass.sampleCount;
     for (uint s = firstSampleOf(sum); s < end; ++s) {
-        vec3 radiance = pixelSample(pixel, s);
+        AovFirstHit first;
+        vec3 radiance = pixelSample(pixel, s, first);
         // A sample whose loops were cut may be wrong: a later pass takes it up again.
         if (loopsWereCut()) break;
         addSample(sum, compensation, radiance);
-        addAovSample(aovs, pixel, s, radiance);
+        addAovSample(aovs, pixel, s, radiance, first);
     }
     accum[index] = sum;
     accumCompensation[index].compensation = compensation;
