@@ -1,11 +1,12 @@
 #!/usr/bin/python3
-"""A small dataset from one process: a camera orbit of a glTF model, one EXR a frame and a
-preview grid PNG (docs/guide/python.md).
+"""A small dataset from one process: a camera orbit of a glTF model, one EXR a frame (rgb,
+depth, normal, shape_id, material_id) and a preview grid PNG (docs/guide/python.md).
 
 One penumbra.Renderer keeps the device, the uploaded model and the compiled kernel; each
 frame only moves the camera (no recompilation, no re-upload), so the frames cost their
-samples and little else. Layers: rgb (depth, normals and ids will join it when the
-renderer writes AOVs).
+samples and little else. The grid shows a few frames, a row each: rgb, then each layer as
+the preview shows it (penumbra.false_color: depth near-bright, normals n * 0.5 + 0.5, ids
+as hashed colours).
 
     examples/dataset.py [--scene scenes/gltf_model.json] [--frames 24] [--size 160 120]
                         [--spp 16] [--out dataset]
@@ -29,6 +30,9 @@ def orbit(camera, frames):
     start = math.atan2(eye[0] - target[0], eye[2] - target[2])
     return [[target[0] + radius * math.sin(start + 2 * math.pi * i / frames), eye[1],
              target[2] + radius * math.cos(start + 2 * math.pi * i / frames)] for i in range(frames)]
+
+
+LAYERS = ["depth", "normal", "shape_id", "material_id"]
 
 
 def grid(images, columns):
@@ -56,16 +60,20 @@ def main():
 
     camera = json.loads(pathlib.Path(args.scene).read_text())["camera"]
     start = time.monotonic()
-    renderer = penumbra.Renderer(args.scene, width=args.size[0], height=args.size[1], spp=args.spp, seed=0)
+    renderer = penumbra.Renderer(args.scene, width=args.size[0], height=args.size[1], spp=args.spp, seed=0,
+                                 aovs=LAYERS)
     setup_seconds = time.monotonic() - start
-    frames = []
+    rows = min(4, args.frames)  # frames shown in the grid, spread over the orbit
+    shown = {round(k * (args.frames - 1) / max(rows - 1, 1)) for k in range(rows)}
+    tiles = []
     start = time.monotonic()
     for i, eye in enumerate(orbit(camera, args.frames)):
         frame = renderer.render(set={"camera.eye": eye})
         penumbra.write_exr(out / f"frame_{i:03d}.exr", frame)
-        frames.append(frame["rgb"])
+        if i in shown:
+            tiles += [frame["rgb"]] + [penumbra.false_color(frame, name) for name in LAYERS]
     seconds = time.monotonic() - start
-    penumbra.write_png(out / "preview.png", {"rgb": grid(frames, columns=min(6, args.frames))})
+    penumbra.write_png(out / "preview.png", {"rgb": grid(tiles, columns=1 + len(LAYERS))})
 
     samples = args.frames * args.size[0] * args.size[1] * args.spp
     print(f"{args.frames} frames of {args.size[0]}x{args.size[1]} at {args.spp} spp in {seconds:.2f} s "

@@ -29,6 +29,7 @@
 #include "preview/input_script.h"
 #include "preview/integrator_controls.h"
 #include "preview/key_bindings.h"
+#include "preview/layer_cycle.h"
 #include "preview/pass_scheduler.h"
 #include "scene/integrator_json.h"
 #include "shared/types.h"
@@ -443,6 +444,42 @@ TEST(PreviewProgram, ScreenshotMatchesRenderPng) {
     ASSERT_EQ(rendered.pixels.size(), shown.pixels.size());
     // Same sums (same samples, same order); only the GPU's pow and division may differ.
     EXPECT_LE(maxLevelDifference(shown, rendered), 1) << "see " << dir;
+}
+
+// The L key (docs/guide/preview.md): once, the first AOV as layerPixels pictures the
+// render's layer (the same sums, pictured on the host); three times with two AOVs, back to
+// the tone-mapped image.
+TEST(PreviewProgram, LayerKeyShowsEachAovThenTheImageAgain) {
+    REQUIRE_XVFB();
+    fs::path dir = freshDir("screenshot-layers");
+    const std::string scene = smallCornell() + " --aov depth,shape_id";
+    std::ofstream(dir / "once.script") << "frame 1 key l\n";
+    std::ofstream(dir / "thrice.script") << "frame 1 key l\nframe 2 key l\nframe 3 key l\n";
+    std::string err;
+    ASSERT_EQ(runIn(dir, displayEnv(), "preview " + scene + " --script once.script --frames 200 --screenshot depth.png",
+                    &err),
+              0)
+        << err;
+    ASSERT_EQ(runIn(dir, displayEnv(), "preview " + scene + " --script thrice.script --frames 200 --screenshot rgb.png",
+                    &err),
+              0)
+        << err;
+    ASSERT_EQ(runIn(dir, "", "render " + scene + " -o rendered.exr --png rendered.png --quiet", &err), 0) << err;
+    const Image rendered = readExr(dir / "rendered.exr");
+    const std::vector<uint32_t> packed = layerPixels(rendered, "depth");
+    Png depth = readPng(dir / "depth.png");
+    ASSERT_EQ(depth.pixels.size(), packed.size() * 3);
+    int worst = 0;
+    for (size_t i = 0; i < packed.size(); ++i)
+        for (int c = 0; c < 3; ++c)
+            worst = std::max(worst, std::abs(int(depth.pixels[3 * i + c]) - int((packed[i] >> (8 * c)) & 0xff)));
+    // The preview renders the same samples in another dispatch shape: its sums may differ in
+    // the last float bits, which can move a depth by one code.
+    EXPECT_LE(worst, 1) << "see " << dir;
+    Png rgb = readPng(dir / "rgb.png"), png = readPng(dir / "rendered.png");
+    ASSERT_EQ(rgb.pixels.size(), png.pixels.size());
+    EXPECT_LE(maxLevelDifference(rgb, png), 1) << "see " << dir;
+    EXPECT_GT(maxLevelDifference(rgb, depth), 64) << "the depth picture is not the image";
 }
 
 TEST(PreviewProgram, ExposureAndTonemapOptionsMatchRenderPng) {

@@ -201,6 +201,30 @@ TEST(Textures, QuadCheckerboardIsBilinearWithRowZeroAtVZero) {
     EXPECT_GT(mismatches, kSize * kSize / 4);
 }
 
+// The albedo AOV (SCENE_FORMAT.md "AOVs (v3)") of a textured quad seen head-on is the
+// texture, filtered as the contract says and averaged over the pixel's samples: the same
+// expected image as the radiance above (which, under the unit environment, is the albedo).
+TEST(Textures, AlbedoLayerOfATexturedQuadIsTheTexture) {
+    auto dir = test::freshOutputDir("textures", "albedo-aov");
+    CpuTexture tex = checkerboard();
+    writeExrTexture(tex, dir / "checker.exr");
+    json quad = {{"type", "quad"}, {"origin", {-1, 0, -1}}, {"edge_u", {2, 0, 0}}, {"edge_v", {0, 0, 2}}};
+    json scene = sceneWith(test::topDownCamera(0, 0, 0.95),
+                           {{"type", "diffuse"}, {"albedo", {{"texture", "checker.exr"}, {"scale", {1, 0.8, 1}}}}},
+                           quad);
+    scene["film"]["aovs"] = {"albedo"};
+    Scene loaded = test::sceneFromJson(scene, "textures/albedo-aov/scene");
+    Image albedo = test::renderScene(loaded);
+    ASSERT_EQ(albedo.aovs.size(), 1u);
+    albedo.rgb = albedo.aovs[0].floats;  // compared as an image
+    const glm::dvec3 scale(1, 0.8, 1);
+    Expected e = expectedImage(loaded, [&](glm::dvec3 o, glm::dvec3 d, int c) -> std::optional<double> {
+        glm::dvec3 x = planeHit(o, d);
+        return scale[c] * tex.bilinear((x.x + 1) / 2, (x.z + 1) / 2, c);
+    });
+    EXPECT_EQ(compare(albedo, e, "albedo-aov"), 0);
+}
+
 TEST(Textures, MeshUvsInterpolateAndRepeat) {
     auto dir = test::freshOutputDir("textures", "mesh");
     CpuTexture tex = checkerboard();

@@ -40,8 +40,8 @@ std::string oneLine(std::string text) {
 
 // Empty when `output` holds this job's finished render: an EXR that reads back whole
 // (writes are atomic, so a partial one cannot exist; a foreign or damaged file fails
-// here) and whose header matches the job: size, spp, seed, sample_offset, integrator and
-// sampler.
+// here) and whose header matches the job: size, spp, seed, sample_offset, integrator,
+// sampler and AOV layers.
 // Otherwise why not, for the progress line.
 std::string incompleteReason(const fs::path& output, const Scene& scene) {
     std::error_code ec;
@@ -77,6 +77,10 @@ std::string incompleteReason(const fs::path& output, const Scene& scene) {
     if (m.integrator && *m.integrator != integratorJson(scene.integrator).dump()) return "other integrator";
     // Absent: rendered before the sampler option, with independent samples.
     if (m.sampler.value_or("independent") != toName(scene.sampler.type)) return "other sampler";
+    // A render that lacks a layer the job asks for (film.aovs), or has others, is not its output.
+    std::vector<std::string> aovs;
+    for (const AovLayer& layer : image.aovs) aovs.push_back(layer.name);
+    if (aovs != scene.film.aovs) return "other AOVs";
     return {};
 }
 

@@ -1,5 +1,5 @@
-// OpenEXR input and output of Penumbra images: R, G, B as 32-bit float plus the
-// penumbra:* header attributes of SCENE_FORMAT.md. Reading accepts any pixel type and
+// OpenEXR input and output of Penumbra images: R, G, B as 32-bit float, the AOV layers
+// that penumbra:aovs names, and the penumbra:* header attributes of SCENE_FORMAT.md. Reading accepts any pixel type and
 // data window, from a file or from bytes in memory through the same checks; every
 // OpenEXR failure becomes a one-line InputError naming the file.
 #include <OpenEXR/Iex.h>
@@ -29,6 +29,7 @@
 #include "core/errors.h"
 #include "core/input_file.h"
 #include "core/stop_request.h"
+#include "image/aov_channels.h"
 #include "image/atomic_file.h"
 #include "image/image.h"
 
@@ -165,6 +166,60 @@ void readMetadata(const Imf::Header& header, const std::string& name, ImageMetad
     }
 }
 
+// The layers penumbra:aovs names ("depth,shape_id"), their channels checked against the
+// header; their pixels still empty. A file without the attribute has none (its other
+// channels, if any, are not ours to interpret).
+std::vector<AovLayer> aovLayersOf(const Imf::Header& header, const std::string& name) {
+    std::vector<AovLayer> layers;
+    const auto* attr = header.findTypedAttribute<Imf::StringAttribute>(kAovs);
+    if (!attr) return layers;
+    const std::string& list = attr->value();
+    for (size_t start = 0; start <= list.size();) {
+        const size_t comma = std::min(list.find(',', start), list.size());
+        AovLayer layer;
+        layer.name = list.substr(start, comma - start);
+        start = comma + 1;
+        layer.channels = aovChannels(layer.name);
+        if (layer.channels.empty())
+            throwInputError(name, "", std::string(kAovs) + ": \"" + layer.name + "\" is no AOV");
+        for (const AovLayer& earlier : layers)
+            if (earlier.name == layer.name)
+                throwInputError(name, "", std::string(kAovs) + ": \"" + layer.name + "\" given twice");
+        const Imf::PixelType type = aovHoldsIds(layer.name) ? Imf::UINT : Imf::FLOAT;
+        for (const std::string& channel : layer.channels) {
+            const Imf::Channel* c = header.channels().findChannel(channel);
+            if (!c)
+                throwInputError(name, "", "missing channel " + channel + " (penumbra:aovs names " + layer.name + ")");
+            // Ids as floats (or floats as ids) would be read converted: silently other numbers.
+            if (c->type != type)
+                throwInputError(name, "",
+                                "channel " + channel + " is " + (c->type == Imf::UINT ? "uint" : "half or float") +
+                                    ", expected " + (type == Imf::UINT ? "uint" : "float"));
+        }
+        layers.push_back(std::move(layer));
+    }
+    return layers;
+}
+
+// The AOV layers' pixels into `frame`, read with the image's (its data window `dw`).
+void insertAovSlices(std::vector<AovLayer>& layers, const Imath::Box2i& dw, Imf::FrameBuffer& frame) {
+    const size_t width = size_t(int64_t(dw.max.x) - dw.min.x + 1),
+                 pixels = width * size_t(int64_t(dw.max.y) - dw.min.y + 1);
+    for (AovLayer& layer : layers) {
+        if (aovHoldsIds(layer.name)) {
+            layer.ids.assign(pixels, 0);
+            frame.insert(layer.channels[0],
+                         Imf::Slice::Make(Imf::UINT, layer.ids.data(), dw, sizeof(uint32_t), width * sizeof(uint32_t)));
+            continue;
+        }
+        const size_t n = layer.channels.size();
+        layer.floats.assign(pixels * n, 0.0f);
+        for (size_t c = 0; c < n; ++c)
+            frame.insert(layer.channels[c], Imf::Slice::Make(Imf::FLOAT, layer.floats.data() + c, dw, n * sizeof(float),
+                                                             width * n * sizeof(float)));
+    }
+}
+
 // Where decodeExrRgba puts the pixels, and who accepts their number first.
 struct RgbaTarget {
     std::vector<float>& pixels;
@@ -267,6 +322,8 @@ Image readExrStream(Imf::IStream& in, int64_t fileSize, const std::string& name,
         image.width = uint32_t(width);
         image.height = uint32_t(height);
         readMetadata(header, name, image.meta);
+        // An RGBA reader (a texture or an environment map) wants the colour alone.
+        if (!rgba) image.aovs = aovLayersOf(header, name);
         if (headerOnly) return image;
         if (rgba) rgba->acceptSize(image.width, image.height);
         checkChunks(in, fileSize, name);
@@ -286,6 +343,7 @@ Image readExrStream(Imf::IStream& in, int64_t fileSize, const std::string& name,
         for (int c = 0; c < 3; ++c)
             frame.insert(kChannels[c], Imf::Slice::Make(Imf::FLOAT, pixels + c, dw, stride * sizeof(float),
                                                         size_t(width) * stride * sizeof(float)));
+        insertAovSlices(image.aovs, dw, frame);
         file.setFrameBuffer(frame);
         // In blocks of 256 scanlines (a multiple of every compression's lines per chunk, so
         // no chunk is decoded twice), so that a stop asked for meanwhile waits one block.

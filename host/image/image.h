@@ -68,13 +68,16 @@ struct Image {
     const float* pixel(uint32_t x, uint32_t y) const { return &rgb[(size_t(y) * width + x) * 3]; }
 };
 
-// Writes R, G, B as 32-bit float with the metadata as header attributes. Atomic: writes
-// a temporary file beside `path` and renames it; throws std::runtime_error on failure.
+// Writes R, G, B as 32-bit float, the AOV layers and the metadata as header attributes.
+// Atomic: writes a temporary file beside `path` and renames it; throws
+// std::runtime_error on failure.
 void writeExr(const std::filesystem::path& path, const Image& image);
-// Reads an EXR (R, G, B; missing channels are an error). Throws InputError("FILE: why").
+// Reads an EXR (R, G, B, and the AOV layers that penumbra:aovs names; missing channels
+// are an error). Throws InputError("FILE: why").
 Image readExr(const std::filesystem::path& path);
-// Its size and penumbra:* metadata alone (rgb empty), with the same checks of the header:
-// what merge and compare check before they read any pixel.
+// Its size, penumbra:* metadata and AOV layer names alone (rgb and the layers' pixels
+// empty), with the same checks of the header: what merge and compare check before they
+// read any pixel.
 Image readExrHeader(const std::filesystem::path& path);
 // The same for the bytes of an EXR file held in memory, with the same checks and errors;
 // `name` stands for the file in messages ("NAME: why").
@@ -97,6 +100,7 @@ void writePngRgb8(const std::filesystem::path& path, uint32_t width, uint32_t he
 // Throws InputError naming the file when sizes differ, spp is missing, or two partials
 // with the same seed overlap in sample indices. `names` label the images in messages.
 // Pixels that are NaN, infinite or negative are refused too (no render holds them).
+// AOV layers are merged too (image/merge_aovs.h): the inputs must have the same list.
 Image mergeImages(const std::vector<Image>& images, const std::vector<std::string>& names);
 // The checks of mergeImages that need only the headers (readExrHeader): run on every input
 // before any pixels are read, so that a bad input costs no image's memory.

@@ -8,6 +8,7 @@
 
 #include "core/errors.h"
 #include "image/image.h"
+#include "image/merge_aovs.h"
 
 namespace penumbra {
 
@@ -46,6 +47,7 @@ void checkMergeHeaders(const std::vector<Image>& images, const std::vector<std::
                                 "); render all partials with the same sampler.type");
         totalSpp += *image.meta.spp;
     }
+    checkMergeAovLists(images, nameOf);
     if (totalSpp > INT_MAX) throw InputError("merge: total spp " + std::to_string(totalSpp) + " exceeds " + std::to_string(INT_MAX));
 
     // Same seed and overlapping sample indices means the same random numbers were used
@@ -119,6 +121,7 @@ Image mergeImages(const std::vector<Image>& images, const std::vector<std::strin
         for (const Image& image : images) sum += double(*image.meta.spp) * image.rgb[k];
         result.rgb[k] = float(sum / double(totalSpp));
     }
+    result.aovs = mergeAovLayers(images, nameOf);
 
     ImageMetadata& m = result.meta;
     m.spp = int(totalSpp);

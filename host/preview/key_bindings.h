@@ -20,6 +20,7 @@ enum class Action {
     ToggleTriangleSampling,  // mesh-light triangles: area <-> solid_angle
     ExposureUp,              // +0.5 stop
     ExposureDown,            // -0.5 stop
+    CycleLayer,              // rgb -> each of film.aovs -> rgb (preview/layer_cycle.h)
     Save,                    // EXR + PNG of the current accumulation
     ResetCamera,
     Quit,
@@ -27,8 +28,8 @@ enum class Action {
 
 // The action bound to a GLFW key code (GLFW_KEY_*), if any.
 std::optional<Action> actionForGlfwKey(int key);
-// The action for a key as an input script names it: "1".."4", "h", "s", "t", "m", "+", "-", "p",
-// "r", "q", "esc" (case-insensitive).
+// The action for a key as an input script names it: "1".."4", "h", "s", "t", "m", "+", "-", "l",
+// "p", "r", "q", "esc" (case-insensitive).
 std::optional<Action> actionForKeyName(std::string_view name);
 
 // The key and mouse list, one binding per line, for --help and docs/guide/preview.md.

@@ -15,6 +15,7 @@
 #include "image/image.h"
 #include "preview/camera_controller.h"
 #include "preview/integrator_controls.h"
+#include "preview/layer_cycle.h"
 #include "preview/pass_scheduler.h"
 #include "preview/swapchain.h"
 #include "preview/tone_mapper.h"
@@ -106,7 +107,7 @@ private:
     bool handle(const InputEvent& event);
     void frame(bool render);
     void fitSwapchain();
-    uint64_t recordPassesAndToneMap(VkCommandBuffer cmd, bool render);
+    uint64_t recordPasses(VkCommandBuffer cmd, bool render);
     void recordPresentation(VkCommandBuffer cmd, VkImage target);
     double submitAndPresent(VkCommandBuffer cmd, std::optional<uint32_t> image);
     void save();
@@ -122,6 +123,8 @@ private:
     std::optional<Swapchain> m_swapchain;
     std::optional<ToneMapper> m_toneMapper;
     std::optional<FrameResources> m_frame;
+    LayerCycle m_layers;       // the L key: rgb or one of film.aovs
+    bool m_layerStale = true;  // the shown AOV's picture predates the sums
 
     PassScheduler m_scheduler;
     CameraController m_camera;
@@ -132,6 +135,7 @@ private:
     bool m_cameraChanged = false, m_integratorChanged = false;
     bool m_recreateSwapchain = false;
     bool m_notedAo = false;
+    bool m_notedNoLayers = false;
     bool m_titleDirty = false;
 
     Clock::time_point m_restartTime = Clock::now();
@@ -143,6 +147,7 @@ private:
 Preview::Preview(const Scene& scene, const PreviewSettings& settings)
     : m_scene(scene),
       m_settings(settings),
+      m_layers(scene.film.aovs),
       m_scheduler(scene.film.height, scene.sampler.spp),
       m_camera(scene.camera),
       m_integrator(scene.integrator),
@@ -201,7 +206,10 @@ void Preview::run() {
         if (m_settings.frames > 0 && m_frameNumber >= m_settings.frames) break;
     }
 
-    if (!m_settings.screenshot.empty()) {
+    if (!m_settings.screenshot.empty() && !m_layers.showsRgb()) {
+        // An AOV shown: its picture of the sums as they stand.
+        m_toneMapper->setPixels(layerPixels(m_renderer->readback(0.0), m_layers.name()));
+    } else if (!m_settings.screenshot.empty()) {
         // What the window shows, at the film's resolution: tone-map the accumulation as it
         // stands (with the current exposure) and copy it to the host once.
         m_context->submitAndWait([&](VkCommandBuffer cmd) {
@@ -219,6 +227,8 @@ void Preview::run() {
             vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &toHost,
                                  0, nullptr, 0, nullptr);
         });
+    }
+    if (!m_settings.screenshot.empty()) {
         writePngRgb8(m_settings.screenshot, m_toneMapper->width(), m_toneMapper->height(), m_toneMapper->readRgb());
     }
     if (!m_settings.quiet)
@@ -265,6 +275,15 @@ bool Preview::handle(const InputEvent& event) {
             m_titleDirty = true;
             return true;
         case Action::Save: save(); return true;
+        case Action::CycleLayer:
+            if (m_layers.next()) {
+                m_layerStale = true;
+                m_titleDirty = true;
+            } else if (!m_notedNoLayers && !m_settings.quiet) {
+                std::fprintf(stderr, "preview: this scene has no AOV layers to show (film.aovs, --aov)\n");
+                m_notedNoLayers = true;
+            }
+            return true;
         default: break;
     }
     if (applyIntegratorAction(m_integrator, event.action)) {
@@ -285,9 +304,22 @@ void Preview::restart() {
 }
 
 // One frame: the swapchain fitted to the window, this frame's passes (when `render`), the
-// tone map and, when an image was acquired, its presentation; then the row budget and title.
+// tone map (or the shown AOV's picture) and, when an image was acquired, its presentation;
+// then the row budget and title.
 void Preview::frame(bool render) {
     fitSwapchain();
+    uint64_t pixelSamples = 0;
+    double passSeconds = 0.0;
+    const bool showsLayer = !m_layers.showsRgb();
+    if (showsLayer && (render || m_layerStale)) {
+        // An AOV is pictured on the host from the sums (preview/layer_cycle.h): this frame's
+        // passes first, waited for, then the picture of all the samples so far uploaded.
+        const auto start = Clock::now();
+        if (render) m_context->submitAndWait([&](VkCommandBuffer c) { pixelSamples = recordPasses(c, true); });
+        passSeconds = secondsSince(start);
+        m_toneMapper->setPixels(layerPixels(m_renderer->readback(0.0), m_layers.name()));
+        m_layerStale = false;
+    }
     std::optional<uint32_t> image = m_swapchain->acquire(m_frame->acquired);
     if (!image) m_recreateSwapchain = true;  // out of date: render anyway, show the next frame
 
@@ -297,10 +329,15 @@ void Preview::frame(bool render) {
     begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
     vkCheck(vkBeginCommandBuffer(cmd, &begin), "begin the preview's command buffer");
 
-    const uint64_t pixelSamples = recordPassesAndToneMap(cmd, render);
+    if (showsLayer) {
+        m_toneMapper->recordShowPixels(cmd);
+    } else {
+        pixelSamples = recordPasses(cmd, render);
+        m_toneMapper->record(cmd, {m_exposure, m_settings.look.curve});
+    }
     if (image) recordPresentation(cmd, m_swapchain->image(*image));
     vkCheck(vkEndCommandBuffer(cmd), "end the preview's command buffer");
-    const double seconds = submitAndPresent(cmd, image);
+    const double seconds = passSeconds + submitAndPresent(cmd, image);
     // Where the driver may cut loops short, the pixels they left short get the rest once
     // the passes are done (render/loop_budget.h); later frames and a save then see them.
     if (render && m_scheduler.finished()) m_renderer->renderSamplesCutLoopsLeft(m_scheduler.samplesDone());
@@ -326,8 +363,8 @@ void Preview::fitSwapchain() {
     }
 }
 
-// This frame's passes and the tone map, into `cmd`; returns the pixel samples added.
-uint64_t Preview::recordPassesAndToneMap(VkCommandBuffer cmd, bool render) {
+// This frame's passes (when `render`) into `cmd`; returns the pixel samples added.
+uint64_t Preview::recordPasses(VkCommandBuffer cmd, bool render) {
     // The accumulation's clear (transfer) and earlier passes (shader writes, in earlier
     // submissions) -> this frame's passes and tone map.
     VkMemoryBarrier earlier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
@@ -343,7 +380,6 @@ uint64_t Preview::recordPassesAndToneMap(VkCommandBuffer cmd, bool render) {
             pixelSamples += uint64_t(slice.count) * slice.rowCount * m_scene.film.width;
         }
     }
-    m_toneMapper->record(cmd, {m_exposure, m_settings.look.curve});
     return pixelSamples;
 }
 
@@ -441,9 +477,10 @@ void Preview::updateTitle(bool force) {
     if (m_scheduler.finished()) std::snprintf(rate, sizeof rate, "done");
     else std::snprintf(rate, sizeof rate, "%.2f M samples/s", m_rate * 1e-6);
     char text[512];
-    std::snprintf(text, sizeof text, "%s | %s | %u/%u spp | %s | exposure %+.1f", m_scene.name.c_str(),
+    std::snprintf(text, sizeof text, "%s | %s | %u/%u spp | %s | exposure %+.1f%s%s", m_scene.name.c_str(),
                   integratorLabel(m_integrator).c_str(), m_scheduler.samplesDone(), m_scheduler.spp(), rate,
-                  double(m_exposure));
+                  double(m_exposure), m_layers.showsRgb() ? "" : " | layer ",
+                  m_layers.showsRgb() ? "" : m_layers.name().c_str());
     m_window->setTitle(text);
 }
 

@@ -3,6 +3,7 @@
 #include "preview/tone_mapper.h"
 
 #include <cmath>
+#include <stdexcept>
 
 #include "gpu/vk_check.h"
 #include "shared/types.h"
@@ -72,10 +73,19 @@ ToneMapper::~ToneMapper() {
 void ToneMapper::record(VkCommandBuffer cmd, ToneLook look) const {
     gpu::ToneMapConstants constants{m_width, m_height, std::exp2(look.exposure), uint32_t(look.curve)};
     m_kernel.record(cmd, (m_width + 7) / 8, (m_height + 7) / 8, 1, &constants);
+    recordShowPixels(cmd);
+}
 
-    // The tone map's writes to the pixel buffer -> the copy's transfer reads.
+void ToneMapper::setPixels(const std::vector<uint32_t>& packed) {
+    if (packed.size() != size_t(m_width) * m_height) throw std::logic_error("ToneMapper::setPixels: wrong pixel count");
+    m_pixels.upload(packed.data(), packed.size() * sizeof(uint32_t));
+}
+
+void ToneMapper::recordShowPixels(VkCommandBuffer cmd) const {
+    // The tone map's writes to the pixel buffer (or setPixels' upload, finished before
+    // this submission) -> the copy's transfer reads.
     VkBufferMemoryBarrier pixelsReady{VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER};
-    pixelsReady.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+    pixelsReady.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
     pixelsReady.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
     pixelsReady.srcQueueFamilyIndex = pixelsReady.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
     pixelsReady.buffer = m_pixels.handle();

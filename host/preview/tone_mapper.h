@@ -33,6 +33,12 @@ public:
     // ends in TRANSFER_SRC_OPTIMAL. The accumulation's writes must already be visible to
     // compute-shader reads (Renderer::recordPasses ends with that barrier).
     void record(VkCommandBuffer cmd, ToneLook look) const;
+    // Instead of the tone map: `packed` (RGBA8 as tonemap.comp writes them, one per pixel:
+    // an AOV layer's picture, preview/layer_cycle.h) become the pixels, now (an upload
+    // that waits; call while no frame is in flight), and recordShowPixels records the copy
+    // of them into the display image, as record() does after its tone map.
+    void setPixels(const std::vector<uint32_t>& packed);
+    void recordShowPixels(VkCommandBuffer cmd) const;
     // Records a blit of the display image (after record()) into `target`, which must be in
     // TRANSFER_DST_OPTIMAL, filling the rectangle at `offset` of `size` pixels.
     void recordBlit(VkCommandBuffer cmd, VkImage target, VkOffset2D offset, VkExtent2D size) const;

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <limits>
 
+#include "image/aov_channels.h"
 #include "scene/aov_names.h"
 #include "shared/aov.h"
 
@@ -74,12 +75,7 @@ std::vector<AovLayer> aovLayers(const std::vector<std::string>& names, const std
     const std::vector<PrimitiveOwner> owners = primitiveOwners(scene);
     std::vector<AovLayer> layers;
     for (const std::string& name : names) {
-        const bool vector3 = name == "normal" || name == "position";
-        AovLayer layer = name == "albedo"     ? floatLayer(name, {"albedo.R", "albedo.G", "albedo.B"}, pixels)
-                         : name == "variance" ? floatLayer(name, {"variance.R", "variance.G", "variance.B"}, pixels)
-                         : vector3            ? floatLayer(name, {name + ".X", name + ".Y", name + ".Z"}, pixels)
-                         : name == "depth"    ? floatLayer(name, {"depth.Z"}, pixels)
-                                              : idLayer(name, pixels);
+        AovLayer layer = aovHoldsIds(name) ? idLayer(name, pixels) : floatLayer(name, aovChannels(name), pixels);
         for (size_t i = 0; i < pixels; ++i) {
             const glm::vec4* a = &sums[i * gpu::AOV_VEC4S];
             const double count = a[0].w, hits = a[2].w;

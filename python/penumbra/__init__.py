@@ -3,6 +3,8 @@
     import penumbra
     img = penumbra.render("scenes/cornell.json", spp=16, seed=1)   # or a dict scene
     img["rgb"]                      # float32 (height, width, 3), scene-linear radiance
+    img = penumbra.render("scenes/cornell.json", spp=4, aovs=["depth", "shape_id"])
+    img["depth"], img["shape_id"]   # float32 (height, width), uint32 (height, width)
     r = penumbra.Renderer("scenes/cornell.json", width=64, height=64)
     frame = r.render(spp=4, set={"camera.eye": [0, 1, 4]})     # no recompilation
     penumbra.write_exr("out.exr", img)                        # as `penumbra render` writes
@@ -16,6 +18,10 @@ runs its signal handlers).
 
 class Layers(dict):
     """A rendered or read image: layer name -> numpy array ("rgb": float32 (H, W, 3)).
+
+    AOV layers (aovs=, or film.aovs) follow "rgb" by name: "albedo", "normal", "position",
+    "variance" float32 (H, W, 3), "depth" float32 (H, W), "shape_id", "primitive_id",
+    "material_id" uint32 (H, W). write_exr writes them as the EXR's channels.
 
     `meta` holds the EXR header attributes without their "penumbra:" prefix (spp, seed,
     sample_offset, integrator, render_seconds, sampler; pieces for merged files), which
@@ -36,20 +42,23 @@ from ._penumbra import (  # noqa: E402  (Layers first: the extension builds them
     RenderError,
     SceneError,
     devices,
+    false_color,
     read_exr,
     write_exr,
     write_png,
 )
 
 
-def render(scene, spp=None, seed=None, width=None, height=None, set=None, device=None):
+def render(scene, spp=None, seed=None, width=None, height=None, set=None, aovs=None, device=None):
     """Renders `scene` (a path, or a dict of the same JSON) once; returns Layers.
 
     spp, seed, width, height are shorthands for set={"sampler.spp": ..., ...}, applied
-    after `set` as on the command line; `device` is a Vulkan device index (devices()).
+    after `set` as on the command line; aovs=["depth", ...] is film.aovs (--aov), each
+    layer then one more entry of the result; `device` is a Vulkan device index (devices()).
     """
-    renderer = Renderer(scene, spp=spp, seed=seed, width=width, height=height, set=set, device=device)
+    renderer = Renderer(scene, spp=spp, seed=seed, width=width, height=height, set=set, aovs=aovs,
+                        device=device)
     return renderer.render()
 
 
-__all__ = ["Layers", "Renderer", "RenderError", "SceneError", "devices", "read_exr", "render", "write_exr", "write_png"]
+__all__ = ["Layers", "Renderer", "RenderError", "SceneError", "devices", "false_color", "read_exr", "render", "write_exr", "write_png"]

@@ -51,9 +51,9 @@ SceneDocument sceneDocument(py::handle scene) {
 }
 
 // set= and the shorthands, in the command line's order: every `set` entry, then spp,
-// seed, width, height (host/main.cpp, collectOverrides).
+// seed, width, height, aovs (host/main.cpp, collectOverrides).
 std::vector<JsonOverride> overridesOf(const py::object& set, const py::object& spp, const py::object& seed,
-                                      const py::object& width, const py::object& height) {
+                                      const py::object& width, const py::object& height, const py::object& aovs) {
     std::vector<JsonOverride> overrides;
     auto add = [&](const std::string& path, py::handle value) {
         Override o{path, ""};
@@ -75,6 +75,13 @@ std::vector<JsonOverride> overridesOf(const py::object& set, const py::object& s
     if (!seed.is_none()) add("sampler.seed", seed);
     if (!width.is_none()) add("film.width", width);
     if (!height.is_none()) add("film.height", height);
+    // aovs= is --aov's list: film.aovs, its names checked where the scene loads (the CLI's
+    // message). A bare string would be one name per character; refused as a type.
+    if (!aovs.is_none()) {
+        if (!py::isinstance<py::list>(aovs) && !py::isinstance<py::tuple>(aovs))
+            throw py::type_error("aovs must be a list of layer names, e.g. [\"depth\", \"normal\"]");
+        add("film.aovs", py::list(aovs));
+    }
     return overrides;
 }
 
@@ -87,17 +94,17 @@ int deviceIndexOf(const py::object& device) {
 
 SceneRenderer* makeRenderer(const py::object& scene, const py::object& spp, const py::object& seed,
                             const py::object& width, const py::object& height, const py::object& set,
-                            const py::object& device) {
+                            const py::object& aovs, const py::object& device) {
     SceneDocument document = sceneDocument(scene);
-    std::vector<JsonOverride> overrides = overridesOf(set, spp, seed, width, height);
+    std::vector<JsonOverride> overrides = overridesOf(set, spp, seed, width, height, aovs);
     const int index = deviceIndexOf(device);
     return runInterruptible(
         [&](const std::atomic<bool>&) { return new SceneRenderer(std::move(document), std::move(overrides), index); });
 }
 
 py::object renderWith(SceneRenderer& renderer, const py::object& spp, const py::object& seed, const py::object& width,
-                      const py::object& height, const py::object& set) {
-    std::vector<JsonOverride> overrides = overridesOf(set, spp, seed, width, height);
+                      const py::object& height, const py::object& set, const py::object& aovs) {
+    std::vector<JsonOverride> overrides = overridesOf(set, spp, seed, width, height, aovs);
     Image image = runInterruptible([&](const std::atomic<bool>& cancel) { return renderer.render(overrides, cancel); });
     return layersFromImage(std::move(image));
 }
@@ -159,10 +166,10 @@ PYBIND11_MODULE(_penumbra, m) {
                               "Keeps the device, the uploaded scene and the compiled kernels across renders.")
         .def(py::init(&makeRenderer), scene, py::kw_only(), py::arg("spp") = py::none(), py::arg("seed") = py::none(),
              py::arg("width") = py::none(), py::arg("height") = py::none(), py::arg("set") = py::none(),
-             py::arg("device") = py::none())
+             py::arg("aovs") = py::none(), py::arg("device") = py::none())
         .def("render", &renderWith, py::kw_only(), py::arg("spp") = py::none(), py::arg("seed") = py::none(),
              py::arg("width") = py::none(), py::arg("height") = py::none(), py::arg("set") = py::none(),
-             "Renders with these overrides on top of the constructor's; returns Layers.")
+             py::arg("aovs") = py::none(), "Renders with these overrides on top of the constructor's; returns Layers.")
         // The counts wait for a render under way (SceneRenderer's mutex): without the GIL,
         // so that other Python threads run meanwhile. (A lambda: pybind11 >= 2.11 refuses
         // call_guard on properties.)
@@ -215,5 +222,7 @@ PYBIND11_MODULE(_penumbra, m) {
             return layersFromImage(std::move(image));
         },
         py::arg("path"), "Reads an EXR into Layers, with its header attributes in .meta.");
+    m.def("false_color", &falseColor, py::arg("layers"), py::arg("name"),
+          "layers[name] (an AOV) as the preview shows it: linear float32 (H, W, 3) for write_png.");
     m.def("devices", &devices, "The Vulkan devices, as penumbra devices lists them.");
 }

@@ -1,7 +1,9 @@
-# examples/dataset.py: one EXR a frame of the orbit, each the render of its camera, and the
-# preview grid PNG, from a single Renderer (one kernel compilation, one upload).
+# examples/dataset.py: one EXR a frame of the orbit, each the render of its camera with its
+# layers (rgb, depth, normal, shape_id, material_id), and the preview grid PNG, from a
+# single Renderer (one kernel compilation, one upload).
 import importlib.util
 import json
+import struct
 import subprocess
 import sys
 
@@ -25,5 +27,14 @@ def test_dataset_example_writes_the_orbit(tmp_path):
     spec.loader.exec_module(dataset)
     eyes = dataset.orbit(json.loads(scene.read_text())["camera"], 3)
     for i in (0, 2):
-        expected = penumbra.render(scene, width=16, height=12, spp=1, seed=0, set={"camera.eye": eyes[i]})
-        np.testing.assert_array_equal(penumbra.read_exr(tmp_path / f"frame_{i:03d}.exr")["rgb"], expected["rgb"])
+        expected = penumbra.render(scene, width=16, height=12, spp=1, seed=0, set={"camera.eye": eyes[i]},
+                                   aovs=dataset.LAYERS)
+        written = penumbra.read_exr(tmp_path / f"frame_{i:03d}.exr")
+        assert list(written) == ["rgb", "depth", "normal", "shape_id", "material_id"]
+        for name in written:
+            np.testing.assert_array_equal(written[name], expected[name], err_msg=name)
+        # The model and the floor are in view: more than one shape, and hits.
+        assert len(np.unique(written["shape_id"])) >= 2 and np.isfinite(written["depth"]).any()
+    # The grid: 3 frames shown, a row each, of rgb and the 4 layers' tiles.
+    png = (tmp_path / "preview.png").read_bytes()
+    assert png[12:16] == b"IHDR" and struct.unpack(">II", png[16:24]) == (5 * 16, 3 * 12)

@@ -88,8 +88,8 @@ def test_write_read_round_trip(tmp_path):
 
 def test_write_exr_refuses_unknown_layers(tmp_path):
     rgb = np.zeros((2, 2, 3), np.float32)
-    with pytest.raises(ValueError, match='unknown layer "depth"'):
-        penumbra.write_exr(tmp_path / "x.exr", {"rgb": rgb, "depth": rgb[..., 0]})
+    with pytest.raises(ValueError, match='unknown layer "dpeth"'):
+        penumbra.write_exr(tmp_path / "x.exr", {"rgb": rgb, "dpeth": rgb[..., 0]})
     with pytest.raises(ValueError, match=r"shape \(height, width, 3\)"):
         penumbra.write_exr(tmp_path / "x.exr", {"rgb": rgb[..., :2]})
     assert not (tmp_path / "x.exr").exists()
