@@ -187,7 +187,9 @@ TEST(SmallRefusals, PenumbraDeviceMustBeAnIndexOfADevice) {
         EXPECT_EQ(test::runPenumbra(render, &err), 2) << err;
         EXPECT_EQ(err.rfind("penumbra: PENUMBRA_DEVICE: ", 0), 0u) << err;
         EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
-        if (std::string(value) != "99") EXPECT_EQ(test::runPenumbra("devices", &err), 2) << err;
+        if (std::string(value) != "99") {
+            EXPECT_EQ(test::runPenumbra("devices", &err), 2) << err;
+        }
     }
     unsetenv("PENUMBRA_DEVICE");
     std::string err;
