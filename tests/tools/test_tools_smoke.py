@@ -18,7 +18,8 @@ TOOLS = SOURCE_DIR / "tools"
 # Python tools with an argparse command line. tools/mitsuba_penumbra.py is a module that
 # needs Mitsuba (the translation test covers it); make_models.py, make_scenes.py and
 # make_sky.py are run for real below.
-HELP_TOOLS = ["bench-ab", "bench-instructions", "bench-python-orbit", "kernel-profile", "make_bench_scenes.py",
+HELP_TOOLS = ["bench-ab", "bench-instructions", "bench-many-lights", "bench-python-orbit", "kernel-profile",
+              "make_bench_scenes.py", "make_many_lights.py",
               "make_sky.py", "mesa-compare", "mesa-sid", "mitsuba_compare.py", "penumbra_tools/startup_bench.py"]
 
 
