@@ -1,10 +1,11 @@
 // Test helpers (see render_helpers.h).
 #include "render_helpers.h"
 
-#include <cstdio>
-#include <fstream>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
 
 #include "gpu_fixture.h"
 #include "render/renderer.h"
@@ -52,6 +53,16 @@ double tCritical(double alpha, int tests, int dof) {
         (tail(mid) > target ? lo : hi) = mid;
     }
     return hi;
+}
+
+double polygonIrradiance(const std::vector<glm::dvec3>& v, glm::dvec3 x, double Le) {
+    double sum = 0;
+    for (size_t i = 0; i < v.size(); ++i) {
+        glm::dvec3 a = glm::normalize(v[i] - x), b = glm::normalize(v[(i + 1) % v.size()] - x);
+        double theta = std::acos(std::clamp(glm::dot(a, b), -1.0, 1.0));
+        sum += theta * glm::normalize(glm::cross(a, b)).y;
+    }
+    return 0.5 * Le * std::abs(sum);
 }
 
 nlohmann::json topDownCamera(double cx, double cz, double half) {

@@ -50,6 +50,10 @@ std::vector<double> expectedTopDown(const Scene& scene, const std::function<doub
 int blockTTest(const Image& image, const std::vector<double>& expected, int block, double alpha, int tests,
                std::string* report = nullptr);
 
+// Irradiance at x (normal +y) from a polygon of constant radiance Le facing x, its vertices
+// v in order (Lambert's formula; Arvo 1995): Le/2 |sum_i Theta_i (Gamma_i . n)|.
+double polygonIrradiance(const std::vector<glm::dvec3>& v, glm::dvec3 x, double Le);
+
 // Mean squared error of channel 0 against the expected values.
 double meanSquaredError(const Image& image, const std::vector<double>& expected);
 

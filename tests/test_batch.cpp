@@ -259,6 +259,28 @@ TEST(Batch, OutputsEqualRenderOfTheSameJobAndUploadsAreReused) {
     EXPECT_FALSE(samePixels(readExr(dir / "cam0.exr"), readExr(dir / "uniform.exr")));
 }
 
+// A batch job may set light_selection "bvh": its own upload (the light tables differ), the
+// same pixels as penumbra render with the same --set.
+TEST(Batch, LightSelectionBvhJobEqualsTheRender) {
+    fs::path dir = freshDir("bvh");
+    writeJson(dir / "scene.json", litScene());
+    json doc = {{"jobs",
+                 {{{"scene", "scene.json"}, {"output", "power.exr"}},
+                  {{"scene", "scene.json"}, {"output", "bvh.exr"}, {"set", {"integrator.light_selection=bvh"}}}}}};
+    fs::path file = writeJson(dir / "jobs.json", doc);
+    std::string err;
+    ASSERT_EQ(test::runPenumbra("batch " + q(file), &err), 0) << err;
+    EXPECT_NE(err.find("scene uploads 2, reused 0"), std::string::npos) << err;
+    fs::path reference = dir / "render-bvh.exr";
+    ASSERT_EQ(test::runPenumbra("render " + q(dir / "scene.json") + " --quiet -o " + q(reference) +
+                                    " --set integrator.light_selection=bvh",
+                                &err),
+              0)
+        << err;
+    EXPECT_TRUE(samePixels(readExr(dir / "bvh.exr"), readExr(reference)));
+    EXPECT_EQ(readExr(dir / "bvh.exr").meta.integrator, readExr(reference).meta.integrator);
+}
+
 TEST(Batch, ResumeRendersOnlyMissingOrForeignOutputs) {
     fs::path dir = freshDir("resume");
     writeJson(dir / "scene.json", litScene());

@@ -154,6 +154,28 @@ TEST(Cli, DisjointPartialsMergeToTheFullRender) {
     EXPECT_EQ(test::runPenumbra("merge '" + p0.string() + "' '" + p0.string() + "' -o '" + merged.string() + "'", &err), 2);
 }
 
+// light_selection "bvh" through --set: rendered, recorded in the EXR header's integrator
+// JSON; a misspelling is bad input (exit 2, one line naming the file and JSON path).
+TEST(Cli, LightSelectionBvhIsAcceptedRecordedAndCheckedBySet) {
+    fs::path scene = writeText(
+        "selection.json",
+        test::floorAndSphereScene(
+            {.width = 24, .height = 16, .spp = 4, .floorMaterial = true, .sphereLight = true, .pointLight = true})
+            .dump());
+    fs::path out = test::outputPath("selection-bvh.exr"), bad = test::outputPath("selection-bad.exr");
+    std::string s = "render '" + scene.string() + "' --quiet --spp 4 ";
+    std::string err;
+    ASSERT_EQ(test::runPenumbra(s + "--set integrator.light_selection=bvh -o '" + out.string() + "'", &err), 0) << err;
+    Image image = readExr(out);
+    ASSERT_TRUE(image.meta.integrator);
+    EXPECT_NE(image.meta.integrator->find("\"light_selection\":\"bvh\""), std::string::npos) << *image.meta.integrator;
+    fs::remove(bad);
+    EXPECT_EQ(test::runPenumbra(s + "--set integrator.light_selection=bvhh -o '" + bad.string() + "'", &err), 2);
+    EXPECT_NE(err.find("selection.json: integrator.light_selection: \"bvhh\" is not one of"), std::string::npos) << err;
+    EXPECT_EQ(err.find('\n'), err.size() - 1) << err;
+    EXPECT_FALSE(fs::exists(bad));
+}
+
 TEST(Cli, SamplerTypeIsRecordedAndOverridable) {
     fs::path scene = writeText("sampler.json", smallScene().dump());
     fs::path sobol = test::outputPath("sampler-sobol.exr"), independent = test::outputPath("sampler-independent.exr");

@@ -24,6 +24,7 @@
 
 using namespace penumbra;
 using nlohmann::json;
+using test::polygonIrradiance;
 
 namespace {
 
@@ -50,17 +51,6 @@ json direct(const std::string& strategy, json extra = json::object()) {
     json j = {{"type", "direct"}, {"strategy", strategy}};
     j.update(extra);
     return j;
-}
-
-// Irradiance at x (normal +y) from a polygon of constant radiance Le facing x.
-double polygonIrradiance(const std::vector<glm::dvec3>& v, glm::dvec3 x, double Le) {
-    double sum = 0;
-    for (size_t i = 0; i < v.size(); ++i) {
-        glm::dvec3 a = glm::normalize(v[i] - x), b = glm::normalize(v[(i + 1) % v.size()] - x);
-        double theta = std::acos(std::clamp(glm::dot(a, b), -1.0, 1.0));
-        sum += theta * glm::normalize(glm::cross(a, b)).y;
-    }
-    return 0.5 * Le * std::abs(sum);
 }
 
 const std::vector<std::string> kStrategies = {"light", "bsdf", "mis", "mixture"};

@@ -24,8 +24,8 @@ static_assert(sizeof(AliasEntry) == 16);
 static_assert(sizeof(RenderParams) % 16 == 0 && offsetof(RenderParams, right) == 16 &&
               offsetof(RenderParams, up) == 32 && offsetof(RenderParams, width) == 44 &&
               offsetof(RenderParams, forward) == 48 && offsetof(RenderParams, height) == 60 &&
-              offsetof(RenderParams, seed) == 64 &&
-              sizeof(RenderParams) == 128);
+              offsetof(RenderParams, seed) == 64 && offsetof(RenderParams, lightBvhTableOffset) == 120 &&
+              sizeof(RenderParams) == 144);
 static_assert(sizeof(PassConstants) == 52 && offsetof(PassConstants, nodeAddressLow) == 20 &&
               offsetof(PassConstants, stackAddressLow) == 28 && offsetof(PassConstants, stackDepth) == 36 &&
               offsetof(PassConstants, queueTiles) == 40 && offsetof(PassConstants, tileColumns) == 44 &&

@@ -446,15 +446,15 @@ TEST(PreviewProgram, ScreenshotMatchesRenderPng) {
     EXPECT_LE(maxLevelDifference(shown, rendered), 1) << "see " << dir;
 }
 
-// The L key (docs/guide/preview.md): once, the first AOV as layerPixels pictures the
+// The A key (docs/guide/preview.md): once, the first AOV as layerPixels pictures the
 // render's layer (the same sums, pictured on the host); three times with two AOVs, back to
 // the tone-mapped image.
 TEST(PreviewProgram, LayerKeyShowsEachAovThenTheImageAgain) {
     REQUIRE_XVFB();
     fs::path dir = freshDir("screenshot-layers");
     const std::string scene = smallCornell() + " --aov depth,shape_id";
-    std::ofstream(dir / "once.script") << "frame 1 key l\n";
-    std::ofstream(dir / "thrice.script") << "frame 1 key l\nframe 2 key l\nframe 3 key l\n";
+    std::ofstream(dir / "once.script") << "frame 1 key a\n";
+    std::ofstream(dir / "thrice.script") << "frame 1 key a\nframe 2 key a\nframe 3 key a\n";
     std::string err;
     ASSERT_EQ(runIn(dir, displayEnv(), "preview " + scene + " --script once.script --frames 200 --screenshot depth.png",
                     &err),
@@ -592,6 +592,23 @@ TEST(PreviewProgram, StrategyKeyRestartsAccumulation) {
         << saved.meta.integrator.value_or("");
 }
 
+TEST(PreviewProgram, LightSelectionKeyRebuildsAndRestarts) {
+    REQUIRE_XVFB();
+    fs::path dir = freshDir("light-selection-key");
+    std::ofstream(dir / "keys.script") << "frame 10 key l   # bvh: a new renderer, frames 10.. add samples 0..\n"
+                                          "frame 20 key p   # save before frame 20 renders: 10 spp\n";
+    std::string err;
+    int status = runIn(dir, displayEnv(),
+                       "preview " + smallCornell() + " --rows-per-frame 48 --frames 20 --script keys.script", &err);
+    ASSERT_EQ(status, 0) << err;
+    EXPECT_NE(err.find("preview: 11/16 spp"), std::string::npos) << err;
+    ASSERT_TRUE(fs::exists(dir / "cornell-preview-1.exr")) << err;
+    Image saved = readExr(dir / "cornell-preview-1.exr");
+    EXPECT_EQ(saved.meta.spp.value_or(-1), 10);
+    EXPECT_NE(saved.meta.integrator.value_or("").find("\"light_selection\":\"bvh\""), std::string::npos)
+        << saved.meta.integrator.value_or("");
+}
+
 TEST(PreviewProgram, CameraDragRestartsAndResetRestoresTheSceneCamera) {
     REQUIRE_XVFB();
     fs::path dir = freshDir("camera-drag");
@@ -644,6 +661,23 @@ TEST(PreviewProgram, ResizeAndExposureKeepRunning) {
         sumRendered += rendered.pixels[i];
     }
     EXPECT_GT(sumBright, sumRendered * 1.05);
+}
+
+// L cycles the light selection (the preview then builds a new Renderer: the light tables).
+TEST(PreviewIntegratorKeys, LCyclesTheLightSelection) {
+    EXPECT_EQ(*actionForKeyName("l"), Action::CycleLightSelection);
+    EXPECT_NE(keyHelp().find("\n  L "), std::string::npos) << keyHelp();
+    EXPECT_TRUE(isIntegratorAction(Action::CycleLightSelection));
+    IntegratorSettings settings;  // power
+    const LightSelection cycle[] = {LightSelection::Bvh, LightSelection::Uniform, LightSelection::Power};
+    const char* names[] = {"bvh", "uniform", "power"};
+    for (int i = 0; i < 3; ++i) {
+        EXPECT_TRUE(applyIntegratorAction(settings, Action::CycleLightSelection));
+        EXPECT_EQ(settings.lightSelection, cycle[i]);
+        EXPECT_EQ(integratorJson(settings)["light_selection"], names[i]);
+    }
+    settings.lightSelection = LightSelection::Bvh;
+    EXPECT_EQ(integratorLabel(settings), "mis power, spheres solid_angle, lights bvh");
 }
 
 TEST(PreviewIntegratorKeys, TAndMToggleQuadAndTriangleSampling) {

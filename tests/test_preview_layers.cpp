@@ -11,7 +11,7 @@ using namespace penumbra;
 using namespace penumbra::preview;
 
 TEST(PreviewLayers, TheKeyCyclesRgbThenEachAovThenRgb) {
-    EXPECT_EQ(actionForKeyName("l"), Action::CycleLayer);
+    EXPECT_EQ(actionForKeyName("a"), Action::CycleLayer);
     EXPECT_NE(keyHelp().find("\n  L "), std::string::npos) << keyHelp();
     LayerCycle layers({"depth", "normal", "shape_id"});
     std::vector<std::string> seen{layers.name()};

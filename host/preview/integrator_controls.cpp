@@ -23,7 +23,8 @@ bool isIntegratorAction(Action action) {
         case Action::ToggleHeuristic:
         case Action::CycleSphereSampling:
         case Action::ToggleQuadSampling:
-        case Action::ToggleTriangleSampling: return true;
+        case Action::ToggleTriangleSampling:
+        case Action::CycleLightSelection: return true;
         default: return false;
     }
 }
@@ -45,6 +46,7 @@ bool applyIntegratorAction(IntegratorSettings& settings, Action action) {
             settings.triangleSampling = nextValue(settings.triangleSampling);
             settings.triangleSamplingGiven = true;
             return true;
+        case Action::CycleLightSelection: settings.lightSelection = nextValue(settings.lightSelection); return true;
         default: return false;
     }
 }
@@ -53,7 +55,11 @@ std::string integratorLabel(const IntegratorSettings& settings) {
     if (settings.type == IntegratorType::AmbientOcclusion) return std::string("ao ") + toName(settings.aoSampling);
     std::string label = toName(settings.strategy);
     if (settings.strategy == Strategy::Mis) label += std::string(" ") + toName(settings.heuristic);
-    return label + ", spheres " + toName(settings.sphereSampling);
+    label += std::string(", spheres ") + toName(settings.sphereSampling);
+    // The default selection stays unnamed, as in the labels before the light-selection key.
+    if (settings.lightSelection != LightSelection::Power)
+        label += std::string(", lights ") + toName(settings.lightSelection);
+    return label;
 }
 
 }  // namespace penumbra::preview

@@ -18,6 +18,7 @@ enum class Action {
     CycleSphereSampling,     // area -> cap -> solid_angle -> area
     ToggleQuadSampling,      // quad lights: area <-> solid_angle
     ToggleTriangleSampling,  // mesh-light triangles: area <-> solid_angle
+    CycleLightSelection,     // uniform -> power -> bvh -> uniform (a new Renderer: the light tables)
     ExposureUp,              // +0.5 stop
     ExposureDown,            // -0.5 stop
     CycleLayer,              // rgb -> each of film.aovs -> rgb (preview/layer_cycle.h)
@@ -28,8 +29,8 @@ enum class Action {
 
 // The action bound to a GLFW key code (GLFW_KEY_*), if any.
 std::optional<Action> actionForGlfwKey(int key);
-// The action for a key as an input script names it: "1".."4", "h", "s", "t", "m", "+", "-", "l",
-// "p", "r", "q", "esc" (case-insensitive).
+// The action for a key as an input script names it: "1".."4", "h", "s", "t", "m", "l", "+", "-",
+// "a", "p", "r", "q", "esc" (case-insensitive).
 std::optional<Action> actionForKeyName(std::string_view name);
 
 // The key and mouse list, one binding per line, for --help and docs/guide/preview.md.

@@ -1,4 +1,4 @@
-// Which layer the preview shows (the L key, docs/guide/preview.md): the tone-mapped image
+// Which layer the preview shows (the A key, docs/guide/preview.md): the tone-mapped image
 // ("rgb") or one of the scene's film.aovs, as image/aov_false_color.h pictures it. The
 // state and the layer -> pixels mapping, kept apart from the window so they test alone.
 #pragma once

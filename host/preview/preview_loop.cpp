@@ -113,6 +113,7 @@ private:
     void save();
     void updateTitle(bool force);
     void restart();
+    void rebuildRenderer();
 
     const Scene& m_scene;
     const PreviewSettings& m_settings;
@@ -123,7 +124,7 @@ private:
     std::optional<Swapchain> m_swapchain;
     std::optional<ToneMapper> m_toneMapper;
     std::optional<FrameResources> m_frame;
-    LayerCycle m_layers;       // the L key: rgb or one of film.aovs
+    LayerCycle m_layers;       // the A key: rgb or one of film.aovs
     bool m_layerStale = true;  // the shown AOV's picture predates the sums
 
     PassScheduler m_scheduler;
@@ -198,7 +199,10 @@ void Preview::run() {
             if (!handle(event)) quit = true;
         if (quit) break;
         if (m_cameraChanged) m_renderer->setCamera(m_camera.camera());
-        if (m_integratorChanged) m_renderer->setIntegrator(m_integrator);
+        if (m_integratorChanged) {
+            if (m_integrator.lightSelection != m_renderer->scene().integrator.lightSelection) rebuildRenderer();
+            else m_renderer->setIntegrator(m_integrator);
+        }
         if (m_cameraChanged || m_integratorChanged) restart();
         m_cameraChanged = m_integratorChanged = false;
 
@@ -294,6 +298,21 @@ bool Preview::handle(const InputEvent& event) {
         m_notedAo = true;
     }
     return true;
+}
+
+// Light selection is built into the light tables with the scene (Renderer::setIntegrator
+// refuses to change it): a new Renderer for the scene under the current integrator and
+// camera, and a tone mapper that reads its accumulation.
+void Preview::rebuildRenderer() {
+    vkDeviceWaitIdle(m_context->device());
+    Scene scene = m_scene;
+    scene.integrator = m_integrator;
+    scene.camera = m_camera.camera();
+    m_toneMapper.reset();
+    m_renderer.reset();
+    m_renderer.emplace(*m_context, scene);
+    m_toneMapper.emplace(*m_context, m_renderer->accumulation(), m_renderer->accumulationCompensation(),
+                         m_scene.film.width, m_scene.film.height, m_swapchain->isSrgb());
 }
 
 void Preview::restart() {

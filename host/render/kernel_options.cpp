@@ -52,6 +52,7 @@ std::vector<uint32_t> KernelOptions::specialization() const {
     values[SPEC_NODE_READS] = nodeReads;
     values[SPEC_LOOPS_MAY_BE_CUT] = loopsMayBeCut;
     values[SPEC_AOVS] = aovs;
+    values[SPEC_LIGHT_BVH] = ao ? 0u : lightBvh;
     return values;
 }
 
@@ -112,6 +113,7 @@ KernelOptions makeKernelOptions(const Scene& scene, const SceneArrays& arrays, E
                                                          : false;
     o.emitterFirstLights = on ? uint32_t(arrays.lights.size()) : 0u;
     o.aovs = aovBits(scene.film.aovs);
+    o.lightBvh = scene.integrator.lightSelection == LightSelection::Bvh ? 1u : 0u;
     return o;
 }
 

@@ -24,6 +24,7 @@ struct KernelOptions {
     uint32_t nodeReads = NODE_READS_TEXELS;  // NODE_READS_*: set per device (render/node_reads.h)
     uint32_t loopsMayBeCut = 0;              // 1: set per device (render/loop_budget.h)
     uint32_t aovs = 0;                       // AOV_* bits of film.aovs (shared/aov.h); 0: none compiled
+    uint32_t lightBvh = 0;                   // 1: light_selection "bvh" (lights/light_bvh.glsl)
 
     // Values in constant_id order, for gpu::Pipeline.
     std::vector<uint32_t> specialization() const;

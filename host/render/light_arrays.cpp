@@ -167,7 +167,7 @@ void buildLightSelection(LightSelection selection, SceneArrays& out) {
     std::vector<double> deltaWeights, continuousWeights;
     std::vector<uint32_t> deltaItems, continuousItems;
     for (uint32_t i = 0; i < out.lights.size(); ++i) {
-        double w = selection == LightSelection::Power ? lightPower(out.lights[i], out.boundsRadius) : 1.0;
+        double w = selection != LightSelection::Uniform ? lightPower(out.lights[i], out.boundsRadius) : 1.0;
         weights.push_back(w);
         items.push_back(i);
         bool delta = isDeltaLight(out.lights[i].type);

@@ -54,7 +54,9 @@ void finishAreaLights(const std::vector<uint32_t>& leafIndex, std::vector<MeshLi
 
 // The light-selection table over all lights, then its delta-only and continuous-only
 // sub-tables built from the same weights (RenderParams in shaders/shared/types.h); sets each
-// light's selectionProb. Needs out.boundsRadius for the power of lights at infinity.
+// light's selectionProb. Needs out.boundsRadius for the power of lights at infinity. Under
+// "bvh" these tables are the power ones: the tree (render/light_bvh_arrays.h) replaces only
+// the full table's draws, those of the light and mis strategies.
 void buildLightSelection(LightSelection selection, SceneArrays& out);
 
 }  // namespace penumbra

@@ -59,6 +59,7 @@ std::vector<VkDescriptorType> renderBindings() {
     types[BINDING_TEXTURE_TEXELS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
     types[BINDING_ENV_TEXELS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
     types[BINDING_ENV_TABLE] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+    types[BINDING_LIGHT_BVH] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
     return types;
 }
 
@@ -99,6 +100,8 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
     m_lights = Buffer::fromVector(context, m_arrays.lights, "lights", texels);
     m_lightTable = Buffer::fromVector(context, m_arrays.lightTable, "light selection table", texels);
     m_meshTable = Buffer::fromVector(context, m_arrays.meshTable, "mesh light table", texels);
+    // Light selection "bvh" only; a placeholder otherwise, which the kernel never reads (kLightBvh).
+    m_lightBvh = Buffer::fromVector(context, m_arrays.lightBvh.texels, "light BVH", texels);
     // The rays traced, the tile queue's next pixel and the loops cut short (BINDING_COUNTERS),
     // set by fills.
     m_counters = Buffer(context, kCounterCount * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, 0,
@@ -176,6 +179,7 @@ std::unique_ptr<gpu::Kernel> Renderer::createKernel(const KernelOptions& options
     kernel->bind(BINDING_ENV_TEXELS, m_environmentTexels);
     kernel->bind(BINDING_ENV_TABLE, m_environmentTable);
     kernel->bind(BINDING_AOV, m_aovSums);
+    kernel->bind(BINDING_LIGHT_BVH, m_lightBvh);
     return kernel;
 }
 

@@ -51,6 +51,7 @@ SceneArrays buildSceneArrays(const Scene& scene, const BvhOptions& bvhOptions, E
     setBounds(out);
 
     buildLightSelection(scene.integrator.lightSelection, out);
+    if (scene.integrator.lightSelection == LightSelection::Bvh) buildLightBvhArrays(out);
     return out;
 }
 
@@ -78,6 +79,10 @@ gpu::RenderParams makeRenderParams(const Scene& scene, const SceneArrays& arrays
     p.continuousTableOffset = arrays.continuousTableOffset;
     p.continuousCount = arrays.continuousCount;
     p.deltaScale = arrays.deltaScale;
+    p.lightBvhTableOffset = arrays.lightBvh.tableOffset;
+    p.lightBvhTableCount = arrays.lightBvh.tableCount;
+    p.lightBvhItems = arrays.lightBvh.itemsTexel;
+    p.lightBvhTrails = arrays.lightBvh.trailsTexel;
     p.continuousScale = arrays.continuousScale;
     p.environmentLight = arrays.environmentLight;
     p.besideFirst = arrays.bvh.besideFirst();

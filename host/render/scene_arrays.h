@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "bvh/bvh.h"
+#include "render/light_bvh_arrays.h"
 #include "render/texture_arrays.h"
 #include "scene/scene.h"
 #include "shared/types.h"
@@ -23,6 +24,7 @@ struct SceneArrays {
     uint32_t continuousTableOffset = 0, continuousCount = 0;
     float deltaScale = 0.0f, continuousScale = 0.0f;
     uint32_t environmentLight = gpu::NO_LIGHT;
+    LightBvhArrays lightBvh;  // light_selection "bvh" only (else empty)
     // The environment's map (render/environment_map.h), if it has one: radiance per texel
     // (alpha unused) and the alias table that samples the texels. Empty for a constant sky
     // (and the texels when buildSceneArrays was told to leave them out).

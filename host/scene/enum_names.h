@@ -34,8 +34,8 @@ inline constexpr EnumName<QuadSampling> kQuadSamplingNames[] = {{QuadSampling::A
                                                                 {QuadSampling::SolidAngle, "solid_angle"}};
 inline constexpr EnumName<TriangleSampling> kTriangleSamplingNames[] = {{TriangleSampling::Area, "area"},
                                                                         {TriangleSampling::SolidAngle, "solid_angle"}};
-inline constexpr EnumName<LightSelection> kLightSelectionNames[] = {{LightSelection::Uniform, "uniform"},
-                                                                    {LightSelection::Power, "power"}};
+inline constexpr EnumName<LightSelection> kLightSelectionNames[] = {
+    {LightSelection::Uniform, "uniform"}, {LightSelection::Power, "power"}, {LightSelection::Bvh, "bvh"}};
 
 // The table of an enum type, found by overload on a value of it.
 constexpr std::span<const EnumName<SamplerType>> enumNames(SamplerType) { return kSamplerTypeNames; }

@@ -48,7 +48,7 @@ enum class Heuristic { Balance, Power };
 enum class SphereSampling { Area, Cap, SolidAngle };
 enum class QuadSampling { Area, SolidAngle };
 enum class TriangleSampling { Area, SolidAngle };
-enum class LightSelection { Uniform, Power };
+enum class LightSelection { Uniform, Power, Bvh };
 
 struct IntegratorSettings {
     IntegratorType type = IntegratorType::Direct;

@@ -32,6 +32,9 @@ layout(constant_id = SPEC_LOOPS_MAY_BE_CUT) const uint kLoopsMayBeCut = 0u;
 // Off unless set: the AOV_* layers to accumulate (integrators/aov.glsl); 0 compiles them out.
 layout(constant_id = SPEC_AOVS) const uint kAovs = 0u;
 
+// Off unless set: light_selection "bvh" (integrators/light_selection_bvh.glsl); 0 compiles it out.
+layout(constant_id = SPEC_LIGHT_BVH) const uint kLightBvh = 0u;
+
 // Whether the scene has a primitive / light / material of this type; false compiles the
 // code that handles it out of the kernel.
 bool hasPrimitive(uint type) { return (kSceneFeatures & (1u << (FEATURE_PRIMITIVE + type))) != 0u; }

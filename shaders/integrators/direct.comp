@@ -33,6 +33,7 @@ const bool kShadowRaysWait = false;
 #include "bsdf/bsdf.glsl"
 #include "integrators/mis.glsl"
 #include "integrators/emitter_first.glsl"
+#include "integrators/light_selection_bvh.glsl"
 
 #include "bsdf/materials.glsl"
 #include "textures/textures.glsl"
@@ -113,16 +114,33 @@ uint drawLight(uint offset, uint count, inout Rng rng, out float pmf, out vec3 u
     return index;
 }
 
-// One sample, from the numbers u, of light `index` drawn with probability `pmf` from a
-// selection table (drawLight), weighted against N2 BRDF samples (WEIGHT_MIS) or by the
-// mixture density: its term, with the shadow ray still to trace. quadSolidAnglePdf
-// receives the sample's LightSample.quadSolidAnglePdf when the light was sampled.
-ShadowedTerm lightSampleTerm(Shading s, uint index, float pmf, vec3 u, uint weighting, float nLight, float nBsdf,
-                             inout float quadSolidAnglePdf) {
+// A light from the full selection, for the light and mis strategies: drawLight from the
+// table [0, lightCount), or under light selection "bvh" the tree's choice at s
+// (integrators/light_selection_bvh.glsl), which may be one triangle of a mesh light
+// (`triangle`, else NO_HIT). The bvh's light sample gets numbers of its own: the descent
+// rescales its number at every level and leaves too few bits of it (pbrt-v4 also draws
+// the choice and the sample apart).
+uint drawAnyLight(Shading s, inout Rng rng, out float pmf, out vec3 u, out uint triangle) {
+    triangle = NO_HIT;
+    if (!lightBvhSelection()) return drawLight(0u, params.lightCount, rng, pmf, u);
+    uvec2 bits = rand2Bits(rng);
+    uint index = drawLightBvh(s.origin, s.ns, bits.x, triangle, pmf);
+    u = vec3(bitsToUnit(bits.y), rand1(rng), rand1(rng));
+    return index;
+}
+
+// One sample, from the numbers u, of light `index` (of its triangle `triangle` alone, unless
+// NO_HIT) drawn with probability `pmf` (drawLight, drawAnyLight), weighted against N2 BRDF
+// samples (WEIGHT_MIS) or by the mixture density: its term, with the shadow ray still to
+// trace. quadSolidAnglePdf receives the sample's LightSample.quadSolidAnglePdf when the
+// light was sampled.
+ShadowedTerm lightSampleTerm(Shading s, uint index, uint triangle, float pmf, vec3 u, uint weighting, float nLight,
+                             float nBsdf, inout float quadSolidAnglePdf) {
     ShadowedTerm term = noShadowedTerm();
     if (!(pmf > 0.0)) return term;
     LightSample ls;
-    bool sampled = sampleLight(index, s.origin, s.ns, u, lightModes(), ls);
+    bool sampled = lightBvhSelection() ? sampleLightPart(index, triangle, s.origin, s.ns, u, lightModes(), ls)
+                                       : sampleLight(index, s.origin, s.ns, u, lightModes(), ls);
     quadSolidAnglePdf = ls.quadSolidAnglePdf;
     if (!sampled) return term;
     BsdfValue b = bsdfEvalPdf(s.m, s.ns, s.wo, ls.wi);
@@ -156,21 +174,22 @@ ShadowedTerm lightSampleTerm(Shading s, uint index, float pmf, vec3 u, uint weig
 // lightSampleTerm with its shadow ray traced now.
 vec3 lightSampleEstimate(Shading s, uint index, float pmf, vec3 u, uint weighting, float nLight, float nBsdf,
                          inout float quadSolidAnglePdf) {
-    ShadowedTerm term = lightSampleTerm(s, index, pmf, u, weighting, nLight, nBsdf, quadSolidAnglePdf);
+    ShadowedTerm term = lightSampleTerm(s, index, NO_HIT, pmf, u, weighting, nLight, nBsdf, quadSolidAnglePdf);
     traceNow(term);
     return termValue(term, term.blocked);
 }
 
 // Emitted radiance reaching x along wi (first hit, or the environment when nothing is
 // hit), and the light-selection-times-light density of that direction, with `selection`
-// turning Light::selectionProb into the probability in the table actually sampled.
+// turning Light::selectionProb into the probability in the table actually sampled, or with
+// `bvh` the probability of light selection "bvh" at x, replayed (light_selection_bvh.glsl).
 // With the emitter-first path (integrators/emitter_first.glsl; only in scenes without an
 // environment light) the hit is the nearest emitter, checked for occluders once it is known
 // to emit toward x: at once, or, with `waits`, by the caller, who receives that query in
 // `hidden` (otherwise none). `quad`: the light's quad density at x where a light sample
 // knows it.
-vec3 incidentEmission(Shading s, vec3 wi, float selectionScale, KnownQuadDensity quad, bool waits, out float pLight,
-                      out AnyHitRay hidden) {
+vec3 incidentEmission(Shading s, vec3 wi, float selectionScale, bool bvh, KnownQuadDensity quad, bool waits,
+                      out float pLight, out AnyHitRay hidden) {
     pLight = 0.0;
     hidden = noAnyHitRay();
     Hit hit;
@@ -179,7 +198,8 @@ vec3 incidentEmission(Shading s, vec3 wi, float selectionScale, KnownQuadDensity
         // would run the area lights' densities here too, for a light known to be none.
         if (!hasLight(LIGHT_ENVIRONMENT) || params.environmentLight == NO_LIGHT) return vec3(0.0);
         Light env = loadLight(params.environmentLight);
-        pLight = env.selectionProb * selectionScale * environmentPdf(env, s.ns, wi);
+        float selection = bvh ? lightBvhInfinitePmf() : env.selectionProb * selectionScale;
+        pLight = selection * environmentPdf(env, s.ns, wi);
         return environmentRadiance(env, wi);
     }
     SurfacePoint y = surfaceAt(hit, s.origin, wi);
@@ -189,6 +209,12 @@ vec3 incidentEmission(Shading s, vec3 wi, float selectionScale, KnownQuadDensity
     if (Le == vec3(0.0)) return vec3(0.0);
     if (waits && emitterFirst()) hidden = emitterHiddenRay(s.origin, wi, hit, s.flatPrimitive);
     else if (emitterHidden(s.origin, wi, hit, s.flatPrimitive)) return vec3(0.0);
+    if (bvh) {
+        pLight = lightBvhPrimitivePmf(s.origin, s.ns, hit.primitive) *
+                 lightPartPdf(y.light, s.origin, s.ns, wi, y.position, y.geometricNormal, hit.t, hit.primitive,
+                              lightModes(), quad);
+        return Le;
+    }
     pLight = light.selectionProb * selectionScale *
              lightPdf(y.light, s.origin, s.ns, wi, y.position, y.geometricNormal, hit.t, hit.primitive, lightModes(), quad);
     return Le;
@@ -209,7 +235,9 @@ vec3 bsdfSampleEstimate(Shading s, uint weighting, float nLight, float nBsdf, Kn
     float pBsdf = b.pdf;
     float pLight;
     float scale = weighting == WEIGHT_MIXTURE ? params.continuousScale : 1.0;
-    vec3 Le = incidentEmission(s, wi, scale, quad, waits, pLight, waiting.ray);
+    // MIS weighs against the light samples' selection: the tree's under "bvh".
+    bool bvh = lightBvhSelection() && weighting == WEIGHT_MIS;
+    vec3 Le = incidentEmission(s, wi, scale, bvh, quad, waits, pLight, waiting.ray);
     if (Le == vec3(0.0)) return vec3(0.0);
     float density = pBsdf;
     float weight = 1.0;
@@ -259,8 +287,10 @@ vec3 reflectedRadiance(Shading s, inout Rng rng, out WaitingTerms waiting) {
         for (uint i = 0u; i < n1; ++i) {
             float pmf;
             vec3 u;
-            uint index = drawLight(0u, params.lightCount, rng, pmf, u);
-            ShadowedTerm term = lightSampleTerm(s, index, pmf, u, weighting, float(n1), float(n2), quadSolidAnglePdf);
+            uint triangle;
+            uint index = drawAnyLight(s, rng, pmf, u, triangle);
+            ShadowedTerm term =
+                lightSampleTerm(s, index, triangle, pmf, u, weighting, float(n1), float(n2), quadSolidAnglePdf);
             term.value /= float(n1);
             // At the loop's one call of traceNow, so that the kernel holds one copy of the
             // traversal (with inline geometry, of every primitive's test) for all of them.

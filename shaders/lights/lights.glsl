@@ -74,4 +74,24 @@ float lightPdf(uint index, vec3 x, vec3 n, vec3 wi, vec3 y, vec3 ny, float d, ui
     return lightPdf(index, x, n, wi, y, ny, d, primitive, modes, unknownQuadDensity());
 }
 
+// ---- Parts of lights: light selection "bvh" chooses a mesh light's triangles one by one ----
+// `triangle`: the mesh triangle chosen (leaf-order primitive), or NO_HIT for the whole light.
+
+// sampleLight for light `index`, or for triangle `triangle` of it alone (meshTriangleLight).
+bool sampleLightPart(uint index, uint triangle, vec3 x, vec3 n, vec3 u, LightSamplingModes modes, out LightSample ls) {
+    if (triangle == NO_HIT || !hasLight(LIGHT_MESH)) return sampleLight(index, x, n, u, modes, ls);
+    ls = emptyLightSample(n);
+    Primitive p = loadLightPrimitive(triangle);
+    return sampleMeshTriangle(meshTriangleLight(loadLight(index), p), p, x, u.xy, modes, ls);
+}
+
+// The density with which sampleLightPart produces wi toward the light part hit at y on
+// `primitive` (lightPdf's arguments): a mesh light's triangle alone, any other light whole.
+float lightPartPdf(uint index, vec3 x, vec3 n, vec3 wi, vec3 y, vec3 ny, float d, uint primitive,
+                   LightSamplingModes modes, KnownQuadDensity quad) {
+    Light light = loadLight(index);
+    if (!lightIs(light, LIGHT_MESH)) return lightPdf(index, x, n, wi, y, ny, d, primitive, modes, quad);
+    return meshLightPdf(meshTriangleLight(light, loadLightPrimitive(primitive)), x, wi, ny, d, primitive, modes);
+}
+
 #endif

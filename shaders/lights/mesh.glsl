@@ -30,23 +30,36 @@ bool sampleTriangleSolidAngle(Primitive p, vec3 x, vec2 u, float omega, out vec3
     return planePoint(x, w, p.p0, cross(p.p1 - p.p0, p.p2 - p.p0), y);
 }
 
-// u.z picks the triangle (probability area / total), u.xy the point on it.
-bool sampleMeshLight(Light light, vec3 x, vec3 u, LightSamplingModes modes, inout LightSample ls) {
-    AliasEntry e = sampleAlias(light.first, light.count, u.z, true);
-    Primitive p = loadLightPrimitive(e.item);
+// A mesh light reduced to one of its triangles, p (light selection "bvh" chooses triangles,
+// not meshes): the same light with the triangle's area, so that sampleMeshTriangle and
+// meshLightPdf give that triangle's own densities (its pmf A_k / A becomes 1).
+Light meshTriangleLight(Light light, Primitive p) {
+    light.area = triangleArea(p);
+    return light;
+}
+
+// A point on triangle p of the mesh from u; the density is the mesh's: the triangle's pmf
+// triangleArea(p) / light.area times the point's density on the triangle.
+bool sampleMeshTriangle(Light light, Primitive p, vec3 x, vec2 u, LightSamplingModes modes, inout LightSample ls) {
     vec3 ny = primitiveFrontNormal(p);
     vec3 y;
     float solidAnglePdf = 0.0;  // > 0: y sampled in solid angle with this density
     float omega;
     if (modes.triangle == TRIANGLE_SOLID_ANGLE && triangleSolidAngle(p, x, modes, omega)) {
-        if (!sampleTriangleSolidAngle(p, x, u.xy, omega, y)) return false;
+        if (!sampleTriangleSolidAngle(p, x, u, omega, y)) return false;
         // pmf of the triangle (area / total, the alias table's) times uniform in its solid angle.
         solidAnglePdf = triangleArea(p) / (light.area * omega);
     } else {
-        vec3 b = squareToUniformTriangle(u.xy);
+        vec3 b = squareToUniformTriangle(u);
         y = b.x * p.p0 + b.y * p.p1 + b.z * p.p2;
     }
     return finishPolygonSample(light, x, y, ny, solidAnglePdf, ls);
+}
+
+// u.z picks the triangle (probability area / total), u.xy the point on it.
+bool sampleMeshLight(Light light, vec3 x, vec3 u, LightSamplingModes modes, inout LightSample ls) {
+    AliasEntry e = sampleAlias(light.first, light.count, u.z, true);
+    return sampleMeshTriangle(light, loadLightPrimitive(e.item), x, u.xy, modes, ls);
 }
 
 // Density (solid angle, at x) of a direction wi that first hits triangle `primitive` of the

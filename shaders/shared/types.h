@@ -40,7 +40,10 @@ using uint = std::uint32_t;
 #define BINDING_NODE_WORDS 16  // the same WideNode[] as a storage buffer of uvec4 (or u64vec4) words (kNodeReads)
 #define BINDING_ACCUM_COMPENSATION 17  // AccumCompensation per pixel (below): what the sums rounded away
 #define BINDING_AOV 18                 // AOV_VEC4S vec4 per pixel: the AOV sums (shared/aov.h), when SPEC_AOVS != 0
-#define BINDING_COUNT 19
+// Texel buffer, when SPEC_LIGHT_BVH != 0: the light BVH's nodes, items and per-primitive
+// trails (shared/light_bvh.h; RenderParams says where each part starts)
+#define BINDING_LIGHT_BVH 19
+#define BINDING_COUNT 20
 
 // ---- BVH ------------------------------------------------------------------------------
 // Flattened depth-first: an interior node's left child is the next node, `offset` is the
@@ -353,7 +356,8 @@ PENUMBRA_CONST uint SAMPLER_SOBOL = 1u;        // padded Owen-scrambled Sobol' (
 #define SPEC_NODE_READS (SPEC_INLINE_GROUP_FIRST + INLINE_MAX_GROUPS * INLINE_GROUP_WORDS)  // NODE_READS_*
 #define SPEC_LOOPS_MAY_BE_CUT (SPEC_NODE_READS + 1)  // 1: the driver may end loops early (render/loop_budget.h)
 #define SPEC_AOVS (SPEC_LOOPS_MAY_BE_CUT + 1)        // AOV_* bits of the layers to accumulate (shared/aov.h); 0: none
-#define SPEC_COUNT (SPEC_AOVS + 1)
+#define SPEC_LIGHT_BVH (SPEC_AOVS + 1)  // 1: light_selection "bvh" (lights/light_bvh.glsl); 0 compiles it out
+#define SPEC_COUNT (SPEC_LIGHT_BVH + 1)
 // Where the traversal reads a BVH node from (SPEC_NODE_READS): the texel buffer at
 // BINDING_NODES or the storage buffer at BINDING_NODE_WORDS, the same bytes. Which is faster
 // depends on the driver (host/render/node_reads.h says which each gets, and why).
@@ -435,6 +439,14 @@ struct RenderParams {
     // One of those that no camera ray can hit, whose test camera rays leave out, or NO_HIT
     // (host/render/out_of_view.h).
     uint cameraOutOfView;
+    // light_selection "bvh" (lights/light_bvh.glsl): lightTable[lightBvhTableOffset, +
+    // lightBvhTableCount) picks, uniformly, one of the lights at infinity or the tree
+    // (item NO_LIGHT); in BINDING_LIGHT_BVH the items start at texel lightBvhItems and the
+    // per-primitive trails at texel lightBvhTrails (the nodes at 0). All 0 otherwise.
+    uint lightBvhTableOffset;
+    uint lightBvhTableCount;
+    uint lightBvhItems;
+    uint lightBvhTrails;
     uint pad3, pad4;
 };
 

@@ -18,9 +18,10 @@ TOOLS = SOURCE_DIR / "tools"
 # Python tools with an argparse command line. tools/penumbra_tools/mitsuba_penumbra.py is a module that
 # needs Mitsuba (the translation test covers it); make_models.py, make_scenes.py and
 # make_sky.py are run for real below.
-HELP_TOOLS = ["bench/bench-ab", "bench/bench-instructions", "bench/bench-python-orbit", "bench/kernel-profile",
-              "scenes/make_bench_scenes.py", "scenes/make_sky.py", "mesa/mesa-compare", "mesa/mesa-sid",
-              "mitsuba/mitsuba_compare.py", "penumbra_tools/startup_bench.py"]
+HELP_TOOLS = ["bench/bench-ab", "bench/bench-instructions", "bench/bench-many-lights", "bench/bench-python-orbit",
+              "bench/kernel-profile", "scenes/make_bench_scenes.py", "scenes/make_many_lights.py",
+              "scenes/make_sky.py", "mesa/mesa-compare", "mesa/mesa-sid", "mitsuba/mitsuba_compare.py",
+              "penumbra_tools/startup_bench.py"]
 
 
 def shell_tools():

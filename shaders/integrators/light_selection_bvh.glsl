@@ -1,0 +1,52 @@
+// Light selection "bvh" in the direct integrator (SCENE_FORMAT.md `light_selection`;
+// host/render/light_bvh_arrays.h uploads it): a uniform choice among the lights at infinity
+// (directional, environment) and the tree, then, for the tree, the descent of
+// lights/light_bvh.glsl at the shading point. It replaces the full selection table of the
+// light and mis strategies; the delta-only and continuous-only tables of bsdf and mixture
+// stay the power ones. Compiled only where kLightBvh is set (SPEC_LIGHT_BVH).
+#ifndef PENUMBRA_LIGHT_SELECTION_BVH_GLSL
+#define PENUMBRA_LIGHT_SELECTION_BVH_GLSL
+
+#include "shared/types.h"
+#include "common/specialization.glsl"
+#include "lights/lights.glsl"
+#include "lights/light_bvh.glsl"
+
+bool lightBvhSelection() { return kLightBvh != 0u; }
+
+// The probability of each entry of the table beside the tree (pbrt-v4 BVHLightSampler:
+// every light at infinity and the tree alike). Sampled and replayed pmfs both use it.
+float lightBvhTableProbability() { return 1.0 / float(params.lightBvhTableCount); }
+
+// A light chosen at x (shading normal n) with the 32-bit fraction `bits`: its index, the
+// mesh triangle chosen (NO_HIT: the whole light) and its probability `pmf` (0: none).
+uint drawLightBvh(vec3 x, vec3 n, uint bits, out uint triangle, out float pmf) {
+    triangle = NO_HIT;
+    pmf = 0.0;
+    if (params.lightBvhTableCount == 0u) return 0u;
+    float tablePmf, rest;
+    uint entry = selectLight(params.lightBvhTableOffset, params.lightBvhTableCount, bits, tablePmf, rest);
+    if (!(tablePmf > 0.0)) return 0u;
+    if (entry != NO_LIGHT) {
+        pmf = lightBvhTableProbability();
+        return entry;
+    }
+    float treePmf, unused;
+    LightBvhItem item = loadLightBvhItem(params.lightBvhItems, sampleLightBvhTree(x, n, rest, treePmf, unused));
+    triangle = item.primitive;  // ~0u = NO_HIT for every light but a mesh triangle
+    pmf = treePmf * lightBvhTableProbability();
+    return item.light;
+}
+
+// The probability that drawLightBvh at (x, n) chooses the emitter part that owns `primitive`
+// (a sphere, a quad, or one triangle of a mesh light), replayed from its trail: the pmf
+// that MIS weighs a BRDF-sampled ray hitting it with.
+float lightBvhPrimitivePmf(vec3 x, vec3 n, uint primitive) {
+    if (params.lightBvhItems == 0u) return 0.0;  // no tree
+    return lightBvhTreePmf(x, n, loadLightBvhTrail(params.lightBvhTrails, primitive)) * lightBvhTableProbability();
+}
+
+// The probability that drawLightBvh chooses a light at infinity.
+float lightBvhInfinitePmf() { return params.lightBvhTableCount == 0u ? 0.0 : lightBvhTableProbability(); }
+
+#endif
