@@ -210,10 +210,9 @@ void Preview::run() {
         if (m_settings.frames > 0 && m_frameNumber >= m_settings.frames) break;
     }
 
-    if (!m_settings.screenshot.empty() && !m_layers.showsRgb()) {
-        // An AOV shown: its picture of the sums as they stand.
-        m_toneMapper->setPixels(layerPixels(m_renderer->readback(0.0), m_layers.name()));
-    } else if (!m_settings.screenshot.empty()) {
+    // With an AOV shown, the pixels already hold what the window shows: its picture of all
+    // the samples so far (frame() renews it after each frame's passes).
+    if (!m_settings.screenshot.empty() && m_layers.showsRgb()) {
         // What the window shows, at the film's resolution: tone-map the accumulation as it
         // stands (with the current exposure) and copy it to the host once.
         m_context->submitAndWait([&](VkCommandBuffer cmd) {

@@ -1,8 +1,6 @@
 # AOV layers through the module (docs/SCENE_FORMAT.md "AOVs (v3)", "Python (v3)"): aovs= in
 # render and Renderer.render, names checked with the CLI's message, numpy layers of the
 # documented dtypes and shapes, and read_exr / write_exr round-tripping the CLI's EXR.
-import pathlib
-
 import numpy as np
 import pytest
 
