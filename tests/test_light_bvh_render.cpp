@@ -75,7 +75,7 @@ double pointRadiance(const std::vector<PointLight>& lights, glm::dvec3 x) {
     return kAlbedo / M_PI * sum;
 }
 
-json direct(const std::string& strategy, const std::string& selection, json extra = json::object()) {
+json direct(const std::string& strategy, const std::string& selection, const json& extra = json::object()) {
     json j = {{"type", "direct"}, {"strategy", strategy}, {"light_selection", selection}};
     j.update(extra);
     return j;
