@@ -100,7 +100,8 @@ KernelOptions makeKernelOptions(const Scene& scene, const SceneArrays& arrays, E
     o.sampler = scene.sampler.type;
     o.sceneFeatures = sceneFeatures(arrays);
     o.textures = (arrays.textures.textured ? TEXTURES_ON : 0u) |
-                 (arrays.textures.transformed ? TEXTURES_TRANSFORMED : 0u);
+                 (arrays.textures.transformed ? TEXTURES_TRANSFORMED : 0u) |
+                 (arrays.textures.emission ? TEXTURES_EMISSION : 0u);
     const bool inlined = inlineGeometry == InlineGeometry::Rule && inlineGeometryPays(arrays);
     if (inlined) o.inlineGeometry = inlineGeometryWords(arrays.bvh);
     // Inline scenes have a rule of their own (emitter_first.h): on Mesa 25, which skips the

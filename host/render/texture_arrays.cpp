@@ -15,6 +15,7 @@ uint32_t gpuTextureSlot(TextureSlot slot) {
         case TextureSlot::Ks: return gpu::TEXTURE_SLOT_KS;
         case TextureSlot::KsX: return gpu::TEXTURE_SLOT_KS_X;
         case TextureSlot::KsY: return gpu::TEXTURE_SLOT_KS_Y;
+        case TextureSlot::Emission: return gpu::TEXTURE_SLOT_EMISSION;
     }
     return gpu::TEXTURE_SLOT_KD;
 }
@@ -25,6 +26,12 @@ TextureArrays buildTextureArrays(const Scene& scene, const Bvh& bvh) {
         out.textured |= !m.textures.empty();
         for (const MaterialTexture& mt : m.textures) out.transformed |= !mt.uvTransform.isIdentity();
     }
+    // Emission textures count where an emitting shape uses the material (the GPU reads them
+    // only for primitives with a light).
+    for (const Shape& shape : scene.shapes)
+        if (shape.isEmitter())
+            for (const MaterialTexture& mt : scene.materials.at(shape.material).textures)
+                out.emission |= mt.slot == TextureSlot::Emission;
     if (!out.textured) return out;
 
     // Texels: every texture after the previous one, two RGBA half texels per uvec4.

@@ -128,10 +128,11 @@ void GltfTextureReader::checkLimits() {
                             "the model's textures exceed " + std::to_string(kMaxTextureTexels) +
                                 " texels in all (README: texture limits)");
     };
-    // The textures metallicRoughness() reads, with the same decodings.
+    // The textures metallicRoughness() and emission() read, with the same decodings.
     for (const tinygltf::Material& material : m_model.materials) {
         count(material.pbrMetallicRoughness.baseColorTexture, true);
         count(material.pbrMetallicRoughness.metallicRoughnessTexture, false);
+        count(material.emissiveTexture, true);
     }
 }
 
@@ -164,6 +165,17 @@ GltfMaterialTextures GltfTextureReader::metallicRoughness(const tinygltf::Materi
             MaterialTexture{TextureSlot::KsY, t, glm::vec3(unit(pbr.roughnessFactor)), 1, wrap.first, wrap.second, uv};
     }
     return out;
+}
+
+std::optional<MaterialTexture> GltfTextureReader::emission(const tinygltf::Material& material,
+                                                           const std::string& path) {
+    if (material.emissiveTexture.index < 0) return std::nullopt;
+    // glTF 2.0 section 3.9.5: emissiveTexture is sRGB colour; the emitted radiance is
+    // emissiveFactor (times emissive_strength) times it, and the factor stays in the Light.
+    std::pair<TextureWrap, TextureWrap> wrap;
+    UvTransform uv;
+    uint32_t t = texture(material.emissiveTexture, path + ".emissiveTexture", true, wrap, uv);
+    return MaterialTexture{TextureSlot::Emission, t, glm::vec3(1.0f), 0, wrap.first, wrap.second, uv};
 }
 
 }  // namespace penumbra

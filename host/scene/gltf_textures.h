@@ -49,6 +49,9 @@ public:
     std::optional<MaterialTexture> baseColor(const tinygltf::Material& material, const std::string& path);
     // All three fields, for a material that has them all (metallic-roughness).
     GltfMaterialTextures metallicRoughness(const tinygltf::Material& material, const std::string& path);
+    // The emissive texture (sRGB, slot Emission, scale 1: emissiveFactor stays in the
+    // shape's emission), decoded only when present; the caller asks only for emitters.
+    std::optional<MaterialTexture> emission(const tinygltf::Material& material, const std::string& path);
 
 private:
     // Index into m_textures of glTF texture `info` decoded as sRGB colour or linear data,

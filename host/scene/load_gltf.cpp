@@ -287,6 +287,11 @@ void Importer::loadMaterials() {
         for (const std::optional<MaterialTexture>* field :
              {&textures.baseColor, &textures.metallic, &textures.roughness})
             if (*field) m.textures.push_back(**field);
+        // emissiveFactor x strength x emissiveTexture (glTF 2.0 section 3.9.5): the texture
+        // scales the emission of the primitives that use the material, which without a
+        // factor is 0 whatever the texture says.
+        if (emission != glm::dvec3(0.0))
+            if (auto texture = m_textures.emission(mat, path)) m.textures.push_back(*texture);
         m_result.materials.push_back(m);
         m_emission.push_back(glm::vec3(emission));
         m_doubleSided.push_back(mat.doubleSided);

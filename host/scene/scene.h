@@ -82,8 +82,10 @@ struct PbrFactors {
 };
 
 // Which value of a material a texture replaces: the GPU Material's slots (TEXTURE_SLOT_*
-// in shaders/shared/types.h say which material field each one is).
-enum class TextureSlot { Kd, Ks, KsX, KsY };
+// in shaders/shared/types.h say which material field each one is). Emission is no field of
+// the Material: it scales the emitted radiance of the primitives that use the material
+// (glTF emissiveTexture).
+enum class TextureSlot { Kd, Ks, KsX, KsY, Emission };
 
 // How a texture continues outside [0, 1] (glTF 2.0 section 5.26, samplers): REPEAT,
 // CLAMP_TO_EDGE and MIRRORED_REPEAT. Numbered as TEXTURE_WRAP_* in shaders/shared/types.h.

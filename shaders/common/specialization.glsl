@@ -48,6 +48,9 @@ bool hasTextures() { return kTextures != 0u; }
 // Whether some texture reference has a uv transform (glTF KHR_texture_transform); false
 // compiles the transform out and keeps the references TEXTURE_REF_TEXELS apart.
 bool hasTextureTransforms() { return (kTextures & TEXTURES_TRANSFORMED) != 0u; }
+// Whether some emitter's material has an emission texture (glTF emissiveTexture); false
+// compiles its lookups out of emission and light sampling.
+bool hasEmissionTextures() { return (kTextures & TEXTURES_EMISSION) != 0u; }
 
 // Type tests that are false at compile time for kinds the scene lacks.
 bool lightIs(Light light, uint type) { return hasLight(type) && light.type == type; }

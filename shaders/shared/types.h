@@ -177,6 +177,10 @@ PENUMBRA_CONST uint TEXTURE_SLOT_KD = 0u;
 PENUMBRA_CONST uint TEXTURE_SLOT_KS = 1u;
 PENUMBRA_CONST uint TEXTURE_SLOT_KS_X = 2u;
 PENUMBRA_CONST uint TEXTURE_SLOT_KS_Y = 3u;
+// Not a Material slot: scales the emitted radiance of the emitting primitives that use the
+// material (glTF emissiveTexture; textures/textures.glsl, emissionTexture). The Light keeps
+// emissiveFactor x strength, the texture's largest possible value times it.
+PENUMBRA_CONST uint TEXTURE_SLOT_EMISSION = 4u;
 
 // BINDING_MATERIAL_TEXTURES, RGBA32UI texels: texel i (i < material count) is material i's
 // (first texel of its texture references, reference count, 0, 0); a reference is two
@@ -367,6 +371,8 @@ PENUMBRA_CONST uint SAMPLER_SOBOL = 1u;        // padded Owen-scrambled Sobol' (
 // some texture reference has a uv transform (the references then carry TextureTransforms).
 #define TEXTURES_ON 1u
 #define TEXTURES_TRANSFORMED 2u
+// And TEXTURES_EMISSION: some emitting primitive's material has an emission texture.
+#define TEXTURES_EMISSION 4u
 // Where the traversal reads a BVH node from (SPEC_NODE_READS): the texel buffer at
 // BINDING_NODES or the storage buffer at BINDING_NODE_WORDS, the same bytes. Which is faster
 // depends on the driver (host/render/node_reads.h says which each gets, and why).

@@ -103,4 +103,23 @@ Material applyTextures(Material m, uint materialIndex, vec2 uv) {
     return m;
 }
 
+// What material `materialIndex`'s emission texture (TEXTURE_SLOT_EMISSION) scales emitted
+// radiance by at `uv`: scale x texture, clamped to [0, 1] (the Light's emission is
+// emissiveFactor x strength, the most the surface emits), or 1 where the material has none.
+// Emission and light sampling call it at the same point with the same uv, so the radiance a
+// light sample carries is the radiance a BRDF-sampled ray would find there.
+vec3 emissionTexture(uint materialIndex, vec2 uv) {
+    if (!hasEmissionTextures()) return vec3(1.0);
+    uvec4 header = texelFetch(materialTextureTexels, int(materialIndex));
+    for (uint i = 0u; i < header.y; ++i) {
+        int ref = int(header.x + textureRefStride() * i);
+        uvec4 a = texelFetch(materialTextureTexels, ref);
+        if ((a.w & 0xffu) != TEXTURE_SLOT_EMISSION) continue;
+        uvec4 b = texelFetch(materialTextureTexels, ref + 1);
+        vec4 t = sampleTexture(b.x, b.y, b.z, b.w, transformedUv(ref, uv));
+        return clamp(uintBitsToFloat(a.xyz) * t.rgb, 0.0, 1.0);
+    }
+    return vec3(1.0);
+}
+
 #endif
