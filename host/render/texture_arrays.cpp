@@ -16,6 +16,7 @@ uint32_t gpuTextureSlot(TextureSlot slot) {
         case TextureSlot::KsX: return gpu::TEXTURE_SLOT_KS_X;
         case TextureSlot::KsY: return gpu::TEXTURE_SLOT_KS_Y;
         case TextureSlot::Emission: return gpu::TEXTURE_SLOT_EMISSION;
+        case TextureSlot::Alpha: return gpu::TEXTURE_SLOT_ALPHA;
     }
     return gpu::TEXTURE_SLOT_KD;
 }
@@ -24,7 +25,10 @@ TextureArrays buildTextureArrays(const Scene& scene, const Bvh& bvh) {
     TextureArrays out;
     for (const Material& m : scene.materials) {
         out.textured |= !m.textures.empty();
-        for (const MaterialTexture& mt : m.textures) out.transformed |= !mt.uvTransform.isIdentity();
+        for (const MaterialTexture& mt : m.textures) {
+            out.transformed |= !mt.uvTransform.isIdentity();
+            out.alphaMask |= mt.slot == TextureSlot::Alpha;
+        }
     }
     // Emission textures count where an emitting shape uses the material (the GPU reads them
     // only for primitives with a light).

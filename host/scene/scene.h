@@ -85,7 +85,9 @@ struct PbrFactors {
 // in shaders/shared/types.h say which material field each one is). Emission is no field of
 // the Material: it scales the emitted radiance of the primitives that use the material
 // (glTF emissiveTexture).
-enum class TextureSlot { Kd, Ks, KsX, KsY, Emission };
+// Alpha is the alpha test of glTF's alphaMode MASK: scale.x the alpha factor, scale.y the
+// cutoff, the texture's channel 3 (TEXTURE_SLOT_ALPHA in shaders/shared/types.h).
+enum class TextureSlot { Kd, Ks, KsX, KsY, Emission, Alpha };
 
 // How a texture continues outside [0, 1] (glTF 2.0 section 5.26, samplers): REPEAT,
 // CLAMP_TO_EDGE and MIRRORED_REPEAT. Numbered as TEXTURE_WRAP_* in shaders/shared/types.h.

@@ -181,6 +181,11 @@ PENUMBRA_CONST uint TEXTURE_SLOT_KS_Y = 3u;
 // material (glTF emissiveTexture; textures/textures.glsl, emissionTexture). The Light keeps
 // emissiveFactor x strength, the texture's largest possible value times it.
 PENUMBRA_CONST uint TEXTURE_SLOT_EMISSION = 4u;
+// Not a Material slot either: the alpha test of glTF alphaMode MASK (textures/alpha_mask.glsl).
+// The reference reads the base colour texture's alpha (channel 3); scale.x is
+// baseColorFactor.a and scale.y the alphaCutoff: a triangle point whose scale.x x alpha is
+// below scale.y is no surface for any ray.
+PENUMBRA_CONST uint TEXTURE_SLOT_ALPHA = 5u;
 
 // BINDING_MATERIAL_TEXTURES, RGBA32UI texels: texel i (i < material count) is material i's
 // (first texel of its texture references, reference count, 0, 0); a reference is two
@@ -373,6 +378,8 @@ PENUMBRA_CONST uint SAMPLER_SOBOL = 1u;        // padded Owen-scrambled Sobol' (
 #define TEXTURES_TRANSFORMED 2u
 // And TEXTURES_EMISSION: some emitting primitive's material has an emission texture.
 #define TEXTURES_EMISSION 4u
+// And TEXTURES_ALPHA_MASK: some material is cut out by an alpha test (TEXTURE_SLOT_ALPHA).
+#define TEXTURES_ALPHA_MASK 8u
 // Where the traversal reads a BVH node from (SPEC_NODE_READS): the texel buffer at
 // BINDING_NODES or the storage buffer at BINDING_NODE_WORDS, the same bytes. Which is faster
 // depends on the driver (host/render/node_reads.h says which each gets, and why).
