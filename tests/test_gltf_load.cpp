@@ -316,7 +316,8 @@ TEST(GltfLoad, UnsupportedRequiredExtension) {
     EXPECT_EQ(loadError(file),
               file.string() +
                   ": extensionsRequired[0]: unsupported required extension \"EXT_meshopt_compression\" "
-                  "(Penumbra reads KHR_lights_punctual and KHR_materials_emissive_strength)");
+                  "(Penumbra reads KHR_lights_punctual, KHR_materials_emissive_strength and "
+                  "KHR_texture_transform)");
 }
 
 // A Draco-compressed mesh's accessors have no bufferView: the file must be refused for the
@@ -340,17 +341,17 @@ TEST(GltfLoad, CompressedMeshNamesItsRequiredExtension) {
 TEST(GltfLoad, IgnoredOptionalExtensionsGetOneNote) {
     GltfBuilder b;
     b.addMeshNode(b.triangle());
-    b.doc["extensionsUsed"] = {"KHR_materials_clearcoat", "KHR_lights_punctual", "KHR_texture_transform",
+    b.doc["extensionsUsed"] = {"KHR_materials_clearcoat", "KHR_lights_punctual", "KHR_materials_transmission",
                                "KHR_materials_clearcoat", std::string(500, 'X')};
     auto file = writeFile(freshTempDir() / "optional.gltf", b.gltf());
     Scene s = loadScene(file);
     EXPECT_EQ(noteStartingWith(s, file.string() + ": ignoring"),
-              file.string() + ": ignoring optional extensions KHR_materials_clearcoat, KHR_texture_transform, " +
+              file.string() + ": ignoring optional extensions KHR_materials_clearcoat, KHR_materials_transmission, " +
                   std::string(61, 'X') + "... (the model renders without them)");
 
     GltfBuilder plain;  // supported ones only: no note
     plain.addMeshNode(plain.triangle());
-    plain.doc["extensionsUsed"] = {"KHR_lights_punctual"};
+    plain.doc["extensionsUsed"] = {"KHR_lights_punctual", "KHR_texture_transform"};
     EXPECT_EQ(noteStartingWith(loadScene(writeFile(file, plain.gltf())), file.string() + ": ignoring"), "");
 }
 

@@ -36,6 +36,8 @@ static_assert(sizeof(WideNode) == WIDE_NODE_TEXELS * 16 && offsetof(WideNode, me
               offsetof(WideNode, loX) == 16 && offsetof(WideNode, hiY) == 32 && offsetof(WideNode, child0) == 40 &&
               offsetof(WideNode, child2) == 48 && sizeof(Primitive) == PRIMITIVE_TEXELS * 16 &&
               sizeof(Material) == MATERIAL_TEXELS * 16);
+static_assert(sizeof(TextureRef) == TEXTURE_REF_TEXELS * 16 && offsetof(TextureRef, firstTexel) == 16 &&
+              sizeof(TextureTransform) == TEXTURE_TRANSFORM_TEXELS * 16 && offsetof(TextureTransform, v) == 16);
 // A wide node's child packs offset | primCount << BVH_COUNT_SHIFT into 32 bits; a stack
 // entry packs a node index (below BVH_MAX_PRIMITIVES) and a child mask.
 static_assert(BVH_COUNT_SHIFT <= WIDE_STACK_MASK_SHIFT && WIDE_NODE_ARITY + WIDE_STACK_MASK_SHIFT <= 32u &&

@@ -23,6 +23,7 @@
 #include "gpu_fixture.h"
 #include "image/image.h"
 #include "image/image_file.h"
+#include "render/kernel_options.h"
 #include "render/scene_arrays.h"
 #include "render_helpers.h"
 #include "scene/load.h"
@@ -489,7 +490,11 @@ constexpr int kGlRepeat = 10497, kGlClampToEdge = 33071, kGlMirroredRepeat = 336
 // Renders the glTF quad of texturedQuadModel (image from `source`, sampler wrapS `glWrap`)
 // and compares it with the CPU evaluation of its base colour texture, wrapped along u as
 // `wrap` says (the quad's u runs over [0, 2], so the second half shows the wrapping).
-void expectGltfQuadShowsTexture(const std::string& source, int glWrap, TextureWrap wrap, const std::string& name) {
+// `transform`, if not null, is the base colour texture's KHR_texture_transform and `uvMap` the
+// coordinates it maps the quad's uv to (with repeat wrapping: the CPU lookup wraps v so).
+void expectGltfQuadShowsTexture(const std::string& source, int glWrap, TextureWrap wrap, const std::string& name,
+                                const json& transform = nullptr,
+                                const std::function<glm::dvec2(glm::dvec2)>& uvMap = nullptr) {
     CpuTexture tex;
     tex.width = 4;
     tex.height = 3;
@@ -502,7 +507,15 @@ void expectGltfQuadShowsTexture(const std::string& source, int glWrap, TextureWr
     const glm::dvec3 factor(1, 0.5, 0.25);
     auto dir = test::freshOutputDir("textures", name);
     std::string model = source == "view" ? "quad.glb" : "quad.gltf";
-    test::writeFile(dir / model, texturedQuadModel(dir, source, glWrap));
+    std::string bytes = texturedQuadModel(dir, source, glWrap);
+    if (!transform.is_null()) {
+        json doc = json::parse(bytes);
+        doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"]["KHR_texture_transform"] =
+            transform;
+        doc["extensionsUsed"] = {"KHR_texture_transform"};
+        bytes = doc.dump();
+    }
+    test::writeFile(dir / model, bytes);
     if (source != "uri") std::filesystem::remove(dir / "texture.png");  // only in the model
     json scene = {{"camera", test::topDownCamera(0, 0, 0.95)},
                   {"film", {{"width", kSize}, {"height", kSize}}},
@@ -519,7 +532,9 @@ void expectGltfQuadShowsTexture(const std::string& source, int glWrap, TextureWr
     Image image = test::renderScene(loaded);
     Expected e = expectedImage(loaded, [&](glm::dvec3 o, glm::dvec3 d, int c) -> std::optional<double> {
         glm::dvec3 x = planeHit(o, d);
-        return factor[c] * tex.bilinear(x.x + 1, 0.75 * (x.z + 1), c, wrap);
+        glm::dvec2 uv(x.x + 1, 0.75 * (x.z + 1));
+        if (uvMap) uv = uvMap(uv);
+        return factor[c] * tex.bilinear(uv.x, uv.y, c, wrap);
     });
     EXPECT_EQ(compare(image, e, name), 0) << name;
 }
@@ -534,6 +549,78 @@ TEST(Textures, GltfBaseColorTextureFromEachImageSource) {
 TEST(Textures, GltfSamplersClampToEdgeAndMirror) {
     expectGltfQuadShowsTexture("data", kGlClampToEdge, TextureWrap::Clamp, "gltf-clamp");
     expectGltfQuadShowsTexture("data", kGlMirroredRepeat, TextureWrap::Mirror, "gltf-mirror");
+}
+
+// KHR_texture_transform (glTF extension README; rotation as KhronosGroup/glTF issue 1563 and
+// the TextureTransformTest sample read it, counter-clockwise in u-right, v-down uv space):
+// uv' = T(offset) R(rotation) S(scale) uv, i.e.
+//   u' = cos sx u + sin sy v + ox,   v' = -sin sx u + cos sy v + oy,
+// evaluated here in double and looked up on the CPU: the quad's texels land where the
+// transformed coordinates say, tiled (repeat) over the rotated, scaled and shifted range.
+TEST(Textures, GltfTextureTransformMovesTheLookupByOffsetRotationAndScale) {
+    const double ox = 0.3, oy = -0.2, r = 0.4, sx = 1.5, sy = 0.75;
+    json transform = {{"offset", {ox, oy}}, {"rotation", r}, {"scale", {sx, sy}}};
+    expectGltfQuadShowsTexture("data", kGlRepeat, TextureWrap::Repeat, "gltf-transform", transform, [&](glm::dvec2 uv) {
+        return glm::dvec2(std::cos(r) * sx * uv.x + std::sin(r) * sy * uv.y + ox,
+                          -std::sin(r) * sx * uv.x + std::cos(r) * sy * uv.y + oy);
+    });
+    // Offset alone, and texCoord 0 given explicitly: the same rule without rotation.
+    expectGltfQuadShowsTexture("data", kGlRepeat, TextureWrap::Repeat, "gltf-offset",
+                               {{"offset", {0.5, 0.25}}, {"texCoord", 0}},
+                               [](glm::dvec2 uv) { return uv + glm::dvec2(0.5, 0.25); });
+}
+
+TEST(Textures, GltfTextureTransformErrorsNameTheirPath) {
+    auto dir = test::freshOutputDir("textures", "gltf-transform-bad");
+    const json base = json::parse(texturedQuadModel(dir, "data"));
+    const std::string at = "materials[0].pbrMetallicRoughness.baseColorTexture.extensions.KHR_texture_transform";
+    const std::vector<std::pair<json, std::string>> cases = {
+        {{{"offset", {1, "x"}}}, at + ".offset[1]: expected a number"},
+        {{{"offset", {1}}}, at + ".offset: expected 2 numbers"},
+        {{{"scale", {1, 1e30}}}, at + ".scale[1]: must be finite and at most 1e8 in magnitude"},
+        {{{"rotation", "half"}}, at + ".rotation: expected a number"},
+        {{{"texCoord", -1}}, at + ".texCoord: expected a non-negative integer"},
+    };
+    for (const auto& [transform, message] : cases) {
+        json doc = base;
+        doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"]["KHR_texture_transform"] =
+            transform;
+        auto file = test::writeFile(dir / "bad.gltf", doc.dump());
+        EXPECT_EQ(test::loadError(file), file.string() + ": " + message) << transform.dump();
+    }
+    // A texCoord override other than 0 is read with TEXCOORD_0, as a textureInfo's is, with a note.
+    json doc = base;
+    doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"]["KHR_texture_transform"] = {
+        {"texCoord", 1}};
+    auto file = test::writeFile(dir / "set1.gltf", doc.dump());
+    Scene scene = loadScene(file);
+    bool noted = false;
+    for (const std::string& n : scene.notes)
+        noted |= n == file.string() + ": textures using TEXCOORD_1 are read with TEXCOORD_0";
+    EXPECT_TRUE(noted);
+}
+
+// Scenes without a transform (or with an identity one) keep the short texture references
+// and compile the transform out: their kernels are the kernels of before.
+TEST(Textures, OnlyScenesWithATextureTransformCarryTransforms) {
+    auto dir = test::freshOutputDir("textures", "gltf-transform-bits");
+    json doc = json::parse(texturedQuadModel(dir, "data"));
+    auto bits = [&](const json& transform) {
+        json d = doc;
+        if (!transform.is_null())
+            d["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"]["KHR_texture_transform"] =
+                transform;
+        Scene scene = loadScene(test::writeFile(dir / "quad.gltf", d.dump()));
+        SceneArrays arrays = buildSceneArrays(scene);
+        // One material header, then one reference of TEXTURE_REF_TEXELS (+ the transform's).
+        const size_t refTexels = arrays.textures.materialTextures.size() - scene.materials.size();
+        return std::make_pair(makeKernelOptions(scene, arrays).textures, refTexels);
+    };
+    EXPECT_EQ(bits(nullptr), std::make_pair(TEXTURES_ON, size_t(gpu::TEXTURE_REF_TEXELS)));
+    EXPECT_EQ(bits(json::object()), std::make_pair(TEXTURES_ON, size_t(gpu::TEXTURE_REF_TEXELS)));
+    EXPECT_EQ(bits({{"scale", {2, 1}}}),
+              std::make_pair(TEXTURES_ON | TEXTURES_TRANSFORMED,
+                             size_t(gpu::TEXTURE_REF_TEXELS + gpu::TEXTURE_TRANSFORM_TEXELS)));
 }
 
 TEST(Textures, GltfMetallicRoughnessTextureFeedsPbrMetallicFromBlueAndRoughnessFromGreen) {

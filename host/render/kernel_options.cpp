@@ -100,17 +100,24 @@ KernelOptions makeKernelOptions(const Scene& scene, const SceneArrays& arrays, E
     o.integrator = scene.integrator;
     o.sampler = scene.sampler.type;
     o.sceneFeatures = sceneFeatures(arrays);
-    o.textures = arrays.textures.textured ? 1u : 0u;
-    const bool inlined = inlineGeometry == InlineGeometry::Rule && inlineGeometryPays(arrays);
+    o.textures = (arrays.textures.textured ? TEXTURES_ON : 0u) |
+                 (arrays.textures.transformed ? TEXTURES_TRANSFORMED : 0u) |
+                 (arrays.textures.emission ? TEXTURES_EMISSION : 0u) |
+                 (arrays.textures.alphaMask ? TEXTURES_ALPHA_MASK : 0u);
+    // The alpha test sits in the BVH traversal's triangle hits (textures/alpha_mask.glsl):
+    // scenes with one trace through the BVH, neither inline nor emitter first.
+    const bool masked = arrays.textures.alphaMask;
+    const bool inlined = !masked && inlineGeometry == InlineGeometry::Rule && inlineGeometryPays(arrays);
     if (inlined) o.inlineGeometry = inlineGeometryWords(arrays.bvh);
     // Inline scenes have a rule of their own (emitter_first.h): on Mesa 25, which skips the
     // branches no SIMD lane takes, a BRDF-sampled ray that misses every emitter skips the
     // occlusion test and the emitter's surface point, as through the BVH, but the closest
     // hit it saves is cheap (docs/performance-history/round-09.md and docs/performance-history/round-29.md).
     const uint32_t inlinePrimitives = inlined ? uint32_t(arrays.bvh.primitives.size()) : 0u;
-    const bool on = emitterFirst == EmitterFirst::Exact  ? emitterFirstExact(scene.integrator, arrays)
-                    : emitterFirst == EmitterFirst::Rule ? emitterFirstPaysFor(scene, arrays, inlinePrimitives)
-                                                         : false;
+    const bool on = masked                                ? false
+                    : emitterFirst == EmitterFirst::Exact ? emitterFirstExact(scene.integrator, arrays)
+                    : emitterFirst == EmitterFirst::Rule  ? emitterFirstPaysFor(scene, arrays, inlinePrimitives)
+                                                          : false;
     o.emitterFirstLights = on ? uint32_t(arrays.lights.size()) : 0u;
     o.aovs = aovBits(scene.film.aovs);
     o.lightBvh = scene.integrator.lightSelection == LightSelection::Bvh ? 1u : 0u;

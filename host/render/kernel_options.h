@@ -18,7 +18,7 @@ struct KernelOptions {
     SamplerType sampler = SamplerType::Sobol;
     uint32_t sceneFeatures = gpu::FEATURES_ALL;
     uint32_t countRays = 0;
-    uint32_t textures = 0;                   // 1: some material is textured
+    uint32_t textures = 0;                   // TEXTURES_* bits (shared/types.h)
     uint32_t emitterFirstLights = 0;         // 0, or the light count: emitter-first BRDF rays
     InlineGeometryWords inlineGeometry;      // no slots, or the primitives inline (render/inline_geometry.h)
     uint32_t nodeReads = NODE_READS_TEXELS;  // NODE_READS_*: set per device (render/node_reads.h)

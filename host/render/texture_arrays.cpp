@@ -15,13 +15,27 @@ uint32_t gpuTextureSlot(TextureSlot slot) {
         case TextureSlot::Ks: return gpu::TEXTURE_SLOT_KS;
         case TextureSlot::KsX: return gpu::TEXTURE_SLOT_KS_X;
         case TextureSlot::KsY: return gpu::TEXTURE_SLOT_KS_Y;
+        case TextureSlot::Emission: return gpu::TEXTURE_SLOT_EMISSION;
+        case TextureSlot::Alpha: return gpu::TEXTURE_SLOT_ALPHA;
     }
     return gpu::TEXTURE_SLOT_KD;
 }
 
 TextureArrays buildTextureArrays(const Scene& scene, const Bvh& bvh) {
     TextureArrays out;
-    for (const Material& m : scene.materials) out.textured |= !m.textures.empty();
+    for (const Material& m : scene.materials) {
+        out.textured |= !m.textures.empty();
+        for (const MaterialTexture& mt : m.textures) {
+            out.transformed |= !mt.uvTransform.isIdentity();
+            out.alphaMask |= mt.slot == TextureSlot::Alpha;
+        }
+    }
+    // Emission textures count where an emitting shape uses the material (the GPU reads them
+    // only for primitives with a light).
+    for (const Shape& shape : scene.shapes)
+        if (shape.isEmitter())
+            for (const MaterialTexture& mt : scene.materials.at(shape.material).textures)
+                out.emission |= mt.slot == TextureSlot::Emission;
     if (!out.textured) return out;
 
     // Texels: every texture after the previous one, two RGBA half texels per uvec4.
@@ -53,6 +67,14 @@ TextureArrays buildTextureArrays(const Scene& scene, const Bvh& bvh) {
             static_assert(sizeof words == sizeof ref);
             std::memcpy(words, &ref, sizeof ref);
             out.materialTextures.insert(out.materialTextures.end(), std::begin(words), std::end(words));
+            // Only a scene with some transform carries them (SPEC_TEXTURES, TEXTURES_TRANSFORMED).
+            if (out.transformed) {
+                gpu::TextureTransform transform{glm::vec4(mt.uvTransform.u, 0.0f), glm::vec4(mt.uvTransform.v, 0.0f)};
+                glm::uvec4 rows[gpu::TEXTURE_TRANSFORM_TEXELS];
+                static_assert(sizeof rows == sizeof transform);
+                std::memcpy(rows, &transform, sizeof transform);
+                out.materialTextures.insert(out.materialTextures.end(), std::begin(rows), std::end(rows));
+            }
         }
     }
 

@@ -8,7 +8,8 @@
 namespace penumbra {
 
 const std::vector<std::string>& supportedGltfExtensions() {
-    static const std::vector<std::string> names = {"KHR_lights_punctual", "KHR_materials_emissive_strength"};
+    static const std::vector<std::string> names = {"KHR_lights_punctual", "KHR_materials_emissive_strength",
+                                                   "KHR_texture_transform"};
     return names;
 }
 

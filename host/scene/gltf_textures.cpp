@@ -7,6 +7,7 @@
 
 #include "core/errors.h"
 #include "image/image_file.h"
+#include "scene/gltf_texture_transform.h"
 #include "scene/material_textures.h"
 
 namespace penumbra {
@@ -68,12 +69,15 @@ TextureWrap GltfTextureReader::wrapMode(int glWrap, const std::string& path) con
 }
 
 uint32_t GltfTextureReader::texture(const tinygltf::TextureInfo& info, const std::string& path, bool srgb,
-                                    std::pair<TextureWrap, TextureWrap>& wrap) {
+                                    std::pair<TextureWrap, TextureWrap>& wrap, UvTransform& uv) {
     if (info.index < 0 || size_t(info.index) >= m_model.textures.size())
         throwInputError(m_label, path + ".index", "texture " + std::to_string(info.index) + " does not exist");
-    // SCENE_FORMAT.md: TEXCOORD_0. Another set is read as set 0, with a note.
-    if (info.texCoord != 0)
-        noteOnce("textures using TEXCOORD_" + std::to_string(info.texCoord) + " are read with TEXCOORD_0");
+    const GltfTextureTransform transform = readTextureTransform(info, m_label, path);
+    uv = transform.uv;
+    // SCENE_FORMAT.md: TEXCOORD_0. Another set (the textureInfo's, or KHR_texture_transform's
+    // override) is read as set 0, with a note.
+    if (transform.texCoord != 0)
+        noteOnce("textures using TEXCOORD_" + std::to_string(transform.texCoord) + " are read with TEXCOORD_0");
     const tinygltf::Texture& tex = m_model.textures[size_t(info.index)];
     std::string texPath = at("textures", size_t(info.index));
     if (tex.source < 0 || size_t(tex.source) >= m_model.images.size())
@@ -124,10 +128,11 @@ void GltfTextureReader::checkLimits() {
                             "the model's textures exceed " + std::to_string(kMaxTextureTexels) +
                                 " texels in all (README: texture limits)");
     };
-    // The textures metallicRoughness() reads, with the same decodings.
+    // The textures metallicRoughness() and emission() read, with the same decodings.
     for (const tinygltf::Material& material : m_model.materials) {
         count(material.pbrMetallicRoughness.baseColorTexture, true);
         count(material.pbrMetallicRoughness.metallicRoughnessTexture, false);
+        count(material.emissiveTexture, true);
     }
 }
 
@@ -139,8 +144,9 @@ std::optional<MaterialTexture> GltfTextureReader::baseColor(const tinygltf::Mate
     if (pbr.baseColorFactor.size() == 4)
         factor = {unit(pbr.baseColorFactor[0]), unit(pbr.baseColorFactor[1]), unit(pbr.baseColorFactor[2])};
     std::pair<TextureWrap, TextureWrap> wrap;
-    uint32_t t = texture(pbr.baseColorTexture, path + ".pbrMetallicRoughness.baseColorTexture", true, wrap);
-    return MaterialTexture{TextureSlot::Kd, t, factor, 0, wrap.first, wrap.second};
+    UvTransform uv;
+    uint32_t t = texture(pbr.baseColorTexture, path + ".pbrMetallicRoughness.baseColorTexture", true, wrap, uv);
+    return MaterialTexture{TextureSlot::Kd, t, factor, 0, wrap.first, wrap.second, uv};
 }
 
 GltfMaterialTextures GltfTextureReader::metallicRoughness(const tinygltf::Material& material, const std::string& path) {
@@ -150,14 +156,26 @@ GltfMaterialTextures GltfTextureReader::metallicRoughness(const tinygltf::Materi
     if (pbr.metallicRoughnessTexture.index >= 0) {
         // glTF 2.0 section 3.9.2: metalness in the blue channel, roughness in green; linear data.
         std::pair<TextureWrap, TextureWrap> wrap;
-        uint32_t t =
-            texture(pbr.metallicRoughnessTexture, path + ".pbrMetallicRoughness.metallicRoughnessTexture", false, wrap);
+        UvTransform uv;
+        uint32_t t = texture(pbr.metallicRoughnessTexture, path + ".pbrMetallicRoughness.metallicRoughnessTexture",
+                             false, wrap, uv);
         out.metallic =
-            MaterialTexture{TextureSlot::KsX, t, glm::vec3(unit(pbr.metallicFactor)), 2, wrap.first, wrap.second};
+            MaterialTexture{TextureSlot::KsX, t, glm::vec3(unit(pbr.metallicFactor)), 2, wrap.first, wrap.second, uv};
         out.roughness =
-            MaterialTexture{TextureSlot::KsY, t, glm::vec3(unit(pbr.roughnessFactor)), 1, wrap.first, wrap.second};
+            MaterialTexture{TextureSlot::KsY, t, glm::vec3(unit(pbr.roughnessFactor)), 1, wrap.first, wrap.second, uv};
     }
     return out;
+}
+
+std::optional<MaterialTexture> GltfTextureReader::emission(const tinygltf::Material& material,
+                                                           const std::string& path) {
+    if (material.emissiveTexture.index < 0) return std::nullopt;
+    // glTF 2.0 section 3.9.5: emissiveTexture is sRGB colour; the emitted radiance is
+    // emissiveFactor (times emissive_strength) times it, and the factor stays in the Light.
+    std::pair<TextureWrap, TextureWrap> wrap;
+    UvTransform uv;
+    uint32_t t = texture(material.emissiveTexture, path + ".emissiveTexture", true, wrap, uv);
+    return MaterialTexture{TextureSlot::Emission, t, glm::vec3(1.0f), 0, wrap.first, wrap.second, uv};
 }
 
 }  // namespace penumbra

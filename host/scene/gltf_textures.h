@@ -1,6 +1,6 @@
 // Internal to host/scene: the textures of glTF materials (glTF 2.0 section 3.9, "Materials";
 // 5.26-5.29 images, samplers, textures): baseColorTexture and metallicRoughnessTexture
-// read through TEXCOORD_0, from GLB buffer views, data URIs or external files, decoded by
+// read through TEXCOORD_0 (after KHR_texture_transform, gltf_texture_transform.h), from GLB buffer views, data URIs or external files, decoded by
 // image/image_file.h into GltfImport::textures. The material function (load_gltf.cpp)
 // decides which fields they fill.
 #pragma once
@@ -49,12 +49,15 @@ public:
     std::optional<MaterialTexture> baseColor(const tinygltf::Material& material, const std::string& path);
     // All three fields, for a material that has them all (metallic-roughness).
     GltfMaterialTextures metallicRoughness(const tinygltf::Material& material, const std::string& path);
+    // The emissive texture (sRGB, slot Emission, scale 1: emissiveFactor stays in the
+    // shape's emission), decoded only when present; the caller asks only for emitters.
+    std::optional<MaterialTexture> emission(const tinygltf::Material& material, const std::string& path);
 
 private:
     // Index into m_textures of glTF texture `info` decoded as sRGB colour or linear data,
-    // and its sampler's wrapping along u and v; throws InputError naming the glTF path.
+    // its sampler's wrapping along u and v, and its KHR_texture_transform (identity without); throws InputError naming the glTF path.
     uint32_t texture(const tinygltf::TextureInfo& info, const std::string& path, bool srgb,
-                     std::pair<TextureWrap, TextureWrap>& wrap);
+                     std::pair<TextureWrap, TextureWrap>& wrap, UvTransform& uv);
     TextureWrap wrapMode(int glWrap, const std::string& path) const;
     std::string imageBytes(int index, const std::string& path) const;
     void noteOnce(const std::string& text);

@@ -104,6 +104,8 @@ private:
     glm::dmat4 localTransform(const tinygltf::Node& node, const std::string& path) const;
     void checkHierarchy() const;
     void loadMaterials();
+    bool readAlphaMode(const tinygltf::Material& mat, const std::string& path, bool emissive,
+                       const std::optional<MaterialTexture>& baseColor, Material& m);
     Material metallicRoughnessMaterial(const tinygltf::Material& mat, const std::string& path) const;
     void addPrimitive(const tinygltf::Primitive& prim, const glm::dmat4& world, const std::string& path);
     void addLight(const tinygltf::Node& node, const glm::dmat4& world, const std::string& path);
@@ -120,7 +122,9 @@ private:
     GltfTextureReader m_textures;       // after m_label and m_result, which it refers to
     std::vector<glm::vec3> m_emission;  // per glTF material: emissiveFactor * emissiveStrength
     std::vector<bool> m_doubleSided;
-    size_t m_degenerate = 0, m_nonTriangles = 0, m_noPositions = 0, m_badNormals = 0;
+    std::vector<bool> m_cutOut;  // per glTF material: alpha below its cutoff everywhere
+    size_t m_degenerate = 0, m_nonTriangles = 0, m_noPositions = 0, m_badNormals = 0, m_cutOutPrimitives = 0;
+    size_t m_blendMaterials = 0, m_emissiveMasked = 0;  // alphaMode notes, one line each
     bool m_orthographicSeen = false;
 };
 
@@ -254,6 +258,43 @@ Material Importer::metallicRoughnessMaterial(const tinygltf::Material& mat, cons
     return m;
 }
 
+// glTF 2.0 section 3.9.4, alphaMode: OPAQUE (the default) ignores alpha; MASK cuts out the
+// points whose alpha, baseColorFactor.a x baseColorTexture.a, is below alphaCutoff (default
+// 0.5). Penumbra renders BLEND as MASK with cutoff 0.5 (a note says so): it traces no
+// partly transparent surfaces. A textured alpha becomes the material's Alpha texture (the
+// base colour texture's channel 3, tested in the traversal: textures/alpha_mask.glsl); a
+// constant one is opaque or, below the cutoff, cuts out the whole material, whose primitives
+// are then left out (true). An emissive material stays opaque, with a note: its light samples
+// could not see its holes, and its emission would be counted where no surface is.
+bool Importer::readAlphaMode(const tinygltf::Material& mat, const std::string& path, bool emissive,
+                             const std::optional<MaterialTexture>& baseColor, Material& m) {
+    const std::string& mode = mat.alphaMode;
+    if (mode.empty() || mode == "OPAQUE") return false;
+    if (mode != "MASK" && mode != "BLEND") fail(path + ".alphaMode", "expected \"OPAQUE\", \"MASK\" or \"BLEND\"");
+    double cutoff = 0.5;
+    if (mode == "BLEND") {
+        ++m_blendMaterials;
+    } else {
+        cutoff = mat.alphaCutoff;
+        if (!(cutoff >= 0.0 && cutoff <= 1e20)) fail(path + ".alphaCutoff", "must be a finite number >= 0");
+    }
+    if (emissive) {
+        ++m_emissiveMasked;
+        return false;
+    }
+    double alpha = 1.0;
+    if (mat.pbrMetallicRoughness.baseColorFactor.size() == 4) alpha = mat.pbrMetallicRoughness.baseColorFactor[3];
+    if (!(alpha >= 0.0 && alpha <= 1.0))
+        fail(path + ".pbrMetallicRoughness.baseColorFactor[3]", "alpha must be in [0, 1]");
+    if (!baseColor) return alpha < cutoff;
+    MaterialTexture test = *baseColor;
+    test.slot = TextureSlot::Alpha;
+    test.scale = glm::vec3(float(alpha), float(cutoff), 0.0f);
+    test.channel = 3;
+    m.textures.push_back(test);
+    return false;
+}
+
 void Importer::loadMaterials() {
     m_textures.checkLimits();  // from the image headers, before any image is decoded
     for (size_t i = 0; i < m_model.materials.size(); ++i) {
@@ -287,6 +328,12 @@ void Importer::loadMaterials() {
         for (const std::optional<MaterialTexture>* field :
              {&textures.baseColor, &textures.metallic, &textures.roughness})
             if (*field) m.textures.push_back(**field);
+        // emissiveFactor x strength x emissiveTexture (glTF 2.0 section 3.9.5): the texture
+        // scales the emission of the primitives that use the material, which without a
+        // factor is 0 whatever the texture says.
+        if (emission != glm::dvec3(0.0))
+            if (auto texture = m_textures.emission(mat, path)) m.textures.push_back(*texture);
+        m_cutOut.push_back(readAlphaMode(mat, path, emission != glm::dvec3(0.0), textures.baseColor, m));
         m_result.materials.push_back(m);
         m_emission.push_back(glm::vec3(emission));
         m_doubleSided.push_back(mat.doubleSided);
@@ -299,6 +346,10 @@ void Importer::addPrimitive(const tinygltf::Primitive& prim, const glm::dmat4& w
     if (mode < TINYGLTF_MODE_TRIANGLES) { ++m_nonTriangles; return; }
     if (prim.material >= 0 && size_t(prim.material) >= m_model.materials.size())
         fail(path + ".material", "material " + std::to_string(prim.material) + " does not exist");
+    if (prim.material >= 0 && m_cutOut[size_t(prim.material)]) {
+        ++m_cutOutPrimitives;  // alphaMode MASK with a constant alpha below its cutoff
+        return;
+    }
     auto position = prim.attributes.find("POSITION");
     if (position == prim.attributes.end()) { ++m_noPositions; return; }
 
@@ -547,6 +598,14 @@ GltfImport Importer::run() {
         for (auto c = node.children.rbegin(); c != node.children.rend(); ++c) stack.emplace_back(*c, world);
     }
 
+    if (m_blendMaterials)
+        note(std::to_string(m_blendMaterials) +
+             " materials with alphaMode BLEND are rendered as MASK with alphaCutoff 0.5 (no partial transparency)");
+    if (m_emissiveMasked)
+        note(std::to_string(m_emissiveMasked) + " emissive materials are rendered opaque (their alphaMode is ignored)");
+    if (m_cutOutPrimitives)
+        note("skipped " + std::to_string(m_cutOutPrimitives) +
+             " primitives whose material is cut out everywhere (alpha below alphaCutoff)");
     if (m_degenerate) note("skipped " + std::to_string(m_degenerate) + " degenerate (zero-area) triangles");
     if (m_nonTriangles) note("skipped " + std::to_string(m_nonTriangles) + " point/line primitives (only triangles are rendered)");
     if (m_noPositions) note("skipped " + std::to_string(m_noPositions) + " primitives without POSITION");

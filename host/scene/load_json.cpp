@@ -381,8 +381,12 @@ private:
                     key, srgb, [&](const AcceptImageSize&) { return std::move(t); },
                     [&](const std::string& why) { fileField.fail(why); }));
             }
-            for (Material& m : model.materials)
+            for (Material& m : model.materials) {
                 for (MaterialTexture& mt : m.textures) mt.texture = textureIndex[mt.texture];
+                // The shape's own emission replaces the file's, its emissive texture too.
+                if (r.has("emission") || r.has("power"))
+                    std::erase_if(m.textures, [](const MaterialTexture& t) { return t.slot == TextureSlot::Emission; });
+            }
             m_scene.materials.insert(m_scene.materials.end(), model.materials.begin(), model.materials.end());
         }
         glm::vec3 emission = r.has("emission") ? radiometric(r.at("emission"), r.at("emission").color(), "radiance")

@@ -82,12 +82,26 @@ struct PbrFactors {
 };
 
 // Which value of a material a texture replaces: the GPU Material's slots (TEXTURE_SLOT_*
-// in shaders/shared/types.h say which material field each one is).
-enum class TextureSlot { Kd, Ks, KsX, KsY };
+// in shaders/shared/types.h say which material field each one is). Emission is no field of
+// the Material: it scales the emitted radiance of the primitives that use the material
+// (glTF emissiveTexture).
+// Alpha is the alpha test of glTF's alphaMode MASK: scale.x the alpha factor, scale.y the
+// cutoff, the texture's channel 3 (TEXTURE_SLOT_ALPHA in shaders/shared/types.h).
+enum class TextureSlot { Kd, Ks, KsX, KsY, Emission, Alpha };
 
 // How a texture continues outside [0, 1] (glTF 2.0 section 5.26, samplers): REPEAT,
 // CLAMP_TO_EDGE and MIRRORED_REPEAT. Numbered as TEXTURE_WRAP_* in shaders/shared/types.h.
 enum class TextureWrap { Repeat, Clamp, Mirror };
+
+// An affine map of texture coordinates, applied before the lookup (glTF's
+// KHR_texture_transform): (u', v') = (dot(u, (u, v, 1)), dot(v, (u, v, 1))). The default is
+// the identity, which the GPU never evaluates (render/texture_arrays.cpp).
+struct UvTransform {
+    glm::vec3 u{1.0f, 0.0f, 0.0f}, v{0.0f, 1.0f, 0.0f};
+
+    bool isIdentity() const { return *this == UvTransform{}; }
+    bool operator==(const UvTransform&) const = default;
+};
 
 // A textured field (SCENE_FORMAT.md "Textures (v2)"): the value is scale times the
 // texture at the point's (u, v), channel `channel` alone for a number field.
@@ -98,6 +112,7 @@ struct MaterialTexture {
     uint32_t channel = 0;   // number fields: which channel (0 = R ... 3 = A)
     // Wrapping along u and v (glTF samplers; a JSON texture repeats, SCENE_FORMAT.md).
     TextureWrap wrapU = TextureWrap::Repeat, wrapV = TextureWrap::Repeat;
+    UvTransform uvTransform;  // glTF KHR_texture_transform; identity elsewhere
 
     bool operator==(const MaterialTexture&) const = default;
 };

@@ -48,6 +48,15 @@ bool hasParallelogramLights() { return (kSceneFeatures & (1u << FEATURE_PARALLEL
 bool hasSingleLight() { return (kSceneFeatures & (1u << FEATURE_SINGLE_LIGHT)) != 0u; }
 // Whether any material is textured; false compiles texture coordinates and lookups out.
 bool hasTextures() { return kTextures != 0u; }
+// Whether some texture reference has a uv transform (glTF KHR_texture_transform); false
+// compiles the transform out and keeps the references TEXTURE_REF_TEXELS apart.
+bool hasTextureTransforms() { return (kTextures & TEXTURES_TRANSFORMED) != 0u; }
+// Whether some emitter's material has an emission texture (glTF emissiveTexture); false
+// compiles its lookups out of emission and light sampling.
+bool hasEmissionTextures() { return (kTextures & TEXTURES_EMISSION) != 0u; }
+// Whether some material has an alpha test (glTF alphaMode MASK); false compiles it out of
+// every ray's triangle hits.
+bool hasAlphaMask() { return (kTextures & TEXTURES_ALPHA_MASK) != 0u; }
 
 // Type tests that are false at compile time for kinds the scene lacks.
 bool lightIs(Light light, uint type) { return hasLight(type) && light.type == type; }

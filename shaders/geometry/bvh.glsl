@@ -203,7 +203,11 @@ uint nearestChild(uint hits, vec4 tEntry) {
 bool testPrimitive(uint i, vec3 origin, vec3 dir, inout Hit hit) {
     float t;
     vec2 uv;
-    bool found = intersectPrimitive(loadPrimitive(i), origin, dir, hit.t, t, uv);
+    Primitive p = loadPrimitive(i);
+    bool found = intersectPrimitive(p, origin, dir, hit.t, t, uv);
+#ifdef PENUMBRA_ALPHA_MASK_GLSL
+    if (found && alphaCutOut(i, p, uv)) found = false;  // glTF MASK (textures/alpha_mask.glsl)
+#endif
     if (found) {
         hit.t = t;
         hit.primitive = i;
@@ -542,7 +546,12 @@ bool tracePair(vec3 originA, vec3 dirA, float tMaxA, bool tracedA, uvec2 ignoreA
                 // Any hit ends the ray; its Hit is not read, so only the test is made.
                 float t;
                 vec2 uv;
-                if (intersectPrimitive(loadPrimitive(iB), ray.origin, ray.dir, hitB.t, t, uv)) {
+                Primitive p = loadPrimitive(iB);
+                bool found = intersectPrimitive(p, ray.origin, ray.dir, hitB.t, t, uv);
+#ifdef PENUMBRA_ALPHA_MASK_GLSL
+                if (found && alphaCutOut(iB, p, uv)) found = false;  // as testPrimitive
+#endif
+                if (found) {
                     blocked = true;
                     liveB = false;
                     endB = iB;

@@ -13,13 +13,11 @@
 
 #include "shared/types.h"
 #include "geometry/bvh.glsl"
+#include "geometry/uvs.glsl"
 
 // Per-vertex shading normals of triangles whose typeAndNormals >> 2 is non-zero
 // (normals[(typeAndNormals >> 2) - 1]).
 layout(std430, binding = BINDING_NORMALS) readonly restrict buffer TriangleNormalsBuffer { TriangleNormals normals[]; };
-// Per-vertex texture coordinates of every primitive (leaf order; zero for meshes without
-// `uvs`, unused for quads and spheres). Bound and read only when the scene is textured.
-layout(std430, binding = BINDING_UVS) readonly restrict buffer TriangleUvsBuffer { TriangleUvs uvs[]; };
 
 struct SurfacePoint {
     vec3 position;         // on the primitive (world space)

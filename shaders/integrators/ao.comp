@@ -9,6 +9,8 @@
 
 #include "integrators/kernel_common.glsl"
 #include "common/specialization.glsl"
+// Before the traversal: its triangle hits run the alpha test (textures/alpha_mask.glsl).
+#include "textures/alpha_mask.glsl"
 #include "geometry/bvh.glsl"
 #include "geometry/surface.glsl"
 #include "sampling/warp.glsl"

@@ -26,9 +26,13 @@ const bool kShadowRaysWait = false;
 
 #include "integrators/kernel_common.glsl"
 #include "common/specialization.glsl"
+// Before the traversal: its triangle hits run the alpha test (textures/alpha_mask.glsl).
+#include "textures/alpha_mask.glsl"
 #include "geometry/bvh.glsl"
 #include "geometry/surface.glsl"
 #include "sampling/warp.glsl"
+// Before the lights: mesh lights read emission textures (lights/mesh.glsl).
+#include "textures/textures.glsl"
 #include "lights/lights.glsl"
 #include "bsdf/bsdf.glsl"
 #include "integrators/mis.glsl"
@@ -205,7 +209,7 @@ vec3 incidentEmission(Shading s, vec3 wi, float selectionScale, bool bvh, KnownQ
     SurfacePoint y = surfaceAt(hit, s.origin, wi);
     if (y.light == NO_LIGHT) return vec3(0.0);
     Light light = loadLight(y.light);
-    vec3 Le = emittedRadiance(light, y.geometricNormal, wi);
+    vec3 Le = emittedRadiance(light, y.geometricNormal, wi) * emissionTexture(y.material, y.uv);
     if (Le == vec3(0.0)) return vec3(0.0);
     if (waits && emitterFirst()) hidden = emitterHiddenRay(s.origin, wi, hit, s.flatPrimitive);
     else if (emitterHidden(s.origin, wi, hit, s.flatPrimitive)) return vec3(0.0);
@@ -359,7 +363,8 @@ PartialSample partialSample(bool found, Hit hit, vec3 origin, vec3 dir, inout Rn
         return p;
     }
     SurfacePoint sp = surfaceAt(hit, origin, dir);
-    if (sp.light != NO_LIGHT) p.emitted = emittedRadiance(loadLight(sp.light), sp.geometricNormal, dir);
+    if (sp.light != NO_LIGHT)
+        p.emitted = emittedRadiance(loadLight(sp.light), sp.geometricNormal, dir) * emissionTexture(sp.material, sp.uv);
 
     Shading s;
     s.x = sp.position;

@@ -82,7 +82,7 @@ bool sampleLightPart(uint index, uint triangle, vec3 x, vec3 n, vec3 u, LightSam
     if (triangle == NO_HIT || !hasLight(LIGHT_MESH)) return sampleLight(index, x, n, u, modes, ls);
     ls = emptyLightSample(n);
     Primitive p = loadLightPrimitive(triangle);
-    return sampleMeshTriangle(meshTriangleLight(loadLight(index), p), p, x, u.xy, modes, ls);
+    return sampleMeshTriangle(meshTriangleLight(loadLight(index), p), triangle, p, x, u.xy, modes, ls);
 }
 
 // The density with which sampleLightPart produces wi toward the light part hit at y on

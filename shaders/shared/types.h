@@ -180,6 +180,15 @@ PENUMBRA_CONST uint TEXTURE_SLOT_KD = 0u;
 PENUMBRA_CONST uint TEXTURE_SLOT_KS = 1u;
 PENUMBRA_CONST uint TEXTURE_SLOT_KS_X = 2u;
 PENUMBRA_CONST uint TEXTURE_SLOT_KS_Y = 3u;
+// Not a Material slot: scales the emitted radiance of the emitting primitives that use the
+// material (glTF emissiveTexture; textures/textures.glsl, emissionTexture). The Light keeps
+// emissiveFactor x strength, the texture's largest possible value times it.
+PENUMBRA_CONST uint TEXTURE_SLOT_EMISSION = 4u;
+// Not a Material slot either: the alpha test of glTF alphaMode MASK (textures/alpha_mask.glsl).
+// The reference reads the base colour texture's alpha (channel 3); scale.x is
+// baseColorFactor.a and scale.y the alphaCutoff: a triangle point whose scale.x x alpha is
+// below scale.y is no surface for any ray.
+PENUMBRA_CONST uint TEXTURE_SLOT_ALPHA = 5u;
 
 // BINDING_MATERIAL_TEXTURES, RGBA32UI texels: texel i (i < material count) is material i's
 // (first texel of its texture references, reference count, 0, 0); a reference is two
@@ -196,6 +205,15 @@ struct TextureRef {
     uint wrap;  // TEXTURE_WRAP_* along u | (along v) << 2
 };
 PENUMBRA_CONST uint TEXTURE_REF_TEXELS = 2u;
+// In a scene where some texture's coordinates are transformed (glTF KHR_texture_transform;
+// SPEC_TEXTURES has TEXTURES_TRANSFORMED), every reference is followed by its transform, so
+// references are TEXTURE_REF_TEXELS + TEXTURE_TRANSFORM_TEXELS texels apart; other scenes
+// keep the short references and compile the transform out.
+struct TextureTransform {
+    vec4 u;  // u' = dot(u.xyz, (u, v, 1)); w unused
+    vec4 v;  // v' = dot(v.xyz, (u, v, 1)); w unused
+};
+PENUMBRA_CONST uint TEXTURE_TRANSFORM_TEXELS = 2u;
 PENUMBRA_CONST uint TEXTURE_WRAP_REPEAT = 0u;
 PENUMBRA_CONST uint TEXTURE_WRAP_CLAMP = 1u;   // glTF CLAMP_TO_EDGE
 PENUMBRA_CONST uint TEXTURE_WRAP_MIRROR = 2u;  // glTF MIRRORED_REPEAT
@@ -335,7 +353,7 @@ PENUMBRA_CONST uint SAMPLER_SOBOL = 1u;        // padded Owen-scrambled Sobol' (
 #define SPEC_SAMPLER 8           // SAMPLER_*
 #define SPEC_QUAD_SAMPLING 9     // QUAD_*
 #define SPEC_TRIANGLE_SAMPLING 10  // TRIANGLE_*
-#define SPEC_TEXTURES 11           // 1: some material is textured (uvs computed, textures read)
+#define SPEC_TEXTURES 11           // TEXTURES_* bits: some material is textured (uvs computed, textures read)
 #define SPEC_EMITTER_FIRST 12      // 0 or the light count: BRDF rays go emitter first (render/emitter_first.h)
 #define SPEC_INLINE_COUNT 13       // 0 or the inline slots in use: primitives inline, no BVH (render/inline_geometry.h)
 #define SPEC_INLINE_FIRST 14       // first of INLINE_MAX_PRIMITIVES x INLINE_PRIMITIVE_WORDS inline words
@@ -358,6 +376,14 @@ PENUMBRA_CONST uint SAMPLER_SOBOL = 1u;        // padded Owen-scrambled Sobol' (
 #define SPEC_AOVS (SPEC_LOOPS_MAY_BE_CUT + 1)        // AOV_* bits of the layers to accumulate (shared/aov.h); 0: none
 #define SPEC_LIGHT_BVH (SPEC_AOVS + 1)  // 1: light_selection "bvh" (lights/light_bvh.glsl); 0 compiles it out
 #define SPEC_COUNT (SPEC_LIGHT_BVH + 1)
+// SPEC_TEXTURES bits: TEXTURES_ON, some material is textured; TEXTURES_TRANSFORMED, and
+// some texture reference has a uv transform (the references then carry TextureTransforms).
+#define TEXTURES_ON 1u
+#define TEXTURES_TRANSFORMED 2u
+// And TEXTURES_EMISSION: some emitting primitive's material has an emission texture.
+#define TEXTURES_EMISSION 4u
+// And TEXTURES_ALPHA_MASK: some material is cut out by an alpha test (TEXTURE_SLOT_ALPHA).
+#define TEXTURES_ALPHA_MASK 8u
 // Where the traversal reads a BVH node from (SPEC_NODE_READS): the texel buffer at
 // BINDING_NODES or the storage buffer at BINDING_NODE_WORDS, the same bytes. Which is faster
 // depends on the driver (host/render/node_reads.h says which each gets, and why).

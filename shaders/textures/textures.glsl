@@ -2,7 +2,8 @@
 // value slot of a Material by scale x texture(u, v), clamped to [0, 1], once per shading
 // point, before any BRDF code sees the material. Bilinear filtering with repeat wrapping (or
 // a glTF sampler's clamp or mirror) on texels stored as half floats in one texel buffer
-// (layout: shared/types.h, "Textures").
+// (layout: shared/types.h, "Textures"), after each reference's uv transform, if the scene
+// has any (glTF KHR_texture_transform).
 #ifndef PENUMBRA_TEXTURES_GLSL
 #define PENUMBRA_TEXTURES_GLSL
 
@@ -66,14 +67,30 @@ vec4 sampleTexture(uint firstTexel, uint width, uint height, uint wrap, vec2 uv)
 // replaced by their values at `uv`. Values are clamped to [0, 1], the range of every
 // texturable field; a textured Phong material keeps kd + ks <= 1 (the contract's rule for
 // its values) by lowering ks, so that no texture can make it reflect more than it receives.
+// Texels from one reference to the next: a transformed scene's carry their TextureTransform.
+uint textureRefStride() {
+    return hasTextureTransforms() ? TEXTURE_REF_TEXELS + TEXTURE_TRANSFORM_TEXELS : TEXTURE_REF_TEXELS;
+}
+
+// The coordinates reference `ref` looks up at `uv`: its TextureTransform applied (the host
+// wrote KHR_texture_transform's T R S as two rows, render/texture_arrays.cpp), or uv itself
+// in scenes without transforms.
+vec2 transformedUv(int ref, vec2 uv) {
+    if (!hasTextureTransforms()) return uv;
+    vec3 p = vec3(uv, 1.0);
+    vec3 u = uintBitsToFloat(texelFetch(materialTextureTexels, ref + int(TEXTURE_REF_TEXELS)).xyz);
+    vec3 v = uintBitsToFloat(texelFetch(materialTextureTexels, ref + int(TEXTURE_REF_TEXELS) + 1).xyz);
+    return vec2(dot(u, p), dot(v, p));
+}
+
 Material applyTextures(Material m, uint materialIndex, vec2 uv) {
     if (!hasTextures()) return m;
     uvec4 header = texelFetch(materialTextureTexels, int(materialIndex));
     for (uint i = 0u; i < header.y; ++i) {
-        int ref = int(header.x + TEXTURE_REF_TEXELS * i);
+        int ref = int(header.x + textureRefStride() * i);
         uvec4 a = texelFetch(materialTextureTexels, ref);
         uvec4 b = texelFetch(materialTextureTexels, ref + 1);
-        vec4 t = sampleTexture(b.x, b.y, b.z, b.w, uv);
+        vec4 t = sampleTexture(b.x, b.y, b.z, b.w, transformedUv(ref, uv));
         vec3 scale = uintBitsToFloat(a.xyz);
         uint slot = a.w & 0xffu;
         float channel = t[min(a.w >> 8u, 3u)];
@@ -84,6 +101,25 @@ Material applyTextures(Material m, uint materialIndex, vec2 uv) {
     }
     if (header.y != 0u && m.type == MATERIAL_PHONG) m.ks = min(m.ks, 1.0 - m.kd);
     return m;
+}
+
+// What material `materialIndex`'s emission texture (TEXTURE_SLOT_EMISSION) scales emitted
+// radiance by at `uv`: scale x texture, clamped to [0, 1] (the Light's emission is
+// emissiveFactor x strength, the most the surface emits), or 1 where the material has none.
+// Emission and light sampling call it at the same point with the same uv, so the radiance a
+// light sample carries is the radiance a BRDF-sampled ray would find there.
+vec3 emissionTexture(uint materialIndex, vec2 uv) {
+    if (!hasEmissionTextures()) return vec3(1.0);
+    uvec4 header = texelFetch(materialTextureTexels, int(materialIndex));
+    for (uint i = 0u; i < header.y; ++i) {
+        int ref = int(header.x + textureRefStride() * i);
+        uvec4 a = texelFetch(materialTextureTexels, ref);
+        if ((a.w & 0xffu) != TEXTURE_SLOT_EMISSION) continue;
+        uvec4 b = texelFetch(materialTextureTexels, ref + 1);
+        vec4 t = sampleTexture(b.x, b.y, b.z, b.w, transformedUv(ref, uv));
+        return clamp(uintBitsToFloat(a.xyz) * t.rgb, 0.0, 1.0);
+    }
+    return vec3(1.0);
 }
 
 #endif
