@@ -84,3 +84,78 @@ def test_without_pyoidn_the_error_says_what_to_install(monkeypatch):
         penumbra.denoise(np.zeros((4, 4, 3)))
     message = str(caught.value)
     assert message.startswith("penumbra.denoise needs pyoidn: pip install penumbra[denoise]") and "\n" not in message
+
+
+# `penumbra render --denoise` (host/cli/denoise_step.h, python/penumbra/denoise_exr.py): the
+# program runs $PENUMBRA_PYTHON -m penumbra.denoise_exr (run_denoise_test sets it to the venv's).
+SMALL_CLI = ["--spp", "4", "--seed", "3", "--width", "40", "--height", "30", "--quiet"]
+
+
+def run_cli(*args, env=None):
+    import os
+    import subprocess
+
+    from conftest import SOURCE_DIR
+
+    exe = os.environ.get("PENUMBRA_EXECUTABLE", str(SOURCE_DIR / "build" / "penumbra"))
+    full_env = dict(os.environ, **(env or {}))
+    return subprocess.run([exe, *map(str, args)], capture_output=True, text=True, timeout=600, env=full_env)
+
+
+@pytest.mark.parametrize("aovs", [[], ["albedo"], ["albedo", "normal"]])
+def test_cli_denoise_adds_the_denoised_layer(cornell, tmp_path, aovs):
+    aov_args = ["--aov", ",".join(aovs)] if aovs else []
+    plain, denoised = tmp_path / "plain.exr", tmp_path / "denoised.exr"
+    done = run_cli("render", cornell, *SMALL_CLI, *aov_args, "-o", plain)
+    assert done.returncode == 0, done.stderr
+    done = run_cli("render", cornell, *SMALL_CLI, *aov_args, "--denoise", "-o", denoised)
+    assert done.returncode == 0, done.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["denoised.exr", "plain.exr"]  # no temporary left
+    noisy, out = penumbra.read_exr(plain), penumbra.read_exr(denoised)
+    assert list(out) == ["rgb", *aovs, "denoised"]  # penumbra:aovs names it, after the scene's
+    for name in noisy:  # the noisy image and its layers stay as they were
+        np.testing.assert_array_equal(out[name], noisy[name])
+    expected = penumbra.denoise(noisy["rgb"], **{name: noisy[name] for name in aovs})
+    np.testing.assert_allclose(out["denoised"], expected, rtol=1e-6, atol=1e-7)
+    assert np.abs(out["denoised"] - noisy["rgb"]).max() > 0.01  # filtered, not a copy
+
+
+def test_cli_without_the_denoiser_exits_2_before_rendering(cornell, tmp_path):
+    import os
+
+    # A pyoidn that fails to import, first on the path: as if it were not installed.
+    (tmp_path / "fake" / "pyoidn").mkdir(parents=True)
+    (tmp_path / "fake" / "pyoidn" / "__init__.py").write_text("raise ImportError(\"No module named 'pyoidn'\")\n")
+    path = f"{tmp_path / 'fake'}{os.pathsep}{os.environ.get('PYTHONPATH', '')}"
+    out = tmp_path / "out.exr"
+    done = run_cli("render", cornell, *SMALL_CLI, "--denoise", "-o", out, env={"PYTHONPATH": path, "PENUMBRA_PHASES": "1"})
+    assert done.returncode == 2
+    lines = done.stderr.strip().splitlines()
+    assert lines[0].startswith("penumbra: phase load ") and lines[1:] == [
+        "penumbra: --denoise: penumbra.denoise needs pyoidn: pip install penumbra[denoise] (or pip install pyoidn) "
+        "(No module named 'pyoidn')"
+    ], lines  # one line, and no phase after loading the scene: no device opened, no render
+    done = run_cli("render", cornell, *SMALL_CLI, "--denoise", "-o", out, env={"PENUMBRA_PYTHON": str(tmp_path / "none")})
+    assert done.returncode == 2 and done.stderr.count("\n") == 1
+    assert f"--denoise: no {tmp_path / 'none'} to run the denoiser" in done.stderr
+    done = run_cli("render", cornell, *SMALL_CLI, "--denoise", "-o", tmp_path / "out.png")
+    assert done.returncode == 2 and "--denoise adds a layer to an EXR" in done.stderr
+    assert list(tmp_path.glob("out.*")) == []
+
+
+def test_cli_denoiser_failing_after_the_render_leaves_nothing(cornell, tmp_path):
+    # An interpreter that passes the check and then fails: the render is lost, not half-written.
+    fake = tmp_path / "python"
+    fake.write_text('#!/bin/sh\n[ "$3" = --check ] && exit 0\necho "Traceback ..." >&2\necho "boom" >&2\nexit 1\n')
+    fake.chmod(0o755)
+    (tmp_path / "out").mkdir()
+    done = run_cli("render", cornell, *SMALL_CLI, "--denoise", "-o", tmp_path / "out" / "x.exr",
+                   env={"PENUMBRA_PYTHON": str(fake)})
+    assert done.returncode == 1
+    assert done.stderr.strip() == f"penumbra: --denoise: {tmp_path / 'out' / 'x.exr'} not written: boom"
+    assert list((tmp_path / "out").iterdir()) == []
+
+
+def test_scenes_cannot_ask_for_denoised(cornell, tmp_path):
+    done = run_cli("render", cornell, *SMALL_CLI, "--aov", "denoised", "-o", tmp_path / "x.exr")
+    assert done.returncode == 2 and "film.aovs[0]" in done.stderr
