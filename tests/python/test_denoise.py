@@ -159,3 +159,32 @@ def test_cli_denoiser_failing_after_the_render_leaves_nothing(cornell, tmp_path)
 def test_scenes_cannot_ask_for_denoised(cornell, tmp_path):
     done = run_cli("render", cornell, *SMALL_CLI, "--aov", "denoised", "-o", tmp_path / "x.exr")
     assert done.returncode == 2 and "film.aovs[0]" in done.stderr
+
+
+def test_merge_averages_denoised_layers_by_spp(cornell, tmp_path):
+    # docs/SCENE_FORMAT.md "Denoising": merge carries the layer, weighted as albedo is.
+    parts = []
+    for offset, spp in ((0, 2), (2, 6)):
+        part = tmp_path / f"part{offset}.exr"
+        args = ["--spp", spp, "--set", f"sampler.sample_offset={offset}", "--width", 24, "--height", 16, "--quiet"]
+        done = run_cli("render", cornell, *args, "--denoise", "-o", part)
+        assert done.returncode == 0, done.stderr
+        parts.append(penumbra.read_exr(part)["denoised"])
+    done = run_cli("merge", tmp_path / "part0.exr", tmp_path / "part2.exr", "-o", tmp_path / "merged.exr")
+    assert done.returncode == 0, done.stderr
+    merged = penumbra.read_exr(tmp_path / "merged.exr")
+    assert list(merged) == ["rgb", "denoised"]
+    np.testing.assert_allclose(merged["denoised"], (2 * parts[0] + 6 * parts[1]) / 8, rtol=1e-6, atol=1e-7)
+
+
+def test_denoise_exr_refuses_a_bad_file_in_one_line(tmp_path):
+    import subprocess
+
+    bad = tmp_path / "bad.exr"
+    bad.write_text("not an EXR")
+    done = subprocess.run([sys.executable, "-m", "penumbra.denoise_exr", str(bad), str(tmp_path / "out.exr")],
+                          capture_output=True, text=True, timeout=120)
+    assert done.returncode == 2 and done.stderr.count("\n") == 1 and str(bad) in done.stderr
+    assert not (tmp_path / "out.exr").exists()
+    done = subprocess.run([sys.executable, "-m", "penumbra.denoise_exr"], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 2 and done.stderr.startswith("usage:")
