@@ -11,8 +11,6 @@
 
 #include "core/errors.h"
 
-extern char** environ;
-
 namespace penumbra {
 namespace {
 
@@ -26,7 +24,7 @@ std::string python() {
 
 struct Outcome {
     bool started = false;
-    int status = -1;     // the exit status, or -1 when killed by a signal
+    int status = -1;         // the exit status, or -1 when killed by a signal
     std::string stderrText;  // what it wrote on stderr
 };
 
@@ -70,8 +68,9 @@ Outcome runDenoiser(const std::vector<std::string>& args) {
 std::string lastLine(const std::string& text) {
     size_t end = text.find_last_not_of("\r\n \t");
     if (end == std::string::npos) return "";
-    const size_t start = text.rfind('\n', end);
-    return elide(text.substr(start == std::string::npos ? 0 : start + 1, end - (start == std::string::npos ? 0 : start + 1) + 1), 300);
+    const size_t newline = text.rfind('\n', end);
+    const size_t start = newline == std::string::npos ? 0 : newline + 1;
+    return elide(text.substr(start, end - start + 1), 300);
 }
 
 }  // namespace
