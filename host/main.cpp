@@ -83,6 +83,8 @@ int main(int argc, char** argv) {
     renderCmd->add_option("-o,--output", render.output,
                           "output .exr, or .png for an sRGB PNG alone (default: SCENE-stem.exr here)");
     renderCmd->add_option("--png", render.png, "also write an sRGB 8-bit PNG");
+    renderCmd->add_flag("--denoise", render.denoise,
+                        "add a denoised layer to the EXR (Open Image Denoise; needs pip install penumbra[denoise])");
 
     BatchOptions batch;
     CLI::App* batchCmd = app.add_subcommand("batch", "render every job of a job file (docs/BATCH.md)");

@@ -18,6 +18,7 @@ struct RenderOptions {
     std::vector<Override> overrides;
     int device = -1;
     bool quiet = false;
+    bool denoise = false;  // --denoise: add the "denoised" layer (cli/denoise_step.h)
 };
 
 // penumbra batch (docs/BATCH.md).

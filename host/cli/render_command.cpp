@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "cli/commands.h"
+#include "cli/denoise_step.h"
 #include "cli/slow_step_notice.h"
 #include "core/errors.h"
 #include "core/phases.h"
@@ -20,6 +21,25 @@
 
 namespace penumbra {
 namespace {
+
+// --denoise: the noisy EXR goes to a temporary file beside the output, which the denoiser
+// reads and writes `output` from (whole or not at all); the temporary file never stays.
+void writeDenoisedExr(const std::filesystem::path& output, const Image& image) {
+    // Hidden, and one per process. Appended piece by piece: "." + name trips GCC 12's -Wrestrict.
+    std::string name = ".";
+    name.append(output.filename().string()).append(".noisy-").append(std::to_string(getpid())).append(".exr");
+    std::filesystem::path noisy = output;
+    noisy.replace_filename(name);
+    try {
+        writeExr(noisy, image);
+        denoiseExr(noisy, output);
+    } catch (...) {
+        std::error_code ignored;
+        std::filesystem::remove(noisy, ignored);
+        throw;
+    }
+    std::filesystem::remove(noisy);
+}
 
 }  // namespace
 
@@ -52,6 +72,10 @@ int renderCommand(const RenderOptions& options) {
     std::vector<RunFile> outputs{{output, "-o"}};
     if (!options.png.empty()) outputs.push_back({options.png, "--png"});
     checkOutputs(outputs, {{options.scene, "the scene"}});
+    if (options.denoise) {
+        if (*format != OutputFormat::Exr) throw InputError("--denoise adds a layer to an EXR: -o must end in .exr");
+        checkDenoiser();  // before rendering: a missing denoiser costs no render
+    }
     printNotes(scene.notes, options.quiet);
 
     RenderSession session;
@@ -87,6 +111,7 @@ int renderCommand(const RenderOptions& options) {
     {
         Phase writePhase("write");
         if (*format == OutputFormat::Png) writePng(output, image, options.look);
+        else if (options.denoise) writeDenoisedExr(output, image);
         else writeExr(output, image);
         // Each file is whole or absent (atomic_file.h); when the second fails (a full
         // disk), the message says that the first was written.

@@ -8,6 +8,7 @@
     r = penumbra.Renderer("scenes/cornell.json", width=64, height=64)
     frame = r.render(spp=4, set={"camera.eye": [0, 1, 4]})     # no recompilation
     penumbra.write_exr("out.exr", img)                        # as `penumbra render` writes
+    clean = penumbra.denoise(img["rgb"])    # Open Image Denoise, with pip install penumbra[denoise]
 
 Bad input raises SceneError (a ValueError) with the command line's one-line message;
 other failures raise RenderError. Rendering releases the GIL; Ctrl-C raises
@@ -47,6 +48,7 @@ from ._penumbra import (  # noqa: E402  (Layers first: the extension builds them
     write_exr,
     write_png,
 )
+from .denoise import denoise  # noqa: E402  (pyoidn is imported by the first call only)
 
 
 def render(scene, spp=None, seed=None, width=None, height=None, set=None, aovs=None, device=None):
@@ -61,4 +63,4 @@ def render(scene, spp=None, seed=None, width=None, height=None, set=None, aovs=N
     return renderer.render()
 
 
-__all__ = ["Layers", "Renderer", "RenderError", "SceneError", "devices", "false_color", "read_exr", "render", "write_exr", "write_png"]
+__all__ = ["Layers", "Renderer", "RenderError", "SceneError", "denoise", "devices", "false_color", "read_exr", "render", "write_exr", "write_png"]
