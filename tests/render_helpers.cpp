@@ -7,6 +7,8 @@
 #include <cstdio>
 #include <fstream>
 
+#include <gtest/gtest.h>
+
 #include "gpu_fixture.h"
 #include "render/renderer.h"
 #include "render/scene_arrays.h"
@@ -141,6 +143,21 @@ int blockTTest(const Image& image, const std::vector<double>& expected, int bloc
                   ", mean relative residual " + std::to_string(residual / total);
     }
     return failures;
+}
+
+void expectTopDownMatches(const nlohmann::json& doc, const std::vector<nlohmann::json>& integrators,
+                          const std::function<double(glm::dvec3)>& radiance, const std::string& name, double alpha) {
+    for (size_t i = 0; i < integrators.size(); ++i) {
+        nlohmann::json d = doc;
+        d["integrator"] = integrators[i];
+        Scene scene = sceneFromJson(d, name + "-" + std::to_string(i));
+        Image image = renderScene(scene);
+        std::vector<double> expected = expectedTopDown(scene, radiance);
+        std::string report;
+        int failures = blockTTest(image, expected, 8, alpha, int(integrators.size()), &report);
+        EXPECT_EQ(failures, 0) << name << " with " << integrators[i].dump() << ": " << report;
+        if (failures) writeExr(outputPath(name + "-" + std::to_string(i) + ".exr"), image);
+    }
 }
 
 double meanSquaredError(const Image& image, const std::vector<double>& expected) {

@@ -50,6 +50,12 @@ std::vector<double> expectedTopDown(const Scene& scene, const std::function<doub
 int blockTTest(const Image& image, const std::vector<double>& expected, int block, double alpha, int tests,
                std::string* report = nullptr);
 
+// For each integrator object in `integrators`: `doc` rendered with it (a top-down view of
+// y = 0, topDownCamera) passes blockTTest (8 x 8 blocks, level alpha over all of them)
+// against radiance(x) at plane point x; a failing render is written beside the test output.
+void expectTopDownMatches(const nlohmann::json& doc, const std::vector<nlohmann::json>& integrators,
+                          const std::function<double(glm::dvec3)>& radiance, const std::string& name, double alpha);
+
 // Irradiance at x (normal +y) from a polygon of constant radiance Le facing x, its vertices
 // v in order (Lambert's formula; Arvo 1995): Le/2 |sum_i Theta_i (Gamma_i . n)|.
 double polygonIrradiance(const std::vector<glm::dvec3>& v, glm::dvec3 x, double Le);

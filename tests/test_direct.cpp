@@ -80,22 +80,6 @@ void expectDeltaLightMatches(json doc, const std::function<double(glm::dvec3)>& 
     }
 }
 
-// Area lights: every strategy passes the block t-test against the closed form.
-void expectAreaLightMatches(const json& doc, const std::vector<json>& integrators,
-                            const std::function<double(glm::dvec3)>& radiance, const std::string& name) {
-    for (size_t i = 0; i < integrators.size(); ++i) {
-        json d = doc;
-        d["integrator"] = integrators[i];
-        Scene scene = test::sceneFromJson(d, name + "-" + std::to_string(i));
-        Image image = test::renderScene(scene);
-        std::vector<double> expected = test::expectedTopDown(scene, radiance);
-        std::string report;
-        int failures = test::blockTTest(image, expected, 8, kAlpha, int(integrators.size()), &report);
-        EXPECT_EQ(failures, 0) << name << " with " << integrators[i].dump() << ": " << report;
-        if (failures) writeExr(test::outputPath(name + "-" + std::to_string(i) + ".exr"), image);
-    }
-}
-
 // An irregular hexagon at height h, counter-clockwise seen from below (its front faces
 // the plane), for a fan of triangles of different areas.
 std::vector<glm::dvec3> hexagonOutline(double h) {
@@ -253,9 +237,9 @@ TEST(DirectClosedForm, QuadLightEveryStrategy) {
     doc["shapes"].push_back({{"type", "quad"}, {"origin", {-0.5, h, -0.5}}, {"edge_u", {1, 0, 0}}, {"edge_v", {0, 0, 1}},
                              {"emission", {Le, Le, Le}}, {"material", "black"}});
     std::vector<glm::dvec3> quad = {{-0.5, h, -0.5}, {0.5, h, -0.5}, {0.5, h, 0.5}, {-0.5, h, 0.5}};
-    expectAreaLightMatches(
+    test::expectTopDownMatches(
         doc, allStrategies({{"quad_sampling", "area"}}),
-        [&](glm::dvec3 x) { return kAlbedo / M_PI * polygonIrradiance(quad, x, Le); }, "quad");
+        [&](glm::dvec3 x) { return kAlbedo / M_PI * polygonIrradiance(quad, x, Le); }, "quad", kAlpha);
 }
 
 TEST(DirectClosedForm, QuadLightsInSolidAngleEveryStrategy) {
@@ -281,9 +265,9 @@ TEST(DirectClosedForm, QuadLightsInSolidAngleEveryStrategy) {
         std::vector<json> integrators = allStrategies({{"quad_sampling", "solid_angle"}});
         if (q.name == "parallelogram")
             for (json& j : allStrategies({{"quad_sampling", "area"}})) integrators.push_back(j);
-        expectAreaLightMatches(
+        test::expectTopDownMatches(
             doc, integrators, [&](glm::dvec3 x) { return kAlbedo / M_PI * polygonIrradiance(outline, x, Le); },
-            "quad-solid-angle-" + q.name);
+            "quad-solid-angle-" + q.name, kAlpha);
     }
 }
 
@@ -308,10 +292,13 @@ TEST(DirectClosedForm, SphereLightEverySamplingAndStrategy) {
         integrators.push_back(direct("light", {{"sphere_sampling", sampling}}));
         integrators.push_back(direct("mis", {{"sphere_sampling", sampling}}));
     }
-    expectAreaLightMatches(doc, integrators, [&](glm::dvec3 x) {
-        double d2 = x.x * x.x + x.z * x.z + h * h;
-        return kAlbedo / M_PI * M_PI * Le * r * r / d2 * (h / std::sqrt(d2));
-    }, "sphere");
+    test::expectTopDownMatches(
+        doc, integrators,
+        [&](glm::dvec3 x) {
+            double d2 = x.x * x.x + x.z * x.z + h * h;
+            return kAlbedo / M_PI * M_PI * Le * r * r / d2 * (h / std::sqrt(d2));
+        },
+        "sphere", kAlpha);
 }
 
 TEST(DirectClosedForm, MeshLightIsSumOfItsTriangles) {
@@ -320,9 +307,9 @@ TEST(DirectClosedForm, MeshLightIsSumOfItsTriangles) {
     const std::vector<glm::dvec3> outline = hexagonOutline(h);
     json doc = planeScene(256, direct("light"));
     doc["shapes"].push_back(fanMesh(outline, Le));
-    expectAreaLightMatches(doc, allStrategies(), [&](glm::dvec3 x) {
-        return kAlbedo / M_PI * polygonIrradiance(outline, x, Le);
-    }, "mesh");
+    test::expectTopDownMatches(
+        doc, allStrategies(), [&](glm::dvec3 x) { return kAlbedo / M_PI * polygonIrradiance(outline, x, Le); }, "mesh",
+        kAlpha);
 }
 
 TEST(DirectClosedForm, MeshLightTrianglesInSolidAngleEveryStrategy) {
@@ -332,9 +319,9 @@ TEST(DirectClosedForm, MeshLightTrianglesInSolidAngleEveryStrategy) {
     const std::vector<glm::dvec3> outline = hexagonOutline(h);
     json doc = planeScene(256, direct("light"));
     doc["shapes"].push_back(fanMesh(outline, Le));
-    expectAreaLightMatches(
+    test::expectTopDownMatches(
         doc, allStrategies({{"triangle_sampling", "solid_angle"}}),
-        [&](glm::dvec3 x) { return kAlbedo / M_PI * polygonIrradiance(outline, x, Le); }, "mesh-solid-angle");
+        [&](glm::dvec3 x) { return kAlbedo / M_PI * polygonIrradiance(outline, x, Le); }, "mesh-solid-angle", kAlpha);
 }
 
 TEST(DirectClosedForm, IrradianceIsIndependentOfSphereRadius) {
@@ -349,7 +336,8 @@ TEST(DirectClosedForm, IrradianceIsIndependentOfSphereRadius) {
         json doc = planeScene(256, direct("light"));
         doc["shapes"].push_back({{"type", "sphere"}, {"center", {0, h, 0}}, {"radius", r}, {"power", {P, P, P}},
                                  {"material", "black"}});
-        expectAreaLightMatches(doc, {direct("light"), direct("mis")}, expected, "radius-" + std::to_string(r));
+        test::expectTopDownMatches(doc, {direct("light"), direct("mis")}, expected, "radius-" + std::to_string(r),
+                                   kAlpha);
     }
     json doc = planeScene(16, direct("light"));
     doc["lights"].push_back({{"type", "point"}, {"position", {0, h, 0}}, {"power", {P, P, P}}});

@@ -81,31 +81,16 @@ json direct(const std::string& strategy, const std::string& selection, const jso
     return j;
 }
 
-void expectMatches(const json& doc, const std::vector<json>& integrators,
-                   const std::function<double(glm::dvec3)>& radiance, const std::string& name) {
-    for (size_t i = 0; i < integrators.size(); ++i) {
-        json d = doc;
-        d["integrator"] = integrators[i];
-        Scene scene = test::sceneFromJson(d, name + "-" + std::to_string(i));
-        Image image = test::renderScene(scene);
-        std::vector<double> expected = test::expectedTopDown(scene, radiance);
-        std::string report;
-        int failures = test::blockTTest(image, expected, 8, kAlpha, int(integrators.size()), &report);
-        EXPECT_EQ(failures, 0) << name << " with " << integrators[i].dump() << ": " << report;
-        if (failures) writeExr(test::outputPath(name + "-" + std::to_string(i) + ".exr"), image);
-    }
-}
-
 }  // namespace
 
 TEST(LightBvhRender, ManyPointLightsUnderUniformPowerAndBvh) {
     const std::vector<PointLight> lights = pointLights(64, 21);
     const json doc = planeScene(64, lights);
-    expectMatches(
+    test::expectTopDownMatches(
         doc,
         {direct("light", "uniform"), direct("light", "power"), direct("light", "bvh"), direct("mis", "bvh"),
          direct("light", "bvh", {{"light_samples", 3}})},
-        [&](glm::dvec3 x) { return pointRadiance(lights, x); }, "bvh-points");
+        [&](glm::dvec3 x) { return pointRadiance(lights, x); }, "bvh-points", kAlpha);
 }
 
 // A downward-facing emitting square of 8 triangles (each its own item in the tree) at height
@@ -131,12 +116,12 @@ TEST(LightBvhRender, MeshLightWithMisUnderBvh) {
                              {"emission", {Le, Le, Le}},
                              {"material", "black"}});
     const std::vector<glm::dvec3> outline = {{-2, h, 3.5}, {2, h, 3.5}, {2, h, 7.5}, {-2, h, 7.5}};
-    expectMatches(
+    test::expectTopDownMatches(
         doc,
         {direct("mis", "bvh"), direct("mis", "bvh", {{"heuristic", "balance"}}), direct("light", "bvh"),
          direct("mis", "bvh", {{"triangle_sampling", "solid_angle"}}), direct("mis", "power")},
         [&](glm::dvec3 x) {
             return pointRadiance(lights, x) + kAlbedo / M_PI * test::polygonIrradiance(outline, x, Le);
         },
-        "bvh-mesh");
+        "bvh-mesh", kAlpha);
 }

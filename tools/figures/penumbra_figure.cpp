@@ -12,15 +12,15 @@
 // stdout, one line per value: `VALUE relmse X rmse Y seconds Z` (compareImages against the
 // reference; seconds of GPU rendering). Exit status as penumbra's: 2 bad usage or input, 1
 // any other failure.
+#include <unistd.h>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cerrno>
 #include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <string>
-#include <unistd.h>
 #include <vector>
 
 #include "core/errors.h"
@@ -198,8 +198,7 @@ int run(const Options& o) {
     using Clock = std::chrono::steady_clock;
     Renderer renderer(context, reference);
     auto render = [&](const Scene& scene, const std::string& what) {
-        if (!o.quiet)
-            std::fprintf(stderr, "penumbra_figure: %s, %u spp\n", what.c_str(), scene.sampler.spp);
+        if (!o.quiet) std::fprintf(stderr, "penumbra_figure: %s, %u spp\n", what.c_str(), scene.sampler.spp);
         renderer.retarget(scene);
         renderer.compileKernel();  // a new option may mean a new kernel: compiling is not rendering
         auto t0 = Clock::now();
@@ -224,8 +223,7 @@ int run(const Options& o) {
                                       formatError(m.relmse)});
         if (!o.exrPrefix.empty()) writeExr(o.exrPrefix + o.values[i] + ".exr", image);
     }
-    Rgb8Image figure = composeFigure(panels, o.columns > 0 ? uint32_t(o.columns) : uint32_t(panels.size()),
-                                     o.exposure);
+    Rgb8Image figure = composeFigure(panels, o.columns > 0 ? uint32_t(o.columns) : uint32_t(panels.size()), o.exposure);
     writePngRgb8(o.output, figure.width, figure.height, figure.rgb);
     return 0;
 }
