@@ -5,6 +5,7 @@
 #include <cmath>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -22,6 +23,20 @@ Scene sceneFromJson(const nlohmann::json& doc, const std::string& name);
 Image renderScene(const Scene& scene);
 inline Image renderJson(const nlohmann::json& doc, const std::string& name) {
     return renderScene(sceneFromJson(doc, name));
+}
+
+// A 1 x 1 partial render for the merge tests: `spp` samples (seed 0, sampler sobol) from
+// sample `offset` on, whose rgb is `value`, with the AOV layers `aovs`.
+inline Image onePixelPartial(int offset, int spp, float value, std::vector<AovLayer> aovs = {}) {
+    Image image;
+    image.width = image.height = 1;
+    image.rgb = {value, value, value};
+    image.meta.spp = spp;
+    image.meta.seed = 0;
+    image.meta.sampleOffset = offset;
+    image.meta.sampler = "sobol";
+    image.aovs = std::move(aovs);
+    return image;
 }
 
 // Two-sided normal quantile for a per-test false-failure probability `alpha`, Bonferroni-

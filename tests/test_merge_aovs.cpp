@@ -60,18 +60,6 @@ const AovLayer& layer(const Image& image, const std::string& name) {
     throw std::runtime_error("no layer " + name);
 }
 
-// A 1 x 1 partial of `spp` samples from `offset` (seed 0) with rgb `value` and `aovs`.
-Image partial(int offset, int spp, float value, std::vector<AovLayer> aovs) {
-    Image image;
-    image.width = image.height = 1;
-    image.rgb = {value, value, value};
-    image.meta.spp = spp;
-    image.meta.seed = 0;
-    image.meta.sampleOffset = offset;
-    image.aovs = std::move(aovs);
-    return image;
-}
-
 AovLayer floats(const std::string& name, std::vector<std::string> channels, std::vector<float> values) {
     return {name, std::move(channels), std::move(values), {}};
 }
@@ -154,13 +142,17 @@ TEST(MergeAovs, OtherIdsOrOtherAovListsAreRefused) {
 TEST(MergeAovs, DepthAveragesThePiecesThatHit) {
     auto depth = [](float d) { return floats("depth", {"depth.Z"}, {d}); };
     const float inf = std::numeric_limits<float>::infinity();
-    const Image merged = mergeImages(
-        {partial(0, 2, 1, {depth(4)}), partial(2, 6, 1, {depth(inf)}), partial(8, 1, 1, {depth(7)})}, {"a", "b", "c"});
+    const Image merged =
+        mergeImages({test::onePixelPartial(0, 2, 1, {depth(4)}), test::onePixelPartial(2, 6, 1, {depth(inf)}),
+                     test::onePixelPartial(8, 1, 1, {depth(7)})},
+                    {"a", "b", "c"});
     EXPECT_FLOAT_EQ(merged.aovs[0].floats[0], (2 * 4 + 1 * 7) / 3.0f);
-    const Image none = mergeImages({partial(0, 2, 1, {depth(inf)}), partial(2, 6, 1, {depth(inf)})}, {"a", "b"});
+    const Image none = mergeImages(
+        {test::onePixelPartial(0, 2, 1, {depth(inf)}), test::onePixelPartial(2, 6, 1, {depth(inf)})}, {"a", "b"});
     EXPECT_EQ(none.aovs[0].floats[0], inf);
     try {
-        mergeImages({partial(0, 2, 1, {depth(4)}), partial(2, 6, 1, {depth(-1)})}, {"a", "b"});
+        mergeImages({test::onePixelPartial(0, 2, 1, {depth(4)}), test::onePixelPartial(2, 6, 1, {depth(-1)})},
+                    {"a", "b"});
         ADD_FAILURE() << "negative depth merged";
     } catch (const InputError& e) {
         EXPECT_NE(std::string(e.what()).find("b: depth at pixel (0, 0) is negative"), std::string::npos) << e.what();
@@ -172,10 +164,12 @@ TEST(MergeAovs, DepthAveragesThePiecesThatHit) {
 // Each piece: mean 2, s^2 2, estimate 1; mean 4, s^2 4, estimate 4 / 3.
 TEST(MergeAovs, VarianceIsTheOneRendersEstimate) {
     auto variance = [](float v) { return floats("variance", {"variance.R", "variance.G", "variance.B"}, {v, v, v}); };
-    const Image merged =
-        mergeImages({partial(0, 2, 2, {variance(1)}), partial(2, 3, 4, {variance(4.0f / 3)})}, {"a", "b"});
+    const Image merged = mergeImages(
+        {test::onePixelPartial(0, 2, 2, {variance(1)}), test::onePixelPartial(2, 3, 4, {variance(4.0f / 3)})},
+        {"a", "b"});
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(merged.aovs[0].floats[c], 0.74, 1e-6);
     // Pieces of one sample hold no estimate each (0), yet together they do: {1, 3} -> s^2 / 2 = 1.
-    const Image ones = mergeImages({partial(0, 1, 1, {variance(0)}), partial(1, 1, 3, {variance(0)})}, {"a", "b"});
+    const Image ones = mergeImages(
+        {test::onePixelPartial(0, 1, 1, {variance(0)}), test::onePixelPartial(1, 1, 3, {variance(0)})}, {"a", "b"});
     EXPECT_NEAR(ones.aovs[0].floats[0], 1.0, 1e-6);
 }

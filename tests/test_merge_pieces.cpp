@@ -30,18 +30,6 @@ fs::path freshDir(const std::string& name) { return test::freshOutputDir("pieces
 
 std::string q(const fs::path& p) { return test::shellQuoted(p); }
 
-// A 1x1 render of `spp` samples of seed 0 from `offset` on, whose value is `value`.
-Image partial(int offset, int spp, float value) {
-    Image image;
-    image.width = image.height = 1;
-    image.rgb = {value, value, value};
-    image.meta.spp = spp;
-    image.meta.seed = 0;
-    image.meta.sampleOffset = offset;
-    image.meta.sampler = "sobol";
-    return image;
-}
-
 }  // namespace
 
 TEST(MergePieces, FormatAndParseRoundTripAndRefuseMalformedText) {
@@ -56,7 +44,8 @@ TEST(MergePieces, FormatAndParseRoundTripAndRefuseMalformedText) {
 }
 
 TEST(MergePieces, MergeOfAMergeChecksTheExactPieces) {
-    const Image a0 = partial(0, 4, 1.0f), a4 = partial(4, 4, 2.0f), a8 = partial(8, 4, 3.0f);
+    const Image a0 = test::onePixelPartial(0, 4, 1.0f), a4 = test::onePixelPartial(4, 4, 2.0f),
+                a8 = test::onePixelPartial(8, 4, 3.0f);
     const Image m = mergeImages({a0, a8}, {"a0.exr", "a8.exr"});
     ASSERT_TRUE(m.meta.pieces);
     EXPECT_EQ(*m.meta.pieces, (std::vector<SamplePiece>{{0, 0, 4}, {0, 8, 12}}));
@@ -87,14 +76,14 @@ TEST(MergePieces, MergeOfAMergeChecksTheExactPieces) {
 
 TEST(MergePieces, HeaderRoundTripAndOldFilesReadAsOnePiece) {
     fs::path dir = freshDir("header");
-    const Image m = mergeImages({partial(0, 4, 1.0f), partial(8, 4, 3.0f)}, {"a0", "a8"});
+    const Image m = mergeImages({test::onePixelPartial(0, 4, 1.0f), test::onePixelPartial(8, 4, 3.0f)}, {"a0", "a8"});
     writeExr(dir / "m.exr", m);
     const Image back = readExr(dir / "m.exr");
     ASSERT_TRUE(back.meta.pieces);
     EXPECT_EQ(*back.meta.pieces, *m.meta.pieces);
 
     // A file written before the attribute existed (no penumbra:pieces) is one piece.
-    const Image old = partial(4, 4, 2.0f);
+    const Image old = test::onePixelPartial(4, 4, 2.0f);
     writeExr(dir / "old.exr", old);
     EXPECT_FALSE(readExr(dir / "old.exr").meta.pieces);
     EXPECT_EQ(samplePiecesOf(readExr(dir / "old.exr").meta), (std::vector<SamplePiece>{{0, 4, 8}}));
