@@ -205,3 +205,24 @@ TEST(GltfNormalMap, ComputedTangentFramesAndDegenerateUvs) {
         EXPECT_TRUE(t.w == 1.0f || t.w == -1.0f);
     }
 }
+
+// The normal AOV reports the bent shading normal (docs/SCENE_FORMAT.md, "Normal maps"), as
+// Cycles and Mitsuba write theirs: constant over the quad, so every pixel's mean of its
+// samples is that unit vector to float rounding.
+TEST(GltfNormalMap, NormalAovIsTheBentNormal) {
+    const double a = 30.0 * M_PI / 180.0;
+    QuadOptions o;
+    o.texel = encode({std::sin(a) * 0.6, std::sin(a) * 0.8, std::cos(a)});
+    auto dir = test::freshOutputDir("gltf-normal-map", "aov");
+    test::writeFile(dir / "quad.gltf", normalMappedQuad(dir, o));
+    json doc = quadScene(4);
+    doc["film"]["aovs"] = {"normal"};
+    Image image = test::renderScene(test::sceneFromJson(doc, "gltf-normal-map/aov/scene"));
+    ASSERT_EQ(image.aovs.size(), 1u);
+    const glm::dvec3 n = bentNormal(o.texel, 1.0);
+    ASSERT_GT(glm::length(n - glm::dvec3(0, 1, 0)), 0.3);  // far from the geometric normal
+    int wrong = 0;
+    for (size_t p = 0; p < image.aovs[0].floats.size() / 3; ++p)
+        for (int c = 0; c < 3; ++c) wrong += std::fabs(image.aovs[0].floats[3 * p + c] - n[c]) > 1e-5;
+    EXPECT_EQ(wrong, 0);
+}
