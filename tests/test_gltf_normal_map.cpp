@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include <glm/gtc/packing.hpp>
 #include <gtest/gtest.h>
+#include <glm/gtc/packing.hpp>
 #include <nlohmann/json.hpp>
 
 #define STB_IMAGE_WRITE_STATIC
@@ -62,7 +62,7 @@ struct QuadOptions {
     bool normalMap = true;
     glm::u8vec3 texel{128, 128, 255};
     double scale = 1.0;
-    bool tangents = true;  // write a TANGENT attribute (else the renderer computes them)
+    bool tangents = true;     // write a TANGENT attribute (else the renderer computes them)
     bool swappedUvs = false;  // uv (z, x), a mirrored mapping, instead of (x, z)
 };
 
@@ -75,7 +75,7 @@ std::string normalMappedQuad(const std::filesystem::path& dir, const QuadOptions
     // The frame the file gives: T = dp/du, and w such that w cross(N, T) = -dp/dv.
     std::vector<float> tangents = {1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1};
     if (o.swappedUvs) {
-        uvs = {0, 0, 0, 1, 1, 1, 1, 0};                                    // (z, x)
+        uvs = {0, 0, 0, 1, 1, 1, 1, 0};                                   // (z, x)
         tangents = {0, 0, 1, -1, 0, 0, 1, -1, 0, 0, 1, -1, 0, 0, 1, -1};  // T = +z, B = -x
     }
     json attributes = {{"POSITION", b.positions({0, 0, 0, 1, 0, 0, 1, 0, 1, 0, 0, 1})},
@@ -84,8 +84,9 @@ std::string normalMappedQuad(const std::filesystem::path& dir, const QuadOptions
     if (o.tangents) attributes["TANGENT"] = b.addAccessor(tangents.data(), tangents.size() * 4, 5126, 4, "VEC4");
     // Counter-clockwise seen from +y: cross(p3 - p0, p2 - p0) = +y.
     b.addMeshNode({{"attributes", attributes}, {"indices", b.indices({0, 3, 2, 0, 2, 1})}, {"material", 0}});
-    json material = {{"pbrMetallicRoughness",
-                      {{"baseColorFactor", {kBase.x, kBase.y, kBase.z, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 0.6}}}};
+    json material = {
+        {"pbrMetallicRoughness",
+         {{"baseColorFactor", {kBase.x, kBase.y, kBase.z, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 0.6}}}};
     if (o.normalMap) {
         material["normalTexture"] = {{"index", 0}};
         if (o.scale != 1.0) material["normalTexture"]["scale"] = o.scale;
@@ -97,14 +98,14 @@ std::string normalMappedQuad(const std::filesystem::path& dir, const QuadOptions
 }
 
 json quadScene(int spp) {
-    return {{"camera", test::topDownCamera(0.5, 0.5, 0.5)},
-            {"film", {{"width", 64}, {"height", 64}}},
-            {"sampler", {{"spp", spp}, {"seed", 5}, {"type", "independent"}}},
-            {"integrator", {{"type", "direct"}, {"strategy", "mis"}}},
-            {"shapes", json::array({{{"type", "gltf"}, {"file", "quad.gltf"}}})},
-            {"lights", json::array({{{"type", "point"},
-                                     {"position", {kLight.x, kLight.y, kLight.z}},
-                                     {"intensity", kIntensity}}})}};
+    return {
+        {"camera", test::topDownCamera(0.5, 0.5, 0.5)},
+        {"film", {{"width", 64}, {"height", 64}}},
+        {"sampler", {{"spp", spp}, {"seed", 5}, {"type", "independent"}}},
+        {"integrator", {{"type", "direct"}, {"strategy", "mis"}}},
+        {"shapes", json::array({{{"type", "gltf"}, {"file", "quad.gltf"}}})},
+        {"lights",
+         json::array({{{"type", "point"}, {"position", {kLight.x, kLight.y, kLight.z}}, {"intensity", kIntensity}}})}};
 }
 
 // The shading normal the texel's bytes give in the quad's frame (T = +x, B = -z, N = +y).
@@ -149,8 +150,9 @@ TEST(GltfNormalMap, TiltedMapHasTheClosedFormOfItsNormal) {
     // The tilt changes the picture by far more than the test resolves: without it the
     // expectation is a different one (checked here so that a weak test cannot pass).
     ASSERT_GT(std::fabs(closedForm({0.5, 0, 0.5}, n) - closedForm({0.5, 0, 0.5}, {0, 1, 0})), 0.05);
-    test::expectTopDownMatches(quadScene(64), {{{"type", "direct"}, {"strategy", "light"}}, {{"type", "direct"}, {"strategy", "mis"}}},
-                               [&](glm::dvec3 x) { return closedForm(x, n); }, "gltf-normal-map/tilted/scene", 1e-4);
+    test::expectTopDownMatches(
+        quadScene(64), {{{"type", "direct"}, {"strategy", "light"}}, {{"type", "direct"}, {"strategy", "mis"}}},
+        [&](glm::dvec3 x) { return closedForm(x, n); }, "gltf-normal-map/tilted/scene", 1e-4);
 }
 
 // A flat map at scale 0 decodes to exactly (0, 0, 1): the bent normal is N bit for bit, and so

@@ -200,7 +200,8 @@ std::optional<MaterialTexture> GltfTextureReader::normal(const tinygltf::Materia
     std::pair<TextureWrap, TextureWrap> wrap;
     UvTransform uv;
     uint32_t t = texture(asTextureInfo(info), path + ".normalTexture", false, wrap, uv);
-    return MaterialTexture{TextureSlot::Normal, t, glm::vec3(float(info.scale), 0.0f, 0.0f), 0, wrap.first, wrap.second, uv};
+    return MaterialTexture{TextureSlot::Normal, t, glm::vec3(float(info.scale), 0.0f, 0.0f), 0, wrap.first,
+                           wrap.second,         uv};
 }
 
 }  // namespace penumbra

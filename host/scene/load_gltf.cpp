@@ -465,7 +465,8 @@ void Importer::addPrimitive(const tinygltf::Primitive& prim, const glm::dmat4& w
 // of the node transform; a mirroring transform (negative determinant) also mirrors the
 // frame, which flips w (B' = L B while cross(N', T') turns the other way). A file whose
 // tangents are not finite or are zero is read as if it had none (computed, with a note).
-void Importer::readTangents(int accessor, size_t count, const glm::dmat4& world, const std::string& path, Shape& shape) {
+void Importer::readTangents(int accessor, size_t count, const glm::dmat4& world, const std::string& path,
+                            Shape& shape) {
     AccessorView tv = view(accessor, path, TINYGLTF_TYPE_VEC4);
     if (tv.count != count)
         fail(path, std::to_string(tv.count) + " tangents for " + std::to_string(count) + " positions");
