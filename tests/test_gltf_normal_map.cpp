@@ -228,3 +228,26 @@ TEST(GltfNormalMap, NormalAovIsTheBentNormal) {
         for (int c = 0; c < 3; ++c) wrong += std::fabs(image.aovs[0].floats[3 * p + c] - n[c]) > 1e-5;
     EXPECT_EQ(wrong, 0);
 }
+
+// A mirroring to_world (x -> -x) mirrors the tangent frame: T' = L T = -x, and B' = L B = -z
+// only with w flipped (cross(N', T') = +z), as host/scene/transform.cpp does. Mirrored
+// together with the light and the camera, the quad then shows the original's closed form at
+// each mirrored point; with w kept, B' would be +z and the picture the other tilt's.
+TEST(GltfNormalMap, MirroringToWorldFlipsTheBitangentSign) {
+    const double a = 30.0 * M_PI / 180.0, phi = 60.0 * M_PI / 180.0;
+    QuadOptions o;
+    o.texel = encode({std::sin(a) * std::cos(phi), std::sin(a) * std::sin(phi), std::cos(a)});
+    const glm::dvec3 n = bentNormal(o.texel, 1.0);
+    auto dir = test::freshOutputDir("gltf-normal-map", "mirrored");
+    test::writeFile(dir / "quad.gltf", normalMappedQuad(dir, o));
+    json doc = quadScene(64);
+    doc["camera"] = test::topDownCamera(-0.5, 0.5, 0.5);
+    doc["shapes"][0]["to_world"] = {{"scale", {-1, 1, 1}}};
+    doc["lights"][0]["position"] = {-kLight.x, kLight.y, kLight.z};
+    test::expectTopDownMatches(
+        doc, {{{"type", "direct"}, {"strategy", "light"}}},
+        [&](glm::dvec3 x) {
+            return closedForm({-x.x, x.y, x.z}, n);
+        },
+        "gltf-normal-map/mirrored/scene", 1e-4);
+}
