@@ -103,7 +103,8 @@ KernelOptions makeKernelOptions(const Scene& scene, const SceneArrays& arrays, E
     o.textures = (arrays.textures.textured ? TEXTURES_ON : 0u) |
                  (arrays.textures.transformed ? TEXTURES_TRANSFORMED : 0u) |
                  (arrays.textures.emission ? TEXTURES_EMISSION : 0u) |
-                 (arrays.textures.alphaMask ? TEXTURES_ALPHA_MASK : 0u);
+                 (arrays.textures.alphaMask ? TEXTURES_ALPHA_MASK : 0u) |
+                 (arrays.textures.normalMap ? TEXTURES_NORMAL_MAP : 0u);
     // The alpha test sits in the BVH traversal's triangle hits (textures/alpha_mask.glsl):
     // scenes with one trace through the BVH, neither inline nor emitter first.
     const bool masked = arrays.textures.alphaMask;

@@ -111,6 +111,7 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
     m_materialTextures = Buffer::fromVector(context, textures.materialTextures, "material textures", texels);
     m_textureTexels = Buffer::fromVector(context, textures.texels, "texture texels", texels);
     m_uvs = Buffer::fromVector(context, textures.uvs, "texture coordinates");
+    m_tangents = Buffer::fromVector(context, textures.tangents, "tangents");  // normal maps only
     // Scenes without an environment map get placeholders too (hasEnvironmentMap()).
     // 512 MiB each for an 8192 x 4096 map: the table's host copy goes once uploaded, and the
     // texels are written from the scene's map straight into GPU memory (on lavapipe device
@@ -176,6 +177,7 @@ std::unique_ptr<gpu::Kernel> Renderer::createKernel(const KernelOptions& options
     kernel->bind(BINDING_MATERIAL_TEXTURES, m_materialTextures);
     kernel->bind(BINDING_TEXTURE_TEXELS, m_textureTexels);
     kernel->bind(BINDING_UVS, m_uvs);
+    kernel->bind(BINDING_TANGENTS, m_tangents);
     kernel->bind(BINDING_ENV_TEXELS, m_environmentTexels);
     kernel->bind(BINDING_ENV_TABLE, m_environmentTable);
     kernel->bind(BINDING_AOV, m_aovSums);

@@ -17,8 +17,32 @@ uint32_t gpuTextureSlot(TextureSlot slot) {
         case TextureSlot::KsY: return gpu::TEXTURE_SLOT_KS_Y;
         case TextureSlot::Emission: return gpu::TEXTURE_SLOT_EMISSION;
         case TextureSlot::Alpha: return gpu::TEXTURE_SLOT_ALPHA;
+        case TextureSlot::Normal: return gpu::TEXTURE_SLOT_NORMAL;
     }
     return gpu::TEXTURE_SLOT_KD;
+}
+
+// Per-vertex tangents of every primitive (zero where a shape has none), in the BVH's leaf
+// order as BINDING_TANGENTS wants them; built only for scenes with normal maps.
+static std::vector<gpu::TriangleTangents> leafOrderTangents(const Scene& scene, const Bvh& bvh) {
+    std::vector<gpu::TriangleTangents> input;
+    input.reserve(bvh.originalIndex.size());
+    for (const Shape& shape : scene.shapes) {
+        if (shape.type != ShapeType::Mesh) {
+            input.push_back({});
+            continue;
+        }
+        for (size_t t = 0; t + 2 < shape.indices.size(); t += 3) {
+            gpu::TriangleTangents tt{};
+            if (!shape.tangents.empty())
+                tt = {shape.tangents[shape.indices[t]], shape.tangents[shape.indices[t + 1]],
+                      shape.tangents[shape.indices[t + 2]]};
+            input.push_back(tt);
+        }
+    }
+    std::vector<gpu::TriangleTangents> out(bvh.originalIndex.size());
+    for (size_t i = 0; i < out.size(); ++i) out[i] = input.at(bvh.originalIndex[i]);
+    return out;
 }
 
 TextureArrays buildTextureArrays(const Scene& scene, const Bvh& bvh) {
@@ -28,6 +52,7 @@ TextureArrays buildTextureArrays(const Scene& scene, const Bvh& bvh) {
         for (const MaterialTexture& mt : m.textures) {
             out.transformed |= !mt.uvTransform.isIdentity();
             out.alphaMask |= mt.slot == TextureSlot::Alpha;
+            out.normalMap |= mt.slot == TextureSlot::Normal;
         }
     }
     // Emission textures count where an emitting shape uses the material (the GPU reads them
@@ -99,6 +124,7 @@ TextureArrays buildTextureArrays(const Scene& scene, const Bvh& bvh) {
     }
     out.uvs.resize(bvh.originalIndex.size());
     for (size_t i = 0; i < bvh.originalIndex.size(); ++i) out.uvs[i] = input.at(bvh.originalIndex[i]);
+    if (out.normalMap) out.tangents = leafOrderTangents(scene, bvh);
     return out;
 }
 

@@ -4,6 +4,7 @@
 #include "scene/gltf_textures.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "core/errors.h"
 #include "image/image_file.h"
@@ -105,6 +106,16 @@ uint32_t GltfTextureReader::texture(const tinygltf::TextureInfo& info, const std
     return index;
 }
 
+// normalTexture's own textureInfo type, as the textureInfo the readers take (same index,
+// texCoord and extensions: KHR_texture_transform applies to it as to any other).
+static tinygltf::TextureInfo asTextureInfo(const tinygltf::NormalTextureInfo& normal) {
+    tinygltf::TextureInfo info;
+    info.index = normal.index;
+    info.texCoord = normal.texCoord;
+    info.extensions = normal.extensions;
+    return info;
+}
+
 void GltfTextureReader::checkLimits() {
     std::map<std::pair<std::string, bool>, uint64_t> used;  // (bytes, sRGB) -> texels
     uint64_t texels = 0;
@@ -133,6 +144,7 @@ void GltfTextureReader::checkLimits() {
         count(material.pbrMetallicRoughness.baseColorTexture, true);
         count(material.pbrMetallicRoughness.metallicRoughnessTexture, false);
         count(material.emissiveTexture, true);
+        count(asTextureInfo(material.normalTexture), false);
     }
 }
 
@@ -176,6 +188,20 @@ std::optional<MaterialTexture> GltfTextureReader::emission(const tinygltf::Mater
     UvTransform uv;
     uint32_t t = texture(material.emissiveTexture, path + ".emissiveTexture", true, wrap, uv);
     return MaterialTexture{TextureSlot::Emission, t, glm::vec3(1.0f), 0, wrap.first, wrap.second, uv};
+}
+
+std::optional<MaterialTexture> GltfTextureReader::normal(const tinygltf::Material& material, const std::string& path) {
+    const tinygltf::NormalTextureInfo& info = material.normalTexture;
+    if (info.index < 0) return std::nullopt;
+    // glTF 2.0 section 3.9.3: linear RGB, n = normalize((2 rgb - 1) (scale, scale, 1)) in the
+    // tangent frame (textures/normal_map.glsl decodes it).
+    if (!std::isfinite(info.scale) || std::fabs(info.scale) > 1e8)
+        throwInputError(m_label, path + ".normalTexture.scale", "must be a finite number");
+    std::pair<TextureWrap, TextureWrap> wrap;
+    UvTransform uv;
+    uint32_t t = texture(asTextureInfo(info), path + ".normalTexture", false, wrap, uv);
+    return MaterialTexture{TextureSlot::Normal, t, glm::vec3(float(info.scale), 0.0f, 0.0f), 0, wrap.first,
+                           wrap.second,         uv};
 }
 
 }  // namespace penumbra

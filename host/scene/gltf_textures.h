@@ -52,6 +52,9 @@ public:
     // The emissive texture (sRGB, slot Emission, scale 1: emissiveFactor stays in the
     // shape's emission), decoded only when present; the caller asks only for emitters.
     std::optional<MaterialTexture> emission(const tinygltf::Material& material, const std::string& path);
+    // The tangent-space normal map (linear data, slot Normal, scale.x the normalTexture's
+    // finite scale), decoded only when present.
+    std::optional<MaterialTexture> normal(const tinygltf::Material& material, const std::string& path);
 
 private:
     // Index into m_textures of glTF texture `info` decoded as sRGB colour or linear data,

@@ -22,6 +22,7 @@
 #include "scene/gltf_input_rules.h"
 #include "scene/gltf_textures.h"
 #include "scene/limits.h"
+#include "scene/tangents.h"
 
 namespace penumbra {
 namespace {
@@ -108,6 +109,7 @@ private:
                        const std::optional<MaterialTexture>& baseColor, Material& m);
     Material metallicRoughnessMaterial(const tinygltf::Material& mat, const std::string& path) const;
     void addPrimitive(const tinygltf::Primitive& prim, const glm::dmat4& world, const std::string& path);
+    void readTangents(int accessor, size_t count, const glm::dmat4& world, const std::string& path, Shape& shape);
     void addLight(const tinygltf::Node& node, const glm::dmat4& world, const std::string& path);
     Light pointLight(const glm::dmat4& world, const std::string& path);
     Light spotLight(const tinygltf::Light& src, const glm::dmat4& world, const std::string& path,
@@ -123,7 +125,9 @@ private:
     std::vector<glm::vec3> m_emission;  // per glTF material: emissiveFactor * emissiveStrength
     std::vector<bool> m_doubleSided;
     std::vector<bool> m_cutOut;  // per glTF material: alpha below its cutoff everywhere
+    std::vector<bool> m_normalMapped;  // per glTF material: has a normalTexture
     size_t m_degenerate = 0, m_nonTriangles = 0, m_noPositions = 0, m_badNormals = 0, m_cutOutPrimitives = 0;
+    size_t m_badTangents = 0;
     size_t m_blendMaterials = 0, m_emissiveMasked = 0;  // alphaMode notes, one line each
     bool m_orthographicSeen = false;
 };
@@ -333,6 +337,11 @@ void Importer::loadMaterials() {
         // factor is 0 whatever the texture says.
         if (emission != glm::dvec3(0.0))
             if (auto texture = m_textures.emission(mat, path)) m.textures.push_back(*texture);
+        // A normal map bends the shading normal in the tangent frame of the primitives that
+        // use the material, which then carry tangents (addPrimitive).
+        std::optional<MaterialTexture> normalMap = m_textures.normal(mat, path);
+        if (normalMap) m.textures.push_back(*normalMap);
+        m_normalMapped.push_back(normalMap.has_value());
         m_cutOut.push_back(readAlphaMode(mat, path, emission != glm::dvec3(0.0), textures.baseColor, m));
         m_result.materials.push_back(m);
         m_emission.push_back(glm::vec3(emission));
@@ -394,6 +403,10 @@ void Importer::addPrimitive(const tinygltf::Primitive& prim, const glm::dmat4& w
         }
     }
 
+    const bool normalMapped = prim.material >= 0 && m_normalMapped[size_t(prim.material)];
+    if (auto tangent = prim.attributes.find("TANGENT"); normalMapped && tangent != prim.attributes.end())
+        readTangents(tangent->second, pos.count, world, path + ".attributes.TANGENT", shape);
+
     std::vector<uint32_t> order;
     if (prim.indices >= 0) {
         AccessorView iv = view(prim.indices, path + ".indices", TINYGLTF_TYPE_SCALAR);
@@ -438,12 +451,38 @@ void Importer::addPrimitive(const tinygltf::Primitive& prim, const glm::dmat4& w
         shape.indices.insert(shape.indices.end(), {a, b, c});
     }
     if (shape.indices.empty()) return;
+    if (normalMapped && shape.tangents.empty()) computeTangents(shape);  // MikkTSpace-like (tangents.h)
     if (prim.material >= 0) {
         shape.emission = m_emission[prim.material];
         shape.twoSided = m_doubleSided[prim.material] && shape.isEmitter();
     }
     m_result.shapes.push_back(std::move(shape));
     m_result.shapeMaterials.push_back(prim.material);
+}
+
+// glTF 2.0 section 3.7.2.1: TANGENT is VEC4 float, xyz a unit tangent, w = +-1 the
+// bitangent's sign. The tangent is a surface direction, so it goes through the linear part
+// of the node transform; a mirroring transform (negative determinant) also mirrors the
+// frame, which flips w (B' = L B while cross(N', T') turns the other way). A file whose
+// tangents are not finite or are zero is read as if it had none (computed, with a note).
+void Importer::readTangents(int accessor, size_t count, const glm::dmat4& world, const std::string& path,
+                            Shape& shape) {
+    AccessorView tv = view(accessor, path, TINYGLTF_TYPE_VEC4);
+    if (tv.count != count)
+        fail(path, std::to_string(tv.count) + " tangents for " + std::to_string(count) + " positions");
+    const glm::dmat3 linear(world);
+    const double mirror = glm::determinant(linear) < 0.0 ? -1.0 : 1.0;
+    shape.tangents.resize(tv.count);
+    for (size_t i = 0; i < tv.count; ++i) {
+        glm::dvec3 t = linear * glm::dvec3(tv.get(i, 0), tv.get(i, 1), tv.get(i, 2));
+        double len = glm::length(t), w = tv.get(i, 3);
+        if (!(len > 1e-30) || !std::isfinite(len) || !std::isfinite(w)) {
+            shape.tangents.clear();
+            ++m_badTangents;
+            return;
+        }
+        shape.tangents[i] = glm::vec4(glm::vec3(t / len), float(w < 0.0 ? -mirror : mirror));
+    }
 }
 
 void Importer::addLight(const tinygltf::Node& node, const glm::dmat4& world, const std::string& path) {
@@ -609,6 +648,8 @@ GltfImport Importer::run() {
     if (m_degenerate) note("skipped " + std::to_string(m_degenerate) + " degenerate (zero-area) triangles");
     if (m_nonTriangles) note("skipped " + std::to_string(m_nonTriangles) + " point/line primitives (only triangles are rendered)");
     if (m_noPositions) note("skipped " + std::to_string(m_noPositions) + " primitives without POSITION");
+    if (m_badTangents)
+        note(std::to_string(m_badTangents) + " primitives had zero or non-finite tangents; they are computed instead");
     if (m_badNormals) note(std::to_string(m_badNormals) + " primitives had zero or non-finite normals; they are shaded flat");
     return std::move(m_result);
 }

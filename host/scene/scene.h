@@ -87,7 +87,9 @@ struct PbrFactors {
 // (glTF emissiveTexture).
 // Alpha is the alpha test of glTF's alphaMode MASK: scale.x the alpha factor, scale.y the
 // cutoff, the texture's channel 3 (TEXTURE_SLOT_ALPHA in shaders/shared/types.h).
-enum class TextureSlot { Kd, Ks, KsX, KsY, Emission, Alpha };
+// Normal is a tangent-space normal map (glTF normalTexture): scale.x its scale; the meshes
+// that use the material carry per-vertex tangents (Shape::tangents).
+enum class TextureSlot { Kd, Ks, KsX, KsY, Emission, Alpha, Normal };
 
 // How a texture continues outside [0, 1] (glTF 2.0 section 5.26, samplers): REPEAT,
 // CLAMP_TO_EDGE and MIRRORED_REPEAT. Numbered as TEXTURE_WRAP_* in shaders/shared/types.h.
@@ -159,6 +161,9 @@ struct Shape {
     std::vector<uint32_t> indices;
     std::vector<glm::vec3> normals;
     std::vector<glm::vec2> uvs;  // per vertex or empty (then uv 0 everywhere)
+    // Per vertex or empty: unit tangent xyz and bitangent sign w = +-1 (B = w cross(N, T),
+    // glTF 2.0 section 3.7.2.1), for normal-mapped meshes (host/scene/tangents.h).
+    std::vector<glm::vec4> tangents;
 
     bool isEmitter() const { return emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f; }
 

@@ -108,6 +108,10 @@ void transformMesh(const Affine& m, Shape& s) {
     // linear part), since (L^-T n)^T (L t) = n^T t (pbrt-v4, section 3.10.3, "Normals").
     const glm::dmat3 normalMatrix = glm::transpose(glm::inverse(m.linear));
     for (glm::vec3& n : s.normals) n = glm::vec3(glm::normalize(normalMatrix * glm::dvec3(n)));
+    // Tangents are surface directions: through L itself. A mirror flips the frame's
+    // handedness against the transformed normal, hence w (as in load_gltf.cpp, readTangents).
+    for (glm::vec4& t : s.tangents)
+        t = glm::vec4(glm::normalize(glm::vec3(m.linear * glm::dvec3(t))), mirrors(m) ? -t.w : t.w);
     if (mirrors(m))
         for (size_t t = 0; t + 2 < s.indices.size(); t += 3) std::swap(s.indices[t + 1], s.indices[t + 2]);
 }

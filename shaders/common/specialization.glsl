@@ -57,6 +57,9 @@ bool hasEmissionTextures() { return (kTextures & TEXTURES_EMISSION) != 0u; }
 // Whether some material has an alpha test (glTF alphaMode MASK); false compiles it out of
 // every ray's triangle hits.
 bool hasAlphaMask() { return (kTextures & TEXTURES_ALPHA_MASK) != 0u; }
+// Whether some material has a normal map (glTF normalTexture); false compiles the tangents
+// and the lookup out (textures/normal_map.glsl).
+bool hasNormalMaps() { return (kTextures & TEXTURES_NORMAL_MAP) != 0u; }
 
 // Type tests that are false at compile time for kinds the scene lacks.
 bool lightIs(Light light, uint type) { return hasLight(type) && light.type == type; }

@@ -18,6 +18,8 @@
 // Per-vertex shading normals of triangles whose typeAndNormals >> 2 is non-zero
 // (normals[(typeAndNormals >> 2) - 1]).
 layout(std430, binding = BINDING_NORMALS) readonly restrict buffer TriangleNormalsBuffer { TriangleNormals normals[]; };
+// Per-vertex tangents of every primitive in leaf order, read only in scenes with normal maps.
+layout(std430, binding = BINDING_TANGENTS) readonly restrict buffer TriangleTangentsBuffer { TriangleTangents tangents[]; };
 
 struct SurfacePoint {
     vec3 position;         // on the primitive (world space)
@@ -31,6 +33,9 @@ struct SurfacePoint {
     // direction from the centre. Computed only in textured scenes (hasTextures()), else 0:
     // an untextured kernel pays nothing for them.
     vec2 uv;
+    // Interpolated vertex tangent (xyz, not unit) and bitangent sign (w) of a normal-mapped
+    // mesh (shared/types.h, TriangleTangents); computed only where hasNormalMaps(), else 0.
+    vec4 tangent;
 };
 
 const float SURFACE_INV_TWO_PI = 0.15915494309189535;
@@ -47,6 +52,7 @@ SurfacePoint surfaceAt(Hit hit, vec3 origin, vec3 dir) {
     sp.light = primitive.light;
     sp.primitiveType = primitive.typeAndNormals & PRIM_TYPE_MASK;
     sp.uv = vec2(0.0);
+    sp.tangent = vec4(0.0);
     if (hasPrimitive(PRIM_SPHERE) && sp.primitiveType == PRIM_SPHERE) {
         vec3 outward = normalize(origin + hit.t * dir - primitive.p0);
         sp.position = primitive.p0 + primitive.p1.x * outward;
@@ -79,6 +85,10 @@ SurfacePoint surfaceAt(Hit hit, vec3 origin, vec3 dir) {
         if (hasTextures()) {
             TriangleUvs t = uvs[hit.primitive];
             sp.uv = b.x * t.uv01.xy + b.y * t.uv01.zw + b.z * t.uv2.xy;
+        }
+        if (hasNormalMaps()) {
+            TriangleTangents tt = tangents[hit.primitive];
+            sp.tangent = b.x * tt.t0 + b.y * tt.t1 + b.z * tt.t2;
         }
     }
     return sp;

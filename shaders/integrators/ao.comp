@@ -17,6 +17,7 @@
 
 #include "bsdf/materials.glsl"
 #include "textures/textures.glsl"
+#include "textures/normal_map.glsl"
 #include "integrators/aov.glsl"
 
 vec3 pixelSample(uvec2 pixel, uint sampleIndex, out AovFirstHit aov) {
@@ -28,6 +29,7 @@ vec3 pixelSample(uvec2 pixel, uint sampleIndex, out AovFirstHit aov) {
     Hit hit;
     if (!traceClosestIgnoring(origin, dir, FLOAT_MAX, cameraRayIgnores(), hit)) return vec3(1.0);
     SurfacePoint sp = surfaceAt(hit, origin, dir);
+    sp.shadingNormal = normalMapped(sp);
     // Two-sided shading: use the side facing the viewer.
     vec3 ng = dot(sp.geometricNormal, dir) < 0.0 ? sp.geometricNormal : -sp.geometricNormal;
     vec3 ns = dot(sp.shadingNormal, ng) < 0.0 ? -sp.shadingNormal : sp.shadingNormal;

@@ -41,6 +41,7 @@ const bool kShadowRaysWait = false;
 
 #include "bsdf/materials.glsl"
 #include "textures/textures.glsl"
+#include "textures/normal_map.glsl"
 #include "integrators/aov.glsl"
 
 // How area lights are sampled, for sampleLight and lightPdf alike.
@@ -363,6 +364,7 @@ PartialSample partialSample(bool found, Hit hit, vec3 origin, vec3 dir, inout Rn
         return p;
     }
     SurfacePoint sp = surfaceAt(hit, origin, dir);
+    sp.shadingNormal = normalMapped(sp);  // the BRDF, its sampling and the normal AOV see it
     if (sp.light != NO_LIGHT)
         p.emitted = emittedRadiance(loadLight(sp.light), sp.geometricNormal, dir) * emissionTexture(sp.material, sp.uv);
 

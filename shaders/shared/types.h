@@ -43,7 +43,8 @@ using uint = std::uint32_t;
 // Texel buffer, when SPEC_LIGHT_BVH != 0: the light BVH's nodes, items and per-primitive
 // trails (shared/light_bvh.h; RenderParams says where each part starts)
 #define BINDING_LIGHT_BVH 19
-#define BINDING_COUNT 20
+#define BINDING_TANGENTS 20  // TriangleTangents[] per primitive in leaf order (scenes with normal maps)
+#define BINDING_COUNT 21
 
 // ---- BVH ------------------------------------------------------------------------------
 // Flattened depth-first: an interior node's left child is the next node, `offset` is the
@@ -148,6 +149,13 @@ struct TriangleNormals {
     vec4 n0, n1, n2;  // per-vertex shading normals (xyz), interpolated barycentrically
 };
 
+// Per-vertex tangents of a normal-mapped triangle (glTF TANGENT, or computed: host/scene/
+// tangents.h): xyz the tangent (the direction of increasing u), w = +-1 the bitangent's sign,
+// B = w cross(N, T) (glTF 2.0 section 3.7.2.1). Zero where a primitive has none.
+struct TriangleTangents {
+    vec4 t0, t1, t2;
+};
+
 // ---- Materials (SCENE_FORMAT.md) -------------------------------------------------------
 PENUMBRA_CONST uint MATERIAL_DIFFUSE = 0u;  // kd = albedo, ks = 0
 PENUMBRA_CONST uint MATERIAL_PHONG = 1u;    // kd/pi + ks (n+2)/(2pi) cos^n(alpha)
@@ -189,6 +197,9 @@ PENUMBRA_CONST uint TEXTURE_SLOT_EMISSION = 4u;
 // baseColorFactor.a and scale.y the alphaCutoff: a triangle point whose scale.x x alpha is
 // below scale.y is no surface for any ray.
 PENUMBRA_CONST uint TEXTURE_SLOT_ALPHA = 5u;
+// Not a Material slot: a tangent-space normal map (glTF normalTexture; textures/normal_map.glsl).
+// scale.x is the normalTexture's scale, applied to the decoded x and y.
+PENUMBRA_CONST uint TEXTURE_SLOT_NORMAL = 6u;
 
 // BINDING_MATERIAL_TEXTURES, RGBA32UI texels: texel i (i < material count) is material i's
 // (first texel of its texture references, reference count, 0, 0); a reference is two
@@ -384,6 +395,9 @@ PENUMBRA_CONST uint SAMPLER_SOBOL = 1u;        // padded Owen-scrambled Sobol' (
 #define TEXTURES_EMISSION 4u
 // And TEXTURES_ALPHA_MASK: some material is cut out by an alpha test (TEXTURE_SLOT_ALPHA).
 #define TEXTURES_ALPHA_MASK 8u
+// And TEXTURES_NORMAL_MAP: some material has a normal map (TEXTURE_SLOT_NORMAL); the
+// tangents at BINDING_TANGENTS are then filled.
+#define TEXTURES_NORMAL_MAP 16u
 // Where the traversal reads a BVH node from (SPEC_NODE_READS): the texel buffer at
 // BINDING_NODES or the storage buffer at BINDING_NODE_WORDS, the same bytes. Which is faster
 // depends on the driver (host/render/node_reads.h says which each gets, and why).

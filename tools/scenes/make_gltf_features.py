@@ -2,7 +2,7 @@
 """Writes the scene of docs/figures/gltf_features.png into OUTPUT_DIR (tools/figures/figures runs it).
 
 Debian's assimp-testmodels TextureTransformTest (KHR_texture_transform) and ClearCoatTest
-(emissive textured labels) are copied beside the scene, since a scene's files must lie in its
+(emissive textured labels, normal-mapped ribs) are copied beside the scene, since a scene's files must lie in its
 folder, with a hand-made alpha-masked model (alphaMode MASK: a leaf-like checkerboard of
 holes over a floor, casting a cut-out shadow). The two assimp models that are not in
 Debian's package (NormalTangentTest, AlphaBlendModeTest) are stood in for by that model.
