@@ -22,25 +22,21 @@ uint32_t gpuTextureSlot(TextureSlot slot) {
     return gpu::TEXTURE_SLOT_KD;
 }
 
-// Per-vertex tangents of every primitive (zero where a shape has none), in the BVH's leaf
-// order as BINDING_TANGENTS wants them; built only for scenes with normal maps.
-static std::vector<gpu::TriangleTangents> leafOrderTangents(const Scene& scene, const Bvh& bvh) {
-    std::vector<gpu::TriangleTangents> input;
+// One value per primitive in the BVH's leaf order, as the per-triangle bindings want them:
+// `triangle(shape, t)` for triangle t (its first index) of each mesh, T{} for every other shape's
+// one primitive (the order buildSceneArrays emits primitives in, mapped by bvh.originalIndex).
+template <class T, class PerTriangle>
+static std::vector<T> leafOrder(const Scene& scene, const Bvh& bvh, PerTriangle triangle) {
+    std::vector<T> input;
     input.reserve(bvh.originalIndex.size());
     for (const Shape& shape : scene.shapes) {
         if (shape.type != ShapeType::Mesh) {
             input.push_back({});
             continue;
         }
-        for (size_t t = 0; t + 2 < shape.indices.size(); t += 3) {
-            gpu::TriangleTangents tt{};
-            if (!shape.tangents.empty())
-                tt = {shape.tangents[shape.indices[t]], shape.tangents[shape.indices[t + 1]],
-                      shape.tangents[shape.indices[t + 2]]};
-            input.push_back(tt);
-        }
+        for (size_t t = 0; t + 2 < shape.indices.size(); t += 3) input.push_back(triangle(shape, t));
     }
-    std::vector<gpu::TriangleTangents> out(bvh.originalIndex.size());
+    std::vector<T> out(bvh.originalIndex.size());
     for (size_t i = 0; i < out.size(); ++i) out[i] = input.at(bvh.originalIndex[i]);
     return out;
 }
@@ -103,28 +99,25 @@ TextureArrays buildTextureArrays(const Scene& scene, const Bvh& bvh) {
         }
     }
 
-    // Mesh uvs in input primitive order (as buildSceneArrays emits primitives), then leaf order.
-    std::vector<gpu::TriangleUvs> input;
-    input.reserve(bvh.originalIndex.size());
-    for (const Shape& shape : scene.shapes) {
-        if (shape.type != ShapeType::Mesh) {
-            input.push_back({});
-            continue;
+    // Mesh uvs (zero where a mesh has none); tangents only for scenes with normal maps.
+    out.uvs = leafOrder<gpu::TriangleUvs>(scene, bvh, [](const Shape& shape, size_t t) {
+        gpu::TriangleUvs uv{};
+        if (!shape.uvs.empty()) {
+            glm::vec2 a = shape.uvs[shape.indices[t]], b = shape.uvs[shape.indices[t + 1]],
+                      c = shape.uvs[shape.indices[t + 2]];
+            uv.uv01 = glm::vec4(a, b);
+            uv.uv2 = glm::vec4(c, 0.0f, 0.0f);
         }
-        for (size_t t = 0; t + 2 < shape.indices.size(); t += 3) {
-            gpu::TriangleUvs uv{};
-            if (!shape.uvs.empty()) {
-                glm::vec2 a = shape.uvs[shape.indices[t]], b = shape.uvs[shape.indices[t + 1]],
-                          c = shape.uvs[shape.indices[t + 2]];
-                uv.uv01 = glm::vec4(a, b);
-                uv.uv2 = glm::vec4(c, 0.0f, 0.0f);
-            }
-            input.push_back(uv);
-        }
-    }
-    out.uvs.resize(bvh.originalIndex.size());
-    for (size_t i = 0; i < bvh.originalIndex.size(); ++i) out.uvs[i] = input.at(bvh.originalIndex[i]);
-    if (out.normalMap) out.tangents = leafOrderTangents(scene, bvh);
+        return uv;
+    });
+    if (out.normalMap)
+        out.tangents = leafOrder<gpu::TriangleTangents>(scene, bvh, [](const Shape& shape, size_t t) {
+            gpu::TriangleTangents tt{};
+            if (!shape.tangents.empty())
+                tt = {shape.tangents[shape.indices[t]], shape.tangents[shape.indices[t + 1]],
+                      shape.tangents[shape.indices[t + 2]]};
+            return tt;
+        });
     return out;
 }
 
