@@ -1,4 +1,4 @@
-// Strategy "ris" from the outside: accepted in a scene file, by --set and in a batch job,
+// Strategy "ris" from the outside (and its specialization values): accepted in a scene file, by --set and in a batch job,
 // recorded in the EXR header (with ris_candidates, which other strategies leave out); a bad
 // ris_candidates, or ris without draws, is bad input (exit 2, one line naming the file and
 // JSON path, no output written); the preview's strategy key 5 picks it.
@@ -13,6 +13,7 @@
 #include "image/image.h"
 #include "preview/integrator_controls.h"
 #include "preview/key_bindings.h"
+#include "render/kernel_options.h"
 #include "render_helpers.h"
 #include "scene/integrator_json.h"
 #include "test_scenes.h"
@@ -119,4 +120,21 @@ TEST(RisInput, PreviewKeyFivePicksRis) {
     EXPECT_EQ(settings.strategy, Strategy::Ris);
     EXPECT_EQ(integratorJson(settings)["strategy"], "ris");
     EXPECT_EQ(preview::integratorLabel(settings), "ris, spheres solid_angle");
+}
+
+// ris_candidates reaches the kernel (SPEC_RIS_CANDIDATES) under ris alone: another strategy's
+// kernel keeps the default, so that the option does not split its pipeline cache; the ray
+// bound of a ris sample counts each draw's BRDF candidates and its shadow ray.
+TEST(RisInput, CandidatesSpecializeOnlyTheRisKernel) {
+    KernelOptions a, b;
+    a.integrator.strategy = b.integrator.strategy = Strategy::Mis;
+    b.integrator.risCandidates = 16;
+    EXPECT_TRUE(a == b);
+    a.integrator.strategy = b.integrator.strategy = Strategy::Ris;
+    EXPECT_FALSE(a == b);
+    EXPECT_EQ(b.specialization()[SPEC_RIS_CANDIDATES], 16u);
+    EXPECT_EQ(b.specialization()[SPEC_STRATEGY], gpu::STRATEGY_RIS);
+    b.integrator.lightSamples = 3;
+    b.integrator.bsdfSamples = 2;
+    EXPECT_EQ(b.lightAndBsdfSamples(), 3u * (2u + 1u));
 }
