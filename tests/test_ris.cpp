@@ -93,22 +93,25 @@ double pointRadiance(const std::vector<PointLight>& lights, glm::dvec3 x) {
 TEST(RisClosedForm, QuadLight) {
     const double Le = 5.0, h = 1.5;
     json doc = planeScene(128, 3.0, 1.5);
-    doc["shapes"].push_back({{"type", "quad"}, {"origin", {-0.5, h, -0.5}}, {"edge_u", {1, 0, 0}}, {"edge_v", {0, 0, 1}},
-                             {"emission", {Le, Le, Le}}, {"material", "black"}});
+    doc["shapes"].push_back({{"type", "quad"},
+                             {"origin", {-0.5, h, -0.5}},
+                             {"edge_u", {1, 0, 0}},
+                             {"edge_v", {0, 0, 1}},
+                             {"emission", {Le, Le, Le}},
+                             {"material", "black"}});
     const std::vector<glm::dvec3> quad = {{-0.5, h, -0.5}, {0.5, h, -0.5}, {0.5, h, 0.5}, {-0.5, h, 0.5}};
     test::expectTopDownMatches(
         doc,
         {ris(), ris("power", {{"quad_sampling", "area"}}), ris("power", {{"bsdf_samples", 0}}),
-         ris("power", {{"ris_candidates", 1}, {"bsdf_samples", 3}}), ris("power", {{"light_samples", 2}}),
-         ris("bvh")},
+         ris("power", {{"ris_candidates", 1}, {"bsdf_samples", 3}}), ris("power", {{"light_samples", 2}}), ris("bvh")},
         [&](glm::dvec3 x) { return kAlbedo / M_PI * test::polygonIrradiance(quad, x, Le); }, "ris-quad", kAlpha);
 }
 
 TEST(RisClosedForm, SphereLight) {
     const double Le = 4.0, r = 0.4, h = 1.5;
     json doc = planeScene(128, 3.0, 1.5);
-    doc["shapes"].push_back({{"type", "sphere"}, {"center", {0, h, 0}}, {"radius", r}, {"emission", {Le, Le, Le}},
-                             {"material", "black"}});
+    doc["shapes"].push_back(
+        {{"type", "sphere"}, {"center", {0, h, 0}}, {"radius", r}, {"emission", {Le, Le, Le}}, {"material", "black"}});
     test::expectTopDownMatches(
         doc, {ris(), ris("power", {{"sphere_sampling", "area"}}), ris("bvh", {{"ris_candidates", 3}})},
         [&](glm::dvec3 x) {
@@ -173,13 +176,26 @@ json glossyScene(int spp, uint32_t seed, const json& integrator) {
           {"rough", {{"type", "phong"}, {"kd", {0.3, 0.2, 0.1}}, {"ks", {0.5, 0.5, 0.5}}, {"exponent", 20}}},
           {"sharp", {{"type", "phong"}, {"kd", {0.05, 0.1, 0.2}}, {"ks", {0.7, 0.7, 0.7}}, {"exponent", 300}}}}},
         {"shapes",
-         {{{"type", "quad"}, {"origin", {-4, 0, -4}}, {"edge_u", {0, 0, 8}}, {"edge_v", {8, 0, 0}}, {"material", "floor"}},
-          {{"type", "quad"}, {"origin", {-1.6, 0.3, -0.2}}, {"edge_u", {1.4, 0, 0}}, {"edge_v", {0, 0.9, -0.9}},
+         {{{"type", "quad"},
+           {"origin", {-4, 0, -4}},
+           {"edge_u", {0, 0, 8}},
+           {"edge_v", {8, 0, 0}},
+           {"material", "floor"}},
+          {{"type", "quad"},
+           {"origin", {-1.6, 0.3, -0.2}},
+           {"edge_u", {1.4, 0, 0}},
+           {"edge_v", {0, 0.9, -0.9}},
            {"material", "rough"}},
-          {{"type", "quad"}, {"origin", {0.2, 0.3, -0.2}}, {"edge_u", {1.4, 0, 0}}, {"edge_v", {0, 0.9, -0.9}},
+          {{"type", "quad"},
+           {"origin", {0.2, 0.3, -0.2}},
+           {"edge_u", {1.4, 0, 0}},
+           {"edge_v", {0, 0.9, -0.9}},
            {"material", "sharp"}},
           {{"type", "sphere"}, {"center", {-0.8, 2.6, 0.6}}, {"radius", 0.35}, {"power", {60, 50, 40}}},
-          {{"type", "quad"}, {"origin", {0.5, 2.6, 0.3}}, {"edge_u", {0.8, 0, 0}}, {"edge_v", {0, 0, 0.5}},
+          {{"type", "quad"},
+           {"origin", {0.5, 2.6, 0.3}},
+           {"edge_u", {0.8, 0, 0}},
+           {"edge_v", {0, 0, 0.5}},
            {"emission", {6, 7, 9}}}}},
         {"lights", {{{"type", "point"}, {"position", {2, 3, 2}}, {"power", {30, 30, 30}}}}},
     };
@@ -197,8 +213,10 @@ std::vector<double> channel0(const Image& image) {
 // mean zero (block t-test on the difference), where glossy lobes make the BRDF candidates count.
 TEST(RisConsistency, AgreesWithMisOnGlossyPlates) {
     const int spp = 256;
-    const Image mis = test::renderJson(glossyScene(spp, 1, {{"type", "direct"}, {"strategy", "mis"}}), "ris-glossy-mis");
-    const std::vector<json> others = {ris("power"), ris("bvh"), ris("power", {{"bsdf_samples", 2}, {"ris_candidates", 4}})};
+    const Image mis =
+        test::renderJson(glossyScene(spp, 1, {{"type", "direct"}, {"strategy", "mis"}}), "ris-glossy-mis");
+    const std::vector<json> others = {ris("power"), ris("bvh"),
+                                      ris("power", {{"bsdf_samples", 2}, {"ris_candidates", 4}})};
     for (size_t i = 0; i < others.size(); ++i) {
         const std::string name = "ris-glossy-" + std::to_string(i);
         Image image = test::renderJson(glossyScene(spp, 2 + uint32_t(i), others[i]), name);

@@ -375,7 +375,7 @@ PENUMBRA_CONST uint SAMPLER_SOBOL = 1u;        // padded Owen-scrambled Sobol' (
 #define SPEC_NODE_READS (SPEC_INLINE_GROUP_FIRST + INLINE_MAX_GROUPS * INLINE_GROUP_WORDS)  // NODE_READS_*
 #define SPEC_LOOPS_MAY_BE_CUT (SPEC_NODE_READS + 1)  // 1: the driver may end loops early (render/loop_budget.h)
 #define SPEC_AOVS (SPEC_LOOPS_MAY_BE_CUT + 1)        // AOV_* bits of the layers to accumulate (shared/aov.h); 0: none
-#define SPEC_LIGHT_BVH (SPEC_AOVS + 1)  // 1: light_selection "bvh" (lights/light_bvh.glsl); 0 compiles it out
+#define SPEC_LIGHT_BVH (SPEC_AOVS + 1)            // 1: light_selection "bvh" (lights/light_bvh.glsl); 0 compiles it out
 #define SPEC_RIS_CANDIDATES (SPEC_LIGHT_BVH + 1)  // strategy "ris": light candidates per draw (M)
 #define SPEC_COUNT (SPEC_RIS_CANDIDATES + 1)
 // SPEC_TEXTURES bits: TEXTURES_ON, some material is textured; TEXTURES_TRANSFORMED, and
