@@ -20,6 +20,7 @@ bool isIntegratorAction(Action action) {
         case Action::StrategyBsdf:
         case Action::StrategyMis:
         case Action::StrategyMixture:
+        case Action::StrategyRis:
         case Action::ToggleHeuristic:
         case Action::CycleSphereSampling:
         case Action::ToggleQuadSampling:
@@ -36,6 +37,7 @@ bool applyIntegratorAction(IntegratorSettings& settings, Action action) {
         case Action::StrategyBsdf: return setStrategy(settings, Strategy::Bsdf);
         case Action::StrategyMis: return setStrategy(settings, Strategy::Mis);
         case Action::StrategyMixture: return setStrategy(settings, Strategy::Mixture);
+        case Action::StrategyRis: return setStrategy(settings, Strategy::Ris);
         case Action::ToggleHeuristic: settings.heuristic = nextValue(settings.heuristic); return true;
         case Action::CycleSphereSampling: settings.sphereSampling = nextValue(settings.sphereSampling); return true;
         case Action::ToggleQuadSampling:

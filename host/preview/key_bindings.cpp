@@ -48,6 +48,7 @@ const std::vector<KeyBinding>& bindings() {
         {Action::StrategyBsdf, {"2"}, PENUMBRA_KEYS(GLFW_KEY_2, GLFW_KEY_KP_2), strategyHelp(Strategy::Bsdf)},
         {Action::StrategyMis, {"3"}, PENUMBRA_KEYS(GLFW_KEY_3, GLFW_KEY_KP_3), strategyHelp(Strategy::Mis)},
         {Action::StrategyMixture, {"4"}, PENUMBRA_KEYS(GLFW_KEY_4, GLFW_KEY_KP_4), strategyHelp(Strategy::Mixture)},
+        {Action::StrategyRis, {"5"}, PENUMBRA_KEYS(GLFW_KEY_5, GLFW_KEY_KP_5), strategyHelp(Strategy::Ris)},
         {Action::ToggleHeuristic, {"h"}, PENUMBRA_KEYS(GLFW_KEY_H), "MIS heuristic: " + valueCycle<Heuristic>(" <-> ")},
         {Action::CycleSphereSampling,
          {"s"},

@@ -14,6 +14,7 @@ enum class Action {
     StrategyBsdf,
     StrategyMis,
     StrategyMixture,
+    StrategyRis,
     ToggleHeuristic,         // balance <-> power
     CycleSphereSampling,     // area -> cap -> solid_angle -> area
     ToggleQuadSampling,      // quad lights: area <-> solid_angle
@@ -29,7 +30,7 @@ enum class Action {
 
 // The action bound to a GLFW key code (GLFW_KEY_*), if any.
 std::optional<Action> actionForGlfwKey(int key);
-// The action for a key as an input script names it: "1".."4", "h", "s", "t", "m", "l", "+", "-",
+// The action for a key as an input script names it: "1".."5", "h", "s", "t", "m", "l", "+", "-",
 // "a", "p", "r", "q", "esc" (case-insensitive).
 std::optional<Action> actionForKeyName(std::string_view name);
 

@@ -13,7 +13,8 @@ namespace penumbra {
 // as its enum value.
 static_assert(uint32_t(AoSampling::Uniform) == gpu::AO_UNIFORM && uint32_t(AoSampling::Cosine) == gpu::AO_COSINE);
 static_assert(uint32_t(Strategy::Light) == gpu::STRATEGY_LIGHT && uint32_t(Strategy::Bsdf) == gpu::STRATEGY_BSDF &&
-              uint32_t(Strategy::Mis) == gpu::STRATEGY_MIS && uint32_t(Strategy::Mixture) == gpu::STRATEGY_MIXTURE);
+              uint32_t(Strategy::Mis) == gpu::STRATEGY_MIS && uint32_t(Strategy::Mixture) == gpu::STRATEGY_MIXTURE &&
+              uint32_t(Strategy::Ris) == gpu::STRATEGY_RIS);
 static_assert(uint32_t(Heuristic::Balance) == gpu::HEURISTIC_BALANCE &&
               uint32_t(Heuristic::Power) == gpu::HEURISTIC_POWER);
 static_assert(uint32_t(SphereSampling::Area) == gpu::SPHERE_AREA && uint32_t(SphereSampling::Cap) == gpu::SPHERE_CAP &&
@@ -53,11 +54,14 @@ std::vector<uint32_t> KernelOptions::specialization() const {
     values[SPEC_LOOPS_MAY_BE_CUT] = loopsMayBeCut;
     values[SPEC_AOVS] = aovs;
     values[SPEC_LIGHT_BVH] = ao ? 0u : lightBvh;
+    // Only "ris" reads it: other strategies keep the default, so it does not split their cache.
+    values[SPEC_RIS_CANDIDATES] = direct.strategy == Strategy::Ris ? direct.risCandidates : defaults.risCandidates;
     return values;
 }
 
 uint32_t KernelOptions::lightAndBsdfSamples() const {
     const std::vector<uint32_t> values = specialization();
+    if (values[SPEC_STRATEGY] == gpu::STRATEGY_RIS) return values[SPEC_LIGHT_SAMPLES] * (values[SPEC_BSDF_SAMPLES] + 1);
     return values[SPEC_LIGHT_SAMPLES] + values[SPEC_BSDF_SAMPLES];
 }
 

@@ -28,7 +28,9 @@ struct KernelOptions {
 
     // Values in constant_id order, for gpu::Pipeline.
     std::vector<uint32_t> specialization() const;
-    // N1 + N2 as the kernel takes them (their defaults in an ao kernel).
+    // N1 + N2 as the kernel takes them (their defaults in an ao kernel): the samples that
+    // may each trace a ray and a shadow ray. Under "ris", each of the N1 draws traces N2 BRDF
+    // candidates' rays and one shadow ray: N1 (N2 + 1).
     uint32_t lightAndBsdfSamples() const;
     // Equal when they make the same pipeline.
     bool operator==(const KernelOptions& other) const { return specialization() == other.specialization(); }

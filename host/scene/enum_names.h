@@ -25,8 +25,11 @@ inline constexpr EnumName<IntegratorType> kIntegratorTypeNames[] = {{IntegratorT
                                                                     {IntegratorType::Direct, "direct"}};
 inline constexpr EnumName<AoSampling> kAoSamplingNames[] = {{AoSampling::Cosine, "cosine"},
                                                             {AoSampling::Uniform, "uniform"}};
-inline constexpr EnumName<Strategy> kStrategyNames[] = {
-    {Strategy::Light, "light"}, {Strategy::Bsdf, "bsdf"}, {Strategy::Mis, "mis"}, {Strategy::Mixture, "mixture"}};
+inline constexpr EnumName<Strategy> kStrategyNames[] = {{Strategy::Light, "light"},
+                                                        {Strategy::Bsdf, "bsdf"},
+                                                        {Strategy::Mis, "mis"},
+                                                        {Strategy::Mixture, "mixture"},
+                                                        {Strategy::Ris, "ris"}};
 inline constexpr EnumName<Heuristic> kHeuristicNames[] = {{Heuristic::Balance, "balance"}, {Heuristic::Power, "power"}};
 inline constexpr EnumName<SphereSampling> kSphereSamplingNames[] = {
     {SphereSampling::Area, "area"}, {SphereSampling::Cap, "cap"}, {SphereSampling::SolidAngle, "solid_angle"}};

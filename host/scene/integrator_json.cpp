@@ -36,6 +36,8 @@ nlohmann::json integratorJson(const IntegratorSettings& s) {
                         {"bsdf_samples", s.bsdfSamples},
                         {"sphere_sampling", toName(s.sphereSampling)},
                         {"light_selection", toName(s.lightSelection)}};
+    // Only "ris" reads ris_candidates: other strategies' headers stay as they were.
+    if (s.strategy == Strategy::Ris) j["ris_candidates"] = s.risCandidates;
     if (s.quadSamplingGiven) j["quad_sampling"] = toName(s.quadSampling);
     if (s.triangleSamplingGiven) j["triangle_sampling"] = toName(s.triangleSampling);
     return j;

@@ -122,7 +122,7 @@ private:
         } else {
             if (r)
                 r->expectKeys({"type", "strategy", "heuristic", "light_samples", "bsdf_samples", "sphere_sampling",
-                               "quad_sampling", "triangle_sampling", "light_selection"},
+                               "quad_sampling", "triangle_sampling", "light_selection", "ris_candidates"},
                               "the direct integrator");
             s.type = IntegratorType::Direct;
             if (r) readDirect(*r, s);
@@ -144,6 +144,10 @@ private:
             s.triangleSamplingGiven = true;
         }
         if (auto v = r.find("light_selection")) s.lightSelection = choiceOf<LightSelection>(*v);
+        if (auto v = r.find("ris_candidates")) s.risCandidates = uint32_t(v->integer(1, 64));
+        // "ris" makes light_samples draws (its BRDF samples are candidates of each draw).
+        if (s.strategy == Strategy::Ris && s.lightSamples == 0)
+            r.fail("strategy ris makes light_samples draws per sample (raise light_samples)");
         // A strategy with no samples of its own would render only what the camera sees directly.
         bool lightUsed = s.strategy != Strategy::Bsdf, bsdfUsed = s.strategy != Strategy::Light;
         uint32_t used = (lightUsed ? s.lightSamples : 0) + (bsdfUsed ? s.bsdfSamples : 0);

@@ -43,7 +43,7 @@ struct SamplerSettings {
 
 enum class IntegratorType { AmbientOcclusion, Direct };
 enum class AoSampling { Uniform, Cosine };
-enum class Strategy { Light, Bsdf, Mis, Mixture };
+enum class Strategy { Light, Bsdf, Mis, Mixture, Ris };
 enum class Heuristic { Balance, Power };
 enum class SphereSampling { Area, Cap, SolidAngle };
 enum class QuadSampling { Area, SolidAngle };
@@ -60,6 +60,8 @@ struct IntegratorSettings {
     Heuristic heuristic = Heuristic::Power;
     uint32_t lightSamples = 1;
     uint32_t bsdfSamples = 1;
+    // strategy "ris": light candidates per draw (SCENE_FORMAT.md `ris_candidates`, 1..64)
+    uint32_t risCandidates = 8;
     SphereSampling sphereSampling = SphereSampling::SolidAngle;
     QuadSampling quadSampling = QuadSampling::SolidAngle;
     TriangleSampling triangleSampling = TriangleSampling::Area;

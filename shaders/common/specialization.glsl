@@ -35,6 +35,9 @@ layout(constant_id = SPEC_AOVS) const uint kAovs = 0u;
 // Off unless set: light_selection "bvh" (integrators/light_selection_bvh.glsl); 0 compiles it out.
 layout(constant_id = SPEC_LIGHT_BVH) const uint kLightBvh = 0u;
 
+// Strategy "ris" alone reads it (integrators/ris.glsl): ris_candidates, M.
+layout(constant_id = SPEC_RIS_CANDIDATES) const uint kRisCandidates = 8u;
+
 // Whether the scene has a primitive / light / material of this type; false compiles the
 // code that handles it out of the kernel.
 bool hasPrimitive(uint type) { return (kSceneFeatures & (1u << (FEATURE_PRIMITIVE + type))) != 0u; }

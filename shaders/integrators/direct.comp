@@ -5,6 +5,7 @@
 //   bsdf     N2 BRDF samples               (f Le cos / p_f), counted when they hit an emitter
 //   mis      N1 light + N2 BRDF samples weighted by the balance or power heuristic
 //   mixture  N1 + N2 samples from 0.5 p_light + 0.5 p_f (lecture, "Sample from Average PDF")
+//   ris      N1 draws, each one of M light + N2 BRDF candidates resampled (integrators/ris.glsl)
 // Delta lights cannot be hit: every strategy samples them explicitly (light and mis through
 // the full selection table; bsdf and mixture with one delta-only draw per sample).
 // The strategy, heuristic, N1, N2 and sphere, quad and triangle sampling are specialization constants
@@ -134,6 +135,20 @@ uint drawAnyLight(Shading s, inout Rng rng, out float pmf, out vec3 u, out uint 
     return index;
 }
 
+// The shadow ray of light sample `ls` of light `index` at s: from the offset origin toward
+// the sampled point.
+AnyHitRay lightShadowRay(Shading s, uint index, LightSample ls) {
+    // The shadow ray stops just short of the sampled point, so that the light's own surface
+    // does not count as an occluder.
+    float tMax = ls.dist == FLOAT_MAX ? FLOAT_MAX : ls.dist * (1.0 - 1e-4);
+    // A quad light cannot block a ray toward a point on itself: the ray meets its plane once,
+    // there, beyond tMax. Neither can the flat primitive under x (Shading.flatPrimitive).
+    // Leaving their tests out changes no image: each would find nothing.
+    Light light = loadLight(index);
+    uvec2 ignore = uvec2(lightIs(light, LIGHT_QUAD) ? light.first : NO_HIT, s.flatPrimitive);
+    return AnyHitRay(s.origin, ls.wi, tMax, true, ignore);
+}
+
 // One sample, from the numbers u, of light `index` (of its triangle `triangle` alone, unless
 // NO_HIT) drawn with probability `pmf` (drawLight, drawAnyLight), weighted against N2 BRDF
 // samples (WEIGHT_MIS) or by the mixture density: its term, with the shadow ray still to
@@ -151,15 +166,7 @@ ShadowedTerm lightSampleTerm(Shading s, uint index, uint triangle, float pmf, ve
     BsdfValue b = bsdfEvalPdf(s.m, s.ns, s.wo, ls.wi);
     vec3 fc = cosineWeighted(s, ls.wi, b.f);
     if (fc == vec3(0.0)) return term;
-    // The shadow ray stops just short of the sampled point, so that the light's own surface
-    // does not count as an occluder.
-    float tMax = ls.dist == FLOAT_MAX ? FLOAT_MAX : ls.dist * (1.0 - 1e-4);
-    // A quad light cannot block a ray toward a point on itself: the ray meets its plane once,
-    // there, beyond tMax. Neither can the flat primitive under x (Shading.flatPrimitive).
-    // Leaving their tests out changes no image: each would find nothing.
-    Light light = loadLight(index);
-    uvec2 ignore = uvec2(lightIs(light, LIGHT_QUAD) ? light.first : NO_HIT, s.flatPrimitive);
-    term.ray = AnyHitRay(s.origin, ls.wi, tMax, true, ignore);
+    term.ray = lightShadowRay(s, index, ls);
     if (ls.isDelta) {
         term.value = fc * ls.radiance / pmf;
         return term;
@@ -265,6 +272,9 @@ vec3 deltaLightEstimate(Shading s, inout Rng rng) {
     return lightSampleEstimate(s, index, pmf, u, WEIGHT_NONE, 0.0, 0.0, unused);
 }
 
+// Strategy "ris": uses Shading, drawAnyLight, lightShadowRay and incidentEmission above.
+#include "integrators/ris.glsl"
+
 // The terms of a sample that reflectedRadiance leaves apart: the first light sample's (light
 // and mis strategies) and, with mis, the last BRDF sample's, each with its shadow ray traced
 // or, in the kernel that traces them with the next sample's camera ray, not yet (a BRDF
@@ -340,6 +350,7 @@ vec3 reflectedRadiance(Shading s, inout Rng rng, out WaitingTerms waiting) {
             L += deltaLightEstimate(s, rng) / float(n);
         }
     }
+    if (kStrategy == STRATEGY_RIS) L += risReflectedRadiance(s, rng, waiting.light);
     return L;
 }
 

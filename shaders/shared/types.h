@@ -321,6 +321,7 @@ PENUMBRA_CONST uint STRATEGY_LIGHT = 0u;
 PENUMBRA_CONST uint STRATEGY_BSDF = 1u;
 PENUMBRA_CONST uint STRATEGY_MIS = 2u;
 PENUMBRA_CONST uint STRATEGY_MIXTURE = 3u;
+PENUMBRA_CONST uint STRATEGY_RIS = 4u;  // resampled importance sampling (integrators/ris.glsl)
 
 PENUMBRA_CONST uint HEURISTIC_BALANCE = 0u;
 PENUMBRA_CONST uint HEURISTIC_POWER = 1u;
@@ -385,8 +386,9 @@ PENUMBRA_CONST uint SAMPLER_SOBOL = 1u;        // padded Owen-scrambled Sobol' (
 #define SPEC_NODE_READS (SPEC_INLINE_GROUP_FIRST + INLINE_MAX_GROUPS * INLINE_GROUP_WORDS)  // NODE_READS_*
 #define SPEC_LOOPS_MAY_BE_CUT (SPEC_NODE_READS + 1)  // 1: the driver may end loops early (render/loop_budget.h)
 #define SPEC_AOVS (SPEC_LOOPS_MAY_BE_CUT + 1)        // AOV_* bits of the layers to accumulate (shared/aov.h); 0: none
-#define SPEC_LIGHT_BVH (SPEC_AOVS + 1)  // 1: light_selection "bvh" (lights/light_bvh.glsl); 0 compiles it out
-#define SPEC_COUNT (SPEC_LIGHT_BVH + 1)
+#define SPEC_LIGHT_BVH (SPEC_AOVS + 1)            // 1: light_selection "bvh" (lights/light_bvh.glsl); 0 compiles it out
+#define SPEC_RIS_CANDIDATES (SPEC_LIGHT_BVH + 1)  // strategy "ris": light candidates per draw (M)
+#define SPEC_COUNT (SPEC_RIS_CANDIDATES + 1)
 // SPEC_TEXTURES bits: TEXTURES_ON, some material is textured; TEXTURES_TRANSFORMED, and
 // some texture reference has a uv transform (the references then carry TextureTransforms).
 #define TEXTURES_ON 1u
