@@ -14,14 +14,14 @@
 namespace penumbra {
 
 struct TextureArrays {
-    bool textured = false;                     // some material has a textured field
-    bool transformed = false;                  // and some of them a uv transform (TEXTURES_TRANSFORMED)
-    bool emission = false;                     // an emitter's material has an emission texture (TEXTURES_EMISSION)
-    bool alphaMask = false;                    // some material has an alpha test (TEXTURES_ALPHA_MASK)
-    bool normalMap = false;                    // some material has a normal map (TEXTURES_NORMAL_MAP)
-    std::vector<glm::uvec4> materialTextures;  // BINDING_MATERIAL_TEXTURES
-    std::vector<glm::uvec4> texels;            // BINDING_TEXTURE_TEXELS
-    std::vector<gpu::TriangleUvs> uvs;         // BINDING_UVS, in the BVH's leaf order
+    bool textured = false;                        // some material has a textured field
+    bool transformed = false;                     // and some of them a uv transform (TEXTURES_TRANSFORMED)
+    bool emission = false;                        // an emitter's material has an emission texture (TEXTURES_EMISSION)
+    bool alphaMask = false;                       // some material has an alpha test (TEXTURES_ALPHA_MASK)
+    bool normalMap = false;                       // some material has a normal map (TEXTURES_NORMAL_MAP)
+    std::vector<glm::uvec4> materialTextures;     // BINDING_MATERIAL_TEXTURES
+    std::vector<glm::uvec4> texels;               // BINDING_TEXTURE_TEXELS
+    std::vector<gpu::TriangleUvs> uvs;            // BINDING_UVS, in the BVH's leaf order
     std::vector<gpu::TriangleTangents> tangents;  // BINDING_TANGENTS, leaf order; empty without normal maps
 };
 

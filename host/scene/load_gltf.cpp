@@ -124,7 +124,7 @@ private:
     GltfTextureReader m_textures;       // after m_label and m_result, which it refers to
     std::vector<glm::vec3> m_emission;  // per glTF material: emissiveFactor * emissiveStrength
     std::vector<bool> m_doubleSided;
-    std::vector<bool> m_cutOut;  // per glTF material: alpha below its cutoff everywhere
+    std::vector<bool> m_cutOut;        // per glTF material: alpha below its cutoff everywhere
     std::vector<bool> m_normalMapped;  // per glTF material: has a normalTexture
     size_t m_degenerate = 0, m_nonTriangles = 0, m_noPositions = 0, m_badNormals = 0, m_cutOutPrimitives = 0;
     size_t m_badTangents = 0;
