@@ -33,13 +33,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// A tiny lit scene: a floor, a sphere, a sphere light and a point light, so that both
-// integrators (and every light-selection mode) produce a non-trivial image.
-json litScene() {
-    return test::floorAndSphereScene(
-        {.width = 16, .height = 12, .spp = 4, .floorMaterial = true, .sphereLight = true, .pointLight = true});
-}
-
 // A fresh directory build/test-output/batch/<name>.
 fs::path freshDir(const std::string& name) {
     fs::path dir = test::outputPath("batch") / name;
@@ -214,7 +207,7 @@ TEST(Batch, TasksTakeEveryNthJob) {
 
 TEST(Batch, OutputsEqualRenderOfTheSameJobAndUploadsAreReused) {
     fs::path dir = freshDir("equal");
-    writeJson(dir / "scene.json", litScene());
+    writeJson(dir / "scene.json", test::smallLitScene());
     json doc = {{"jobs",
                  {// Three cameras of one scene: one upload, then params only.
                   {{"scene", "scene.json"},
@@ -263,7 +256,7 @@ TEST(Batch, OutputsEqualRenderOfTheSameJobAndUploadsAreReused) {
 // same pixels as penumbra render with the same --set.
 TEST(Batch, LightSelectionBvhJobEqualsTheRender) {
     fs::path dir = freshDir("bvh");
-    writeJson(dir / "scene.json", litScene());
+    writeJson(dir / "scene.json", test::smallLitScene());
     json doc = {{"jobs",
                  {{{"scene", "scene.json"}, {"output", "power.exr"}},
                   {{"scene", "scene.json"}, {"output", "bvh.exr"}, {"set", {"integrator.light_selection=bvh"}}}}}};
@@ -283,7 +276,7 @@ TEST(Batch, LightSelectionBvhJobEqualsTheRender) {
 
 TEST(Batch, ResumeRendersOnlyMissingOrForeignOutputs) {
     fs::path dir = freshDir("resume");
-    writeJson(dir / "scene.json", litScene());
+    writeJson(dir / "scene.json", test::smallLitScene());
     json doc = {{"jobs",
                  {{{"scene", "scene.json"},
                    {"output", "out/f{i}.exr"},
@@ -333,7 +326,7 @@ TEST(Batch, ResumeRendersOnlyMissingOrForeignOutputs) {
 
 TEST(Batch, InterruptedBatchLeavesNoPartialOutputAndResumes) {
     fs::path dir = freshDir("interrupt");
-    writeJson(dir / "scene.json", litScene());
+    writeJson(dir / "scene.json", test::smallLitScene());
     // Job 1 would take minutes on lavapipe: it is only ever interrupted.
     json doc = {{"jobs",
                  {{{"scene", "scene.json"}, {"output", "quick.exr"}},
@@ -392,7 +385,7 @@ TEST(Batch, InterruptedBatchLeavesNoPartialOutputAndResumes) {
 
 TEST(Batch, FailingJobsFailAloneWithTheDocumentedStatus) {
     fs::path dir = freshDir("failures");
-    writeJson(dir / "scene.json", litScene());
+    writeJson(dir / "scene.json", test::smallLitScene());
     std::ofstream(dir / "not-a-dir") << "a file";
     auto good = [](const std::string& out) { return json{{"scene", "scene.json"}, {"output", out}}; };
     json runtimeOnly = {{"jobs", {good("a.exr"), good("not-a-dir/b.exr"), good("c.exr")}}};
@@ -431,7 +424,7 @@ TEST(Batch, FailingJobsFailAloneWithTheDocumentedStatus) {
 TEST(Batch, KernelCacheCompilesEachIntegratorOnce) {
     const gpu::Context& context = test::gpuContext();
     gpu::KernelCache cache(context);
-    json a = litScene(), b = litScene(), c = litScene();
+    json a = test::smallLitScene(), b = test::smallLitScene(), c = test::smallLitScene();
     b["materials"]["floor"]["albedo"] = {0.8, 0.3, 0.2};
     b["shapes"][2]["emission"] = {9, 3, 1};
     b["lights"][0]["power"] = {5, 30, 5};
@@ -463,7 +456,7 @@ TEST(Batch, KernelCacheCompilesEachIntegratorOnce) {
     EXPECT_FALSE(samePixels(first, second));
 
     // Past the inline limit the shapes stay in the BVH's buffers: moving them keeps the kernel.
-    json large = litScene();
+    json large = test::smallLitScene();
     for (int i = 0; i < int(INLINE_MAX_PRIMITIVES); ++i)
         large["shapes"].push_back({{"type", "sphere"}, {"center", {-2 + 0.08 * i, 0.05, -1.5}}, {"radius", 0.03}});
     json largeMoved = large;
@@ -491,7 +484,7 @@ TEST(Batch, KernelCacheCompilesEachIntegratorOnce) {
 TEST(Batch, SharesUploadComparesTheLoadedContent) {
     // Reuse is keyed on what the GPU holds, not on file names: camera, sampler and
     // integrator options change only the render parameters, anything else uploads anew.
-    Scene a = test::sceneFromJson(litScene(), "shares-upload");
+    Scene a = test::sceneFromJson(test::smallLitScene(), "shares-upload");
     Scene b = a;
     b.path = "other.json";
     b.camera.eye = {1, 2, 3};
@@ -554,7 +547,7 @@ TEST(Batch, ASceneEditedDuringTheBatchIsUploadedAnew) {
 
 TEST(Batch, MergeOfNPartialsEqualsTheFullRenderAndRefusesMismatches) {
     fs::path dir = freshDir("merge");
-    fs::path scene = writeJson(dir / "scene.json", litScene());
+    fs::path scene = writeJson(dir / "scene.json", test::smallLitScene());
     const int parts = 4, each = 3;
     std::string inputs;
     std::string err;

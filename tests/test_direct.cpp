@@ -21,6 +21,7 @@
 
 #include "gpu_fixture.h"
 #include "render_helpers.h"
+#include "test_scenes.h"
 
 using namespace penumbra;
 using nlohmann::json;
@@ -451,59 +452,28 @@ double relMse(const Image& image, const Image& reference) {
 
 }  // namespace
 
-namespace {
-
-// Glossy Phong plates (exponents 20 and 300) and a diffuse floor lit by a sphere light, a
-// quad light and a point light, seen at an angle. Every strategy has finite variance here
-// (unlike the Veach scene, where BRDF sampling of tiny lights from diffuse surfaces has
-// heavy tails that no t-test at affordable spp can handle).
-// `closeUp` frames the sharp plate's highlight, where a wrong glossy density would show.
-json glossyScene(int spp, uint32_t seed, json integrator, bool closeUp = false) {
-    json camera = closeUp ? json{{"eye", {0.9, 2.2, 4.5}}, {"target", {0.9, 0.75, -0.65}}, {"fov_y", 10}}
-                          : json{{"eye", {0, 2.2, 4.5}}, {"target", {0, 0.3, 0}}, {"fov_y", 40}};
-    return {
-        {"camera", camera},
-        {"film", {{"width", 48}, {"height", 32}}},
-        {"sampler", {{"spp", spp}, {"seed", seed}}},
-        {"integrator", integrator},
-        {"materials",
-         {{"floor", {{"type", "diffuse"}, {"albedo", {0.5, 0.5, 0.5}}}},
-          {"rough", {{"type", "phong"}, {"kd", {0.3, 0.2, 0.1}}, {"ks", {0.5, 0.5, 0.5}}, {"exponent", 20}}},
-          {"sharp", {{"type", "phong"}, {"kd", {0.05, 0.1, 0.2}}, {"ks", {0.7, 0.7, 0.7}}, {"exponent", 300}}}}},
-        {"shapes",
-         {{{"type", "quad"}, {"origin", {-4, 0, -4}}, {"edge_u", {0, 0, 8}}, {"edge_v", {8, 0, 0}}, {"material", "floor"}},
-          {{"type", "quad"}, {"origin", {-1.6, 0.3, -0.2}}, {"edge_u", {1.4, 0, 0}}, {"edge_v", {0, 0.9, -0.9}},
-           {"material", "rough"}},
-          {{"type", "quad"}, {"origin", {0.2, 0.3, -0.2}}, {"edge_u", {1.4, 0, 0}}, {"edge_v", {0, 0.9, -0.9}},
-           {"material", "sharp"}},
-          {{"type", "sphere"}, {"center", {-0.8, 2.6, 0.6}}, {"radius", 0.35}, {"power", {60, 50, 40}}},
-          {{"type", "quad"}, {"origin", {0.5, 2.6, 0.3}}, {"edge_u", {0.8, 0, 0}}, {"edge_v", {0, 0, 0.5}},
-           {"emission", {6, 7, 9}}}}},
-        {"lights", {{{"type", "point"}, {"position", {2, 3, 2}}, {"power", {30, 30, 30}}}}},
-    };
-}
-
-}  // namespace
-
 TEST(DirectConsistency, EveryStrategyConvergesToTheSameImageOnGlossySurfaces) {
     // Independent renders (different seeds) of each strategy must agree with MIS: the
     // difference image has mean zero (block t-test on the difference).
     const int spp = 512;
     for (bool closeUp : {false, true}) {
-    Image mis = test::renderJson(glossyScene(spp, 1, direct("mis"), closeUp), "glossy-agree-mis");
-    std::vector<json> others = {direct("light"), direct("bsdf"), direct("mixture"),
-                                direct("mis", {{"heuristic", "balance"}}),
-                                direct("mis", {{"light_samples", 3}, {"bsdf_samples", 1}}),
-                                direct("light", {{"sphere_sampling", "cap"}}),
-                                direct("light", {{"light_selection", "uniform"}})};
-    for (size_t i = 0; i < others.size(); ++i) {
-        Image image = test::renderJson(glossyScene(spp, 2 + uint32_t(i), others[i], closeUp),
-                                       "glossy-agree-" + std::to_string(i));
-        std::string report;
-        EXPECT_EQ(test::blockTTest(image, channel0(mis), 8, kAlpha, 2 * int(others.size()), &report), 0)
-            << (closeUp ? "close-up " : "wide ") << others[i].dump() << ": " << report;
-        if (::testing::Test::HasFailure()) writeExr(test::outputPath("glossy-agree-" + std::to_string(i) + ".exr"), image);
-    }
+        Image mis = test::renderJson(test::glossyPlatesScene(spp, 1, direct("mis"), closeUp), "glossy-agree-mis");
+        std::vector<json> others = {direct("light"),
+                                    direct("bsdf"),
+                                    direct("mixture"),
+                                    direct("mis", {{"heuristic", "balance"}}),
+                                    direct("mis", {{"light_samples", 3}, {"bsdf_samples", 1}}),
+                                    direct("light", {{"sphere_sampling", "cap"}}),
+                                    direct("light", {{"light_selection", "uniform"}})};
+        for (size_t i = 0; i < others.size(); ++i) {
+            Image image = test::renderJson(test::glossyPlatesScene(spp, 2 + uint32_t(i), others[i], closeUp),
+                                           "glossy-agree-" + std::to_string(i));
+            std::string report;
+            EXPECT_EQ(test::blockTTest(image, channel0(mis), 8, kAlpha, 2 * int(others.size()), &report), 0)
+                << (closeUp ? "close-up " : "wide ") << others[i].dump() << ": " << report;
+            if (::testing::Test::HasFailure())
+                writeExr(test::outputPath("glossy-agree-" + std::to_string(i) + ".exr"), image);
+        }
     }
 }
 

@@ -7,13 +7,13 @@
 // residuals (render_helpers.h) checks each image; its level is derived from the sample
 // count through the t distribution, with fixed seeds.
 #include <cmath>
-#include <random>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "gpu_fixture.h"
+#include "many_light_scenes.h"
 #include "render_helpers.h"
 
 using namespace penumbra;
@@ -26,29 +26,8 @@ constexpr int kSize = 32;
 constexpr double kAlpha = 1e-3;
 constexpr double kHalf = 3.0;  // the camera sees [-3, 3]^2 of the plane
 
-struct PointLight {
-    glm::dvec3 position;
-    double intensity;
-};
-
-// `count` point lights over [-4, 4]^2 at heights 0.5 to 2, intensities 0.01 to 100 W/sr.
-std::vector<PointLight> pointLights(int count, uint32_t seed) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<double> u(0.0, 1.0);
-    std::vector<PointLight> lights;
-    for (int i = 0; i < count; ++i)
-        lights.push_back(
-            {{8.0 * u(rng) - 4.0, 0.5 + 1.5 * u(rng), 8.0 * u(rng) - 4.0}, 0.01 * std::pow(10.0, 4.0 * u(rng))});
-    return lights;
-}
-
-json planeScene(int spp, const std::vector<PointLight>& points) {
-    json lights = json::array();
-    for (const PointLight& l : points)
-        lights.push_back({{"type", "point"},
-                          {"position", {l.position.x, l.position.y, l.position.z}},
-                          {"intensity", {l.intensity, l.intensity, l.intensity}}});
-    return {
+json planeScene(int spp, const std::vector<test::PointLight>& points) {
+    json doc = {
         {"camera", test::topDownCamera(0.0, 0.0, kHalf)},
         {"film", {{"width", kSize}, {"height", kSize}}},
         {"sampler", {{"spp", spp}, {"seed", 5}}},
@@ -60,19 +39,15 @@ json planeScene(int spp, const std::vector<PointLight>& points) {
                                  {"edge_u", {0, 0, 100}},
                                  {"edge_v", {100, 0, 0}},
                                  {"material", "plane"}}})},
-        {"lights", lights},
+        {"lights", json::array()},
     };
+    test::addPointLights(doc, points);
+    return doc;
 }
 
-// Radiance of the plane at x from the point lights: a/pi sum I cos(theta) / d^2.
-double pointRadiance(const std::vector<PointLight>& lights, glm::dvec3 x) {
-    double sum = 0.0;
-    for (const PointLight& l : lights) {
-        glm::dvec3 d = l.position - x;
-        double d2 = glm::dot(d, d);
-        sum += l.intensity * (d.y / std::sqrt(d2)) / d2;
-    }
-    return kAlbedo / M_PI * sum;
+// Radiance of the plane at x from the point lights: a/pi times their irradiance.
+double pointRadiance(const std::vector<test::PointLight>& lights, glm::dvec3 x) {
+    return kAlbedo / M_PI * test::pointLightsIrradiance(lights, x);
 }
 
 json direct(const std::string& strategy, const std::string& selection, const json& extra = json::object()) {
@@ -84,7 +59,7 @@ json direct(const std::string& strategy, const std::string& selection, const jso
 }  // namespace
 
 TEST(LightBvhRender, ManyPointLightsUnderUniformPowerAndBvh) {
-    const std::vector<PointLight> lights = pointLights(64, 21);
+    const std::vector<test::PointLight> lights = test::randomPointLights(64, 21);
     const json doc = planeScene(64, lights);
     test::expectTopDownMatches(
         doc,
@@ -97,25 +72,10 @@ TEST(LightBvhRender, ManyPointLightsUnderUniformPowerAndBvh) {
 // 2.2, above the point lights (so that it shadows none) and beside the camera's view: MIS (both heuristics, both triangle
 // samplings) and light sampling under bvh, and MIS under power for comparison.
 TEST(LightBvhRender, MeshLightWithMisUnderBvh) {
-    const std::vector<PointLight> lights = pointLights(12, 22);
+    const std::vector<test::PointLight> lights = test::randomPointLights(12, 22);
     json doc = planeScene(128, lights);
     const double Le = 3.0, h = 2.2;
-    // A 2 x 2 grid of squares over [-2, 2] x [3.5, 7.5], two triangles each, counter-clockwise seen
-    // from below (their front faces the plane).
-    json positions = json::array(), indices = json::array();
-    for (int j = 0; j <= 2; ++j)
-        for (int i = 0; i <= 2; ++i) positions.insert(positions.end(), {-2.0 + 2.0 * i, h, 3.5 + 2.0 * j});
-    for (int j = 0; j < 2; ++j)
-        for (int i = 0; i < 2; ++i) {
-            int a = j * 3 + i, b = a + 1, c = a + 3, d = a + 4;
-            indices.insert(indices.end(), {a, b, c, b, d, c});
-        }
-    doc["shapes"].push_back({{"type", "mesh"},
-                             {"positions", positions},
-                             {"indices", indices},
-                             {"emission", {Le, Le, Le}},
-                             {"material", "black"}});
-    const std::vector<glm::dvec3> outline = {{-2, h, 3.5}, {2, h, 3.5}, {2, h, 7.5}, {-2, h, 7.5}};
+    const std::vector<glm::dvec3> outline = test::addEmittingSquareMesh(doc, Le, h);
     test::expectTopDownMatches(
         doc,
         {direct("mis", "bvh"), direct("mis", "bvh", {{"heuristic", "balance"}}), direct("light", "bvh"),

@@ -29,8 +29,7 @@ namespace {
 // Lit by a sphere light and a point light of 400 W (radiance about 1 on the floor below it),
 // bright enough that exposure +1.5 clips in places and dark enough that others do not.
 json litScene() {
-    json scene = test::floorAndSphereScene(
-        {.width = 16, .height = 12, .spp = 4, .floorMaterial = true, .sphereLight = true, .pointLight = true});
+    json scene = test::smallLitScene();
     scene["lights"][0]["power"] = {400, 400, 400};
     return scene;
 }

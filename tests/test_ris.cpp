@@ -11,7 +11,6 @@
 // residuals (render_helpers.h) checks each image at level 1e-3 over all of its blocks, the
 // tolerance following from the sample count through the t distribution, with fixed seeds.
 #include <cmath>
-#include <random>
 #include <string>
 #include <vector>
 
@@ -19,7 +18,9 @@
 
 #include "gpu_fixture.h"
 #include "image/image.h"
+#include "many_light_scenes.h"
 #include "render_helpers.h"
+#include "test_scenes.h"
 
 using namespace penumbra;
 using nlohmann::json;
@@ -55,37 +56,8 @@ json ris(const std::string& selection = "power", const json& extra = json::objec
     return j;
 }
 
-struct PointLight {
-    glm::dvec3 position;
-    double intensity;
-};
-
-// `count` point lights over [-4, 4]^2 at heights 0.5 to 2, intensities 0.01 to 100 W/sr.
-std::vector<PointLight> pointLights(int count, uint32_t seed) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<double> u(0.0, 1.0);
-    std::vector<PointLight> lights;
-    for (int i = 0; i < count; ++i)
-        lights.push_back(
-            {{8.0 * u(rng) - 4.0, 0.5 + 1.5 * u(rng), 8.0 * u(rng) - 4.0}, 0.01 * std::pow(10.0, 4.0 * u(rng))});
-    return lights;
-}
-
-void addPointLights(json& doc, const std::vector<PointLight>& points) {
-    for (const PointLight& l : points)
-        doc["lights"].push_back({{"type", "point"},
-                                 {"position", {l.position.x, l.position.y, l.position.z}},
-                                 {"intensity", {l.intensity, l.intensity, l.intensity}}});
-}
-
-double pointRadiance(const std::vector<PointLight>& lights, glm::dvec3 x) {
-    double sum = 0.0;
-    for (const PointLight& l : lights) {
-        glm::dvec3 d = l.position - x;
-        double d2 = glm::dot(d, d);
-        sum += l.intensity * (d.y / std::sqrt(d2)) / d2;
-    }
-    return kAlbedo / M_PI * sum;
+double pointRadiance(const std::vector<test::PointLight>& lights, glm::dvec3 x) {
+    return kAlbedo / M_PI * test::pointLightsIrradiance(lights, x);
 }
 
 }  // namespace
@@ -123,9 +95,9 @@ TEST(RisClosedForm, SphereLight) {
 
 // Delta lights alone: every candidate is a point light, whose density is its selection pmf.
 TEST(RisClosedForm, ManyPointLightsUnderPowerAndBvh) {
-    const std::vector<PointLight> lights = pointLights(64, 21);
+    const std::vector<test::PointLight> lights = test::randomPointLights(64, 21);
     json doc = planeScene(64, 0.0, 3.0);
-    addPointLights(doc, lights);
+    test::addPointLights(doc, lights);
     test::expectTopDownMatches(
         doc, {ris("power"), ris("bvh"), ris("uniform"), ris("bvh", {{"ris_candidates", 2}, {"light_samples", 2}})},
         [&](glm::dvec3 x) { return pointRadiance(lights, x); }, "ris-points", kAlpha);
@@ -135,24 +107,11 @@ TEST(RisClosedForm, ManyPointLightsUnderPowerAndBvh) {
 // height 2.2, above the point lights (so that it shadows none) and beside the camera's view: area candidates, whose MIS denominator has a BRDF term, and delta candidates,
 // whose has none, compete in one reservoir.
 TEST(RisClosedForm, MeshLightBesidePointLights) {
-    const std::vector<PointLight> lights = pointLights(12, 22);
+    const std::vector<test::PointLight> lights = test::randomPointLights(12, 22);
     json doc = planeScene(128, 0.0, 3.0);
-    addPointLights(doc, lights);
+    test::addPointLights(doc, lights);
     const double Le = 3.0, h = 2.2;
-    json positions = json::array(), indices = json::array();
-    for (int j = 0; j <= 2; ++j)
-        for (int i = 0; i <= 2; ++i) positions.insert(positions.end(), {-2.0 + 2.0 * i, h, 3.5 + 2.0 * j});
-    for (int j = 0; j < 2; ++j)
-        for (int i = 0; i < 2; ++i) {
-            int a = j * 3 + i, b = a + 1, c = a + 3, d = a + 4;
-            indices.insert(indices.end(), {a, b, c, b, d, c});
-        }
-    doc["shapes"].push_back({{"type", "mesh"},
-                             {"positions", positions},
-                             {"indices", indices},
-                             {"emission", {Le, Le, Le}},
-                             {"material", "black"}});
-    const std::vector<glm::dvec3> outline = {{-2, h, 3.5}, {2, h, 3.5}, {2, h, 7.5}, {-2, h, 7.5}};
+    const std::vector<glm::dvec3> outline = test::addEmittingSquareMesh(doc, Le, h);
     test::expectTopDownMatches(
         doc, {ris("power"), ris("bvh"), ris("bvh", {{"triangle_sampling", "solid_angle"}, {"bsdf_samples", 2}})},
         [&](glm::dvec3 x) {
@@ -162,44 +121,6 @@ TEST(RisClosedForm, MeshLightBesidePointLights) {
 }
 
 namespace {
-
-// Glossy Phong plates (exponents 20 and 300) on a diffuse floor lit by a sphere, a quad and a
-// point light (as tests/test_direct.cpp's glossy scene), seen at an angle.
-json glossyScene(int spp, uint32_t seed, const json& integrator) {
-    return {
-        {"camera", {{"eye", {0, 2.2, 4.5}}, {"target", {0, 0.3, 0}}, {"fov_y", 40}}},
-        {"film", {{"width", 48}, {"height", 32}}},
-        {"sampler", {{"spp", spp}, {"seed", seed}}},
-        {"integrator", integrator},
-        {"materials",
-         {{"floor", {{"type", "diffuse"}, {"albedo", {0.5, 0.5, 0.5}}}},
-          {"rough", {{"type", "phong"}, {"kd", {0.3, 0.2, 0.1}}, {"ks", {0.5, 0.5, 0.5}}, {"exponent", 20}}},
-          {"sharp", {{"type", "phong"}, {"kd", {0.05, 0.1, 0.2}}, {"ks", {0.7, 0.7, 0.7}}, {"exponent", 300}}}}},
-        {"shapes",
-         {{{"type", "quad"},
-           {"origin", {-4, 0, -4}},
-           {"edge_u", {0, 0, 8}},
-           {"edge_v", {8, 0, 0}},
-           {"material", "floor"}},
-          {{"type", "quad"},
-           {"origin", {-1.6, 0.3, -0.2}},
-           {"edge_u", {1.4, 0, 0}},
-           {"edge_v", {0, 0.9, -0.9}},
-           {"material", "rough"}},
-          {{"type", "quad"},
-           {"origin", {0.2, 0.3, -0.2}},
-           {"edge_u", {1.4, 0, 0}},
-           {"edge_v", {0, 0.9, -0.9}},
-           {"material", "sharp"}},
-          {{"type", "sphere"}, {"center", {-0.8, 2.6, 0.6}}, {"radius", 0.35}, {"power", {60, 50, 40}}},
-          {{"type", "quad"},
-           {"origin", {0.5, 2.6, 0.3}},
-           {"edge_u", {0.8, 0, 0}},
-           {"edge_v", {0, 0, 0.5}},
-           {"emission", {6, 7, 9}}}}},
-        {"lights", {{{"type", "point"}, {"position", {2, 3, 2}}, {"power", {30, 30, 30}}}}},
-    };
-}
 
 std::vector<double> channel0(const Image& image) {
     std::vector<double> out(size_t(image.width) * image.height);
@@ -214,12 +135,12 @@ std::vector<double> channel0(const Image& image) {
 TEST(RisConsistency, AgreesWithMisOnGlossyPlates) {
     const int spp = 256;
     const Image mis =
-        test::renderJson(glossyScene(spp, 1, {{"type", "direct"}, {"strategy", "mis"}}), "ris-glossy-mis");
+        test::renderJson(test::glossyPlatesScene(spp, 1, {{"type", "direct"}, {"strategy", "mis"}}), "ris-glossy-mis");
     const std::vector<json> others = {ris("power"), ris("bvh"),
                                       ris("power", {{"bsdf_samples", 2}, {"ris_candidates", 4}})};
     for (size_t i = 0; i < others.size(); ++i) {
         const std::string name = "ris-glossy-" + std::to_string(i);
-        Image image = test::renderJson(glossyScene(spp, 2 + uint32_t(i), others[i]), name);
+        Image image = test::renderJson(test::glossyPlatesScene(spp, 2 + uint32_t(i), others[i]), name);
         std::string report;
         EXPECT_EQ(test::blockTTest(image, channel0(mis), 8, kAlpha, int(others.size()), &report), 0)
             << others[i].dump() << ": " << report;

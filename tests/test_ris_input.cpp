@@ -24,11 +24,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-json litScene() {
-    return test::floorAndSphereScene(
-        {.width = 16, .height = 12, .spp = 4, .floorMaterial = true, .sphereLight = true, .pointLight = true});
-}
-
 fs::path writeScene(const std::string& name, const json& doc) {
     fs::path path = test::outputPath(name);
     std::ofstream(path) << doc.dump(2);
@@ -57,7 +52,7 @@ void expectBadInput(const std::string& name, const json& doc, const std::string&
 }  // namespace
 
 TEST(RisInput, SceneSetAndBatchRenderTheSameRecordedImage) {
-    json doc = litScene();
+    json doc = test::smallLitScene();
     doc["integrator"] = {{"type", "direct"}, {"strategy", "ris"}, {"ris_candidates", 5}};
     fs::path inFile = writeScene("ris-in-file.json", doc), fromFile = test::outputPath("ris-in-file.exr");
     std::string err;
@@ -69,7 +64,7 @@ TEST(RisInput, SceneSetAndBatchRenderTheSameRecordedImage) {
     EXPECT_EQ(header["ris_candidates"], 5);
 
     // The same through --set on a mis scene, and through a batch job's set.
-    fs::path plain = writeScene("ris-plain.json", litScene()), bySet = test::outputPath("ris-by-set.exr");
+    fs::path plain = writeScene("ris-plain.json", test::smallLitScene()), bySet = test::outputPath("ris-by-set.exr");
     const std::string set = " --set integrator.strategy=ris --set integrator.ris_candidates=5";
     ASSERT_EQ(test::runPenumbra("render " + q(plain) + " --quiet -o " + q(bySet) + set, &err), 0) << err;
     EXPECT_TRUE(samePixels(readExr(bySet), image));
@@ -78,7 +73,7 @@ TEST(RisInput, SceneSetAndBatchRenderTheSameRecordedImage) {
     fs::path dir = test::outputPath("ris-batch");
     fs::remove_all(dir);
     fs::create_directories(dir);
-    writeScene("ris-batch/scene.json", litScene());
+    writeScene("ris-batch/scene.json", test::smallLitScene());
     json jobs = {{"jobs",
                   {{{"scene", "scene.json"},
                     {"output", "ris.exr"},
@@ -94,7 +89,7 @@ TEST(RisInput, SceneSetAndBatchRenderTheSameRecordedImage) {
 }
 
 TEST(RisInput, BadCandidatesOrNoDrawsExitTwoNamingFileAndPath) {
-    json doc = litScene();
+    json doc = test::smallLitScene();
     doc["integrator"] = {{"type", "direct"}, {"strategy", "ris"}, {"ris_candidates", 0}};
     expectBadInput("ris-zero.json", doc, "", "integrator.ris_candidates");
     doc["integrator"]["ris_candidates"] = 65;
@@ -103,8 +98,8 @@ TEST(RisInput, BadCandidatesOrNoDrawsExitTwoNamingFileAndPath) {
     expectBadInput("ris-fraction.json", doc, "", "integrator.ris_candidates");
     doc["integrator"]["ris_candidates"] = "8";
     expectBadInput("ris-string.json", doc, "", "integrator.ris_candidates");
-    expectBadInput("ris-set.json", litScene(), " --set integrator.strategy=ris --set integrator.ris_candidates=100",
-                   "integrator.ris_candidates");
+    expectBadInput("ris-set.json", test::smallLitScene(),
+                   " --set integrator.strategy=ris --set integrator.ris_candidates=100", "integrator.ris_candidates");
     doc["integrator"] = {{"type", "direct"}, {"strategy", "ris"}, {"light_samples", 0}};
     expectBadInput("ris-no-draws.json", doc, "", "integrator");
     doc["integrator"] = {{"type", "direct"}, {"strategy", "riss"}};

@@ -60,4 +60,56 @@ inline nlohmann::json floorAndSphereScene(const FloorAndSphere& o) {
     return scene;
 }
 
+// Glossy Phong plates (exponents 20 and 300) and a diffuse floor lit by a sphere light, a
+// quad light and a point light, seen at an angle. Every strategy has finite variance here
+// (unlike the Veach scene, where BRDF sampling of tiny lights from diffuse surfaces has
+// heavy tails that no t-test at affordable spp can handle).
+// `closeUp` frames the sharp plate's highlight, where a wrong glossy density would show.
+inline nlohmann::json glossyPlatesScene(int spp, uint32_t seed, const nlohmann::json& integrator,
+                                        bool closeUp = false) {
+    using nlohmann::json;
+    json camera = closeUp ? json{{"eye", {0.9, 2.2, 4.5}}, {"target", {0.9, 0.75, -0.65}}, {"fov_y", 10}}
+                          : json{{"eye", {0, 2.2, 4.5}}, {"target", {0, 0.3, 0}}, {"fov_y", 40}};
+    return {
+        {"camera", camera},
+        {"film", {{"width", 48}, {"height", 32}}},
+        {"sampler", {{"spp", spp}, {"seed", seed}}},
+        {"integrator", integrator},
+        {"materials",
+         {{"floor", {{"type", "diffuse"}, {"albedo", {0.5, 0.5, 0.5}}}},
+          {"rough", {{"type", "phong"}, {"kd", {0.3, 0.2, 0.1}}, {"ks", {0.5, 0.5, 0.5}}, {"exponent", 20}}},
+          {"sharp", {{"type", "phong"}, {"kd", {0.05, 0.1, 0.2}}, {"ks", {0.7, 0.7, 0.7}}, {"exponent", 300}}}}},
+        {"shapes",
+         {{{"type", "quad"},
+           {"origin", {-4, 0, -4}},
+           {"edge_u", {0, 0, 8}},
+           {"edge_v", {8, 0, 0}},
+           {"material", "floor"}},
+          {{"type", "quad"},
+           {"origin", {-1.6, 0.3, -0.2}},
+           {"edge_u", {1.4, 0, 0}},
+           {"edge_v", {0, 0.9, -0.9}},
+           {"material", "rough"}},
+          {{"type", "quad"},
+           {"origin", {0.2, 0.3, -0.2}},
+           {"edge_u", {1.4, 0, 0}},
+           {"edge_v", {0, 0.9, -0.9}},
+           {"material", "sharp"}},
+          {{"type", "sphere"}, {"center", {-0.8, 2.6, 0.6}}, {"radius", 0.35}, {"power", {60, 50, 40}}},
+          {{"type", "quad"},
+           {"origin", {0.5, 2.6, 0.3}},
+           {"edge_u", {0.8, 0, 0}},
+           {"edge_v", {0, 0, 0.5}},
+           {"emission", {6, 7, 9}}}}},
+        {"lights", {{{"type", "point"}, {"position", {2, 3, 2}}, {"power", {30, 30, 30}}}}},
+    };
+}
+
+// A tiny lit scene: a floor, a sphere, a sphere light and a point light, so that both
+// integrators (and every light-selection mode) produce a non-trivial image.
+inline nlohmann::json smallLitScene() {
+    return floorAndSphereScene(
+        {.width = 16, .height = 12, .spp = 4, .floorMaterial = true, .sphereLight = true, .pointLight = true});
+}
+
 }  // namespace penumbra::test
