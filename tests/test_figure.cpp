@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -126,19 +128,21 @@ TEST(Figure, VaryStrategyPrintsTableAndWritesOneLabelledPng) {
                            &err, &out);
     ASSERT_EQ(status, 0) << err;
     auto rows = parseTable(out);
-    ASSERT_EQ(rows.size(), 4u) << out;
-    const char* expected[] = {"light", "bsdf", "mis", "mixture"};
+    // Every value of the option, in the order the format lists them, one panel each in one row.
+    const std::vector<std::string> expected = {"light", "bsdf", "mis", "mixture", "ris"};
+    const int n = int(expected.size());
+    ASSERT_EQ(rows.size(), expected.size()) << out;
     for (size_t i = 0; i < rows.size(); ++i) EXPECT_EQ(rows[i].first, expected[i]);
 
     Png image = readPng(png);
     uint32_t w = 0, h = 0;
-    figureSize(4, 4, 32, 24, w, h);
-    EXPECT_EQ(w, 4 * 32 + 5 * kFigureGap);
+    figureSize(n, n, 32, 24, w, h);
+    EXPECT_EQ(w, n * 32 + (n + 1) * kFigureGap);
     EXPECT_EQ(h, kFigureLabelHeight + 24 + 2 * kFigureGap);
     ASSERT_EQ(image.width, int(w)) << png;
     ASSERT_EQ(image.height, int(h)) << png;
     // Each label strip has text in it (white), each panel the lit floor (not background).
-    for (int i = 0; i < 4; ++i) {
+    for (int i = 0; i < n; ++i) {
         const int x0 = int(kFigureGap) + i * (32 + int(kFigureGap));
         int white = 0;
         for (int y = int(kFigureGap); y < int(kFigureGap + kFigureLabelHeight); ++y)
