@@ -1,7 +1,7 @@
 // Closed-form many-light scenes shared by the light-selection and RIS render tests: point
 // lights of powers over four decades above the plane y = 0 (their irradiance there is an
 // exact sum), and a small emitting mesh whose outline gives the polygon formula
-// (render_helpers.h, polygonIrradiance).
+// (render_helpers.h, polygonIrradiance), over a diffuse plane.
 #pragma once
 
 #include <cmath>
@@ -12,7 +12,30 @@
 
 #include <nlohmann/json.hpp>
 
+#include "render_helpers.h"
+
 namespace penumbra::test {
+
+// A diffuse plane y = 0 of grey albedo `albedo` (100 x 100, so that it fills the view), a
+// black material "black" for emitters and no lights yet, seen top-down on a 32 x 32 film:
+// the camera sees [cx - half, cx + half] x [-half, half] of it (topDownCamera).
+inline nlohmann::json diffusePlaneScene(int spp, uint32_t seed, double cx, double half, double albedo) {
+    using nlohmann::json;
+    return {
+        {"camera", topDownCamera(cx, 0.0, half)},
+        {"film", {{"width", 32}, {"height", 32}}},
+        {"sampler", {{"spp", spp}, {"seed", seed}}},
+        {"materials",
+         {{"plane", {{"type", "diffuse"}, {"albedo", {albedo, albedo, albedo}}}},
+          {"black", {{"type", "diffuse"}, {"albedo", {0, 0, 0}}}}}},
+        {"shapes", json::array({{{"type", "quad"},
+                                 {"origin", {-50, 0, -50}},
+                                 {"edge_u", {0, 0, 100}},
+                                 {"edge_v", {100, 0, 0}},
+                                 {"material", "plane"}}})},
+        {"lights", json::array()},
+    };
+}
 
 struct PointLight {
     glm::dvec3 position;

@@ -22,25 +22,11 @@ using nlohmann::json;
 namespace {
 
 constexpr double kAlbedo = 0.6;
-constexpr int kSize = 32;
 constexpr double kAlpha = 1e-3;
 constexpr double kHalf = 3.0;  // the camera sees [-3, 3]^2 of the plane
 
 json planeScene(int spp, const std::vector<test::PointLight>& points) {
-    json doc = {
-        {"camera", test::topDownCamera(0.0, 0.0, kHalf)},
-        {"film", {{"width", kSize}, {"height", kSize}}},
-        {"sampler", {{"spp", spp}, {"seed", 5}}},
-        {"materials",
-         {{"plane", {{"type", "diffuse"}, {"albedo", {kAlbedo, kAlbedo, kAlbedo}}}},
-          {"black", {{"type", "diffuse"}, {"albedo", {0, 0, 0}}}}}},
-        {"shapes", json::array({{{"type", "quad"},
-                                 {"origin", {-50, 0, -50}},
-                                 {"edge_u", {0, 0, 100}},
-                                 {"edge_v", {100, 0, 0}},
-                                 {"material", "plane"}}})},
-        {"lights", json::array()},
-    };
+    json doc = test::diffusePlaneScene(spp, 5, 0.0, kHalf, kAlbedo);
     test::addPointLights(doc, points);
     return doc;
 }

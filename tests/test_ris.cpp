@@ -28,27 +28,9 @@ using nlohmann::json;
 namespace {
 
 constexpr double kAlbedo = 0.6;
-constexpr int kSize = 32;
 constexpr double kAlpha = 1e-3;
 
-// The plane, a black material for emitters, no lights; the camera sees [-1.5, 1.5]^2 around
-// (cx, 0, 0).
-json planeScene(int spp, double cx, double half) {
-    return {
-        {"camera", test::topDownCamera(cx, 0.0, half)},
-        {"film", {{"width", kSize}, {"height", kSize}}},
-        {"sampler", {{"spp", spp}, {"seed", 17}}},
-        {"materials",
-         {{"plane", {{"type", "diffuse"}, {"albedo", {kAlbedo, kAlbedo, kAlbedo}}}},
-          {"black", {{"type", "diffuse"}, {"albedo", {0, 0, 0}}}}}},
-        {"shapes", json::array({{{"type", "quad"},
-                                 {"origin", {-50, 0, -50}},
-                                 {"edge_u", {0, 0, 100}},
-                                 {"edge_v", {100, 0, 0}},
-                                 {"material", "plane"}}})},
-        {"lights", json::array()},
-    };
-}
+json planeScene(int spp, double cx, double half) { return test::diffusePlaneScene(spp, 17, cx, half, kAlbedo); }
 
 json ris(const std::string& selection = "power", const json& extra = json::object()) {
     json j = {{"type", "direct"}, {"strategy", "ris"}, {"light_selection", selection}};
