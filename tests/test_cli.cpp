@@ -279,27 +279,30 @@ TEST(Cli, DevicesPrintsTheDriverAndItsMesaVersion) {
     }
 }
 
-TEST(Cli, GltfModelRendersDirectlyWithTheEnvironmentNote) {
-    // The model has no lights: it is lit by a white environment, said once on stderr
+TEST(Cli, GltfModelRendersDirectlyWithTheStudioLightsNote) {
+    // The model has no lights: it is lit by a sky and a key light, said once on stderr
     // (and not with --quiet). Its own pixels are lit, not black.
     std::string modelFile = std::string(PENUMBRA_SOURCE_DIR) + "/scenes/models/torus_knot.glb";
     fs::path out = test::outputPath("torus.exr");
     std::string err;
     ASSERT_EQ(test::runPenumbra("render '" + modelFile + "' --width 48 --height 32 --spp 4 -o '" + out.string() + "'", &err), 0)
         << err;
-    EXPECT_NE(err.find("environment"), std::string::npos) << err;
+    EXPECT_NE(err.find("key light"), std::string::npos) << err;
     Image image = readExr(out);
     EXPECT_EQ(image.width, 48u);
     EXPECT_EQ(image.meta.spp, 4);
-    // The framing camera shows the model: many pixels are lit reflections (between 0 and
-    // the background's radiance 1), and the background is visible too.
-    int model = 0, background = 0;
+    // The framing camera shows the model and the background (the sky's radiance 0.4, exactly).
+    // The key light lights the faces it sees above what the sky alone gives a white
+    // surface (0.4 times the albedo): some model pixels are brighter than the sky.
+    int model = 0, background = 0, keyLit = 0;
     for (size_t i = 0; i < image.rgb.size(); i += 3) {
-        if (image.rgb[i] > 0.0f && image.rgb[i] < 0.99f) ++model;
-        if (image.rgb[i] == 1.0f) ++background;
+        if (image.rgb[i] == 0.4f) ++background;
+        else if (image.rgb[i] > 0.0f) ++model;
+        keyLit += image.rgb[i] > 0.45f;
     }
     EXPECT_GT(model, 48 * 32 / 10);
     EXPECT_GT(background, 48 * 32 / 10);
+    EXPECT_GT(keyLit, model / 10);
     ASSERT_EQ(test::runPenumbra("render '" + modelFile + "' --width 48 --height 32 --spp 1 --quiet -o '" + out.string() + "'", &err), 0);
     EXPECT_EQ(err, "");
 }

@@ -172,7 +172,7 @@ TEST(GltfLoad, EmissiveStrengthAndBaseColour) {
     expectVec(s.materials[1].pbr.baseColor, {1, 0.5, 0.25});  // clamped to [0, 1]
     EXPECT_EQ(s.materials[1].pbr.metallic, 1.0f);
     EXPECT_EQ(s.materials[1].pbr.roughness, 1.0f);
-    EXPECT_TRUE(s.lights.empty());  // emissive: no environment fallback
+    EXPECT_EQ(s.lights.size(), 2u);  // emissive materials do not take the studio lights' place
     // A negative strength is reported at its own path, not as the emissiveFactor it scales.
     b.doc["materials"][0]["extensions"]["KHR_materials_emissive_strength"]["emissiveStrength"] = -2;
     try {
@@ -216,19 +216,71 @@ TEST(GltfLoad, MetallicRoughnessFactorsBecomePbr) {
         }
 }
 
-TEST(GltfLoad, UnlitModelGetsWhiteEnvironmentAndNote) {
+// A model without lights gets a sky and a key light from the camera's upper left (45 degrees
+// to its left and 45 above its view axis, so 60 degrees from the view axis), said in a note.
+TEST(GltfLoad, UnlitModelGetsStudioLightsAndNote) {
     GltfBuilder b;
     b.addMeshNode(b.triangle());
     auto file = writeFile(freshTempDir() / "plain.glb", b.glb());
     Scene s = loadScene(file);
-    ASSERT_EQ(s.lights.size(), 1u);
+    ASSERT_EQ(s.lights.size(), 2u);
     EXPECT_EQ(s.lights[0].type, LightType::Environment);
-    expectVec(s.lights[0].intensity, {1, 1, 1});
-    EXPECT_EQ(s.notes, (std::vector<std::string>{
-                           file.string() + ": no lights or emissive materials; lit by a constant white environment (radiance 1)"}));
+    expectVec(s.lights[0].intensity, {0.4f, 0.4f, 0.4f});
+    EXPECT_EQ(s.lights[1].type, LightType::Directional);
+    expectVec(s.lights[1].intensity, {2, 2, 2});
+    const Camera& c = s.camera;
+    glm::vec3 view = glm::normalize(c.target - c.eye);
+    glm::vec3 right = glm::normalize(glm::cross(view, c.up));
+    glm::vec3 up = glm::cross(right, view);
+    glm::vec3 toKey = -s.lights[1].direction;
+    EXPECT_NEAR(glm::length(toKey), 1.0f, 1e-6f);
+    EXPECT_NEAR(glm::dot(toKey, -view), 0.5f, 1e-6f);          // 60 degrees from the view axis
+    EXPECT_NEAR(glm::dot(toKey, up), std::sqrt(0.5f), 1e-6f);  // 45 degrees above it
+    EXPECT_NEAR(glm::dot(toKey, right), -0.5f, 1e-6f);         // on the camera's left
+    EXPECT_EQ(s.notes, (std::vector<std::string>{file.string() +
+                                                 ": no lights in the model; lit by a sky (radiance 0.4) and a key "
+                                                 "light (irradiance 2) from the camera's upper left (--set lights=[] "
+                                                 "for none)"}));
     // The binary container carried the same triangle.
     ASSERT_EQ(s.shapes.size(), 1u);
     expectVec(s.shapes[0].positions[2], {0, 1, 0});
+}
+
+// Emissive materials are not lights in a model viewer's sense: ClearCoatTest's emissive
+// labels left the rest of the model unlit (almost black). Its own lights or --set lights
+// replace the studio lights; `--set lights=[]` keeps the model's emission alone.
+TEST(GltfLoad, StudioLightsUnlessTheModelOrCommandLineBringsLights) {
+    GltfBuilder emissive;
+    json p = emissive.triangle();
+    p["material"] = 0;
+    emissive.addMeshNode(p);
+    emissive.doc["materials"] = {{{"emissiveFactor", {1, 1, 1}}}};
+    auto file = writeFile(freshTempDir() / "emissive.gltf", emissive.gltf());
+    EXPECT_EQ(loadScene(file).lights.size(), 2u);
+
+    Scene none = loadScene(file, {{"lights", "[]"}});
+    EXPECT_TRUE(none.lights.empty());
+    EXPECT_TRUE(none.notes.empty()) << none.notes[0];  // the emitter lights it: no "black" note
+
+    Scene given = loadScene(file, {{"lights", R"([{"type": "point", "position": [0, 0, 1], "power": 1}])"}});
+    ASSERT_EQ(given.lights.size(), 1u);
+    EXPECT_EQ(given.lights[0].type, LightType::Point);
+
+    GltfBuilder lit;
+    lit.addMeshNode(lit.triangle());
+    lit.doc["extensions"]["KHR_lights_punctual"]["lights"] = {{{"type", "point"}, {"intensity", 1}}};
+    lit.addNode({{"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+    Scene own = loadScene(writeFile(freshTempDir() / "lit.gltf", lit.gltf()));
+    ASSERT_EQ(own.lights.size(), 1u);
+    EXPECT_EQ(own.lights[0].type, LightType::Point);
+
+    // No light and no emitter, asked for: the scene's usual warning.
+    GltfBuilder plain;
+    plain.addMeshNode(plain.triangle());
+    auto plainFile = writeFile(freshTempDir() / "plain.gltf", plain.gltf());
+    Scene dark = loadScene(plainFile, {{"lights", "[]"}});
+    EXPECT_EQ(dark.notes, (std::vector<std::string>{plainFile.string() +
+                                                    ": no lights and no emitting shapes; the image will be black"}));
 }
 
 TEST(GltfLoad, DegenerateTrianglesSkippedWithNote) {

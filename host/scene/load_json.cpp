@@ -20,6 +20,7 @@
 #include "scene/material_parse.h"
 #include "scene/material_textures.h"
 #include "scene/mesh_file.h"
+#include "scene/model_lighting.h"
 #include "scene/scene_input_file.h"
 #include "scene/transform.h"
 
@@ -84,7 +85,9 @@ public:
         if (auto lights = root.find("lights"))
             for (size_t i = 0; i < lights->size(); ++i) readLight((*lights)[i]);
         readCamera(root.find("camera"));
-        if (m_modelAlone) litModelFallback();
+        // A model's own lights, or any given with --set lights=..., replace the studio lights
+        // (`--set lights=[]` leaves a model lit by its emissive materials alone).
+        if (m_modelAlone && m_scene.lights.empty() && !root.has("lights")) lightModel();
         else noteUnlitScene();
     }
 
@@ -555,12 +558,11 @@ private:
         m_scene.camera = c;
     }
 
-    // SCENE_FORMAT.md "glTF input": an unlit model would render black.
-    void litModelFallback() {
-        bool emissive = std::any_of(m_scene.shapes.begin(), m_scene.shapes.end(), [](const Shape& s) { return s.isEmitter(); });
-        if (!m_scene.lights.empty() || emissive) return;
-        m_scene.lights.push_back(Light{LightType::Environment, glm::vec3(0.0f), glm::vec3(0.0f), glm::vec3(1.0f)});
-        m_scene.notes.push_back(m_label + ": no lights or emissive materials; lit by a constant white environment (radiance 1)");
+    // SCENE_FORMAT.md "glTF input": a model without lights would render black, or lit by its
+    // emissive materials alone (ClearCoatTest's labels), where a model viewer shows it lit.
+    void lightModel() {
+        m_scene.lights = modelStudioLights(m_scene.camera);
+        m_scene.notes.push_back(m_label + ": " + modelStudioLightsNote());
     }
 
     // SCENE_FORMAT.md "Output": a scene file with nothing that emits renders black; say so.
