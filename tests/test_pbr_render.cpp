@@ -20,6 +20,7 @@
 #include <gtest/gtest.h>
 
 #include "gpu_fixture.h"
+#include "many_light_scenes.h"
 #include "pbr_reference.h"
 #include "render_helpers.h"
 
@@ -29,7 +30,7 @@ using nlohmann::json;
 
 namespace {
 
-constexpr int kSize = 32;
+constexpr int kSize = 32;  // the film side of test::diffusePlaneScene
 constexpr double kAlpha = 1e-3;
 const std::vector<std::string> kStrategies = {"light", "bsdf", "mis", "mixture"};
 const dvec3 kUp(0.0, 1.0, 0.0);
@@ -57,21 +58,13 @@ json pbrJson(const test::PbrParams& p) {
             {"roughness", p.roughness}};
 }
 
-// The patch [-1, 2] x [-1.5, 1.5] holds the highlight of a light above the origin.
+// The patch [-1, 2] x [-1.5, 1.5] holds the highlight of a light above the origin: the
+// many-light tests' diffuse plane (a kSize x kSize film) with the pbr material in its place.
 json planeScene(const test::PbrParams& p, int spp) {
-    return {
-        {"camera", test::topDownCamera(0.5, 0.0, 1.5)},
-        {"film", {{"width", kSize}, {"height", kSize}}},
-        {"sampler", {{"spp", spp}, {"seed", 23}}},
-        {"integrator", {{"type", "direct"}}},
-        {"materials", {{"plane", pbrJson(p)}, {"black", {{"type", "diffuse"}, {"albedo", {0, 0, 0}}}}}},
-        {"shapes", json::array({{{"type", "quad"},
-                                 {"origin", {-50, 0, -50}},
-                                 {"edge_u", {0, 0, 100}},
-                                 {"edge_v", {100, 0, 0}},
-                                 {"material", "plane"}}})},
-        {"lights", json::array()},
-    };
+    json scene = test::diffusePlaneScene(spp, 23, 0.5, 1.5, 0.0);
+    scene["materials"]["plane"] = pbrJson(p);
+    scene["integrator"] = {{"type", "direct"}};
+    return scene;
 }
 
 json direct(const std::string& strategy) { return {{"type", "direct"}, {"strategy", strategy}}; }

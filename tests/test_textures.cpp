@@ -170,32 +170,44 @@ json sceneWith(json camera, json material, json shape) {
 // The plane y = 0 point a ray from above hits (the top-down camera's rays all go down).
 glm::dvec3 planeHit(glm::dvec3 o, glm::dvec3 d) { return o + d * (-o.y / d.y); }
 
+// The checkerboard (written to dir/checker.exr) scaled by kCheckerScale on the quad
+// [-1, 1]^2 of the plane y = 0, s along +x, t along +z; the camera sees [-0.95, 0.95]^2 of
+// it, so the border pixels blend across the repeat seam.
+const glm::dvec3 kCheckerScale(1, 0.8, 1);
+
+json checkerQuadScene(const CpuTexture& tex, const std::filesystem::path& dir) {
+    writeExrTexture(tex, dir / "checker.exr");
+    json quad = {{"type", "quad"}, {"origin", {-1, 0, -1}}, {"edge_u", {2, 0, 0}}, {"edge_v", {0, 0, 2}}};
+    return sceneWith(
+        test::topDownCamera(0, 0, 0.95),
+        {{"type", "diffuse"},
+         {"albedo", {{"texture", "checker.exr"}, {"scale", {kCheckerScale.x, kCheckerScale.y, kCheckerScale.z}}}}},
+        quad);
+}
+
+// What the contract's bilinear lookup (row 0 at v = 0) gives along each camera ray.
+Expected expectedChecker(const Scene& loaded, const CpuTexture& tex) {
+    return expectedImage(loaded, [&](glm::dvec3 o, glm::dvec3 d, int c) -> std::optional<double> {
+        glm::dvec3 x = planeHit(o, d);
+        return kCheckerScale[c] * tex.bilinear((x.x + 1) / 2, (x.z + 1) / 2, c);
+    });
+}
+
 }  // namespace
 
 TEST(Textures, QuadCheckerboardIsBilinearWithRowZeroAtVZero) {
     auto dir = test::freshOutputDir("textures", "quad");
     CpuTexture tex = checkerboard();
-    writeExrTexture(tex, dir / "checker.exr");
-    // s along +x, t along +z over [-1, 1]^2; the camera sees [-0.95, 0.95]^2 of it, so the
-    // border pixels blend across the repeat seam.
-    json quad = {{"type", "quad"}, {"origin", {-1, 0, -1}}, {"edge_u", {2, 0, 0}}, {"edge_v", {0, 0, 2}}};
-    json scene = sceneWith(test::topDownCamera(0, 0, 0.95),
-                           {{"type", "diffuse"}, {"albedo", {{"texture", "checker.exr"}, {"scale", {1, 0.8, 1}}}}},
-                           quad);
-    Scene loaded = test::sceneFromJson(scene, "textures/quad/scene");
+    Scene loaded = test::sceneFromJson(checkerQuadScene(tex, dir), "textures/quad/scene");
     Image image = test::renderScene(loaded);
-    const glm::dvec3 scale(1, 0.8, 1);
-    Expected e = expectedImage(loaded, [&](glm::dvec3 o, glm::dvec3 d, int c) -> std::optional<double> {
-        glm::dvec3 x = planeHit(o, d);
-        return scale[c] * tex.bilinear((x.x + 1) / 2, (x.z + 1) / 2, c);
-    });
+    Expected e = expectedChecker(loaded, tex);
     EXPECT_EQ(compare(image, e, "quad"), 0);
 
     // The same lookups must fail against a texture read upside down (row 0 at v = 1): the
     // comparison can tell the contract's orientation from its mirror image.
     Expected flipped = expectedImage(loaded, [&](glm::dvec3 o, glm::dvec3 d, int c) -> std::optional<double> {
         glm::dvec3 x = planeHit(o, d);
-        return scale[c] * tex.bilinear((x.x + 1) / 2, 1.0 - (x.z + 1) / 2, c);
+        return kCheckerScale[c] * tex.bilinear((x.x + 1) / 2, 1.0 - (x.z + 1) / 2, c);
     });
     int mismatches = 0;
     for (size_t k = 0; k < flipped.mean.size(); ++k) mismatches += std::fabs(image.rgb[k] - flipped.mean[k]) > 0.05;
@@ -208,21 +220,13 @@ TEST(Textures, QuadCheckerboardIsBilinearWithRowZeroAtVZero) {
 TEST(Textures, AlbedoLayerOfATexturedQuadIsTheTexture) {
     auto dir = test::freshOutputDir("textures", "albedo-aov");
     CpuTexture tex = checkerboard();
-    writeExrTexture(tex, dir / "checker.exr");
-    json quad = {{"type", "quad"}, {"origin", {-1, 0, -1}}, {"edge_u", {2, 0, 0}}, {"edge_v", {0, 0, 2}}};
-    json scene = sceneWith(test::topDownCamera(0, 0, 0.95),
-                           {{"type", "diffuse"}, {"albedo", {{"texture", "checker.exr"}, {"scale", {1, 0.8, 1}}}}},
-                           quad);
+    json scene = checkerQuadScene(tex, dir);
     scene["film"]["aovs"] = {"albedo"};
     Scene loaded = test::sceneFromJson(scene, "textures/albedo-aov/scene");
     Image albedo = test::renderScene(loaded);
     ASSERT_EQ(albedo.aovs.size(), 1u);
     albedo.rgb = albedo.aovs[0].floats;  // compared as an image
-    const glm::dvec3 scale(1, 0.8, 1);
-    Expected e = expectedImage(loaded, [&](glm::dvec3 o, glm::dvec3 d, int c) -> std::optional<double> {
-        glm::dvec3 x = planeHit(o, d);
-        return scale[c] * tex.bilinear((x.x + 1) / 2, (x.z + 1) / 2, c);
-    });
+    Expected e = expectedChecker(loaded, tex);
     EXPECT_EQ(compare(albedo, e, "albedo-aov"), 0);
 }
 
