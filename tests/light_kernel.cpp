@@ -77,21 +77,29 @@ std::vector<gpu::LightTestRecord> LightKernel::run(gpu::LightTestPush push, cons
     return records;
 }
 
-std::vector<gpu::LightTestRecord> LightKernel::sample(uint32_t light, glm::vec3 x, glm::vec3 n, uint32_t sphereSampling,
-                                                      uint32_t seed, uint32_t count, uint32_t quadSampling,
-                                                      uint32_t triangleSampling) {
+gpu::LightTestPush LightKernel::shadingPointPush(uint32_t mode, uint32_t light, glm::vec3 x, glm::vec3 n,
+                                                 uint32_t count, uint32_t sphereSampling, uint32_t quadSampling,
+                                                 uint32_t triangleSampling) const {
     gpu::LightTestPush push{};
-    push.mode = gpu::LIGHT_TEST_MODE_SAMPLE;
+    push.mode = mode;
     push.x = x;
     push.n = n;
     push.light = light;
     push.count = count;
-    push.seed = seed;
     push.sphereSampling = sphereSampling;
     push.quadSampling = quadSampling;
     push.triangleSampling = triangleSampling;
     push.minSolidAngle = m_minSolidAngle;
     push.minElevationSine = m_minElevationSine;
+    return push;
+}
+
+std::vector<gpu::LightTestRecord> LightKernel::sample(uint32_t light, glm::vec3 x, glm::vec3 n, uint32_t sphereSampling,
+                                                      uint32_t seed, uint32_t count, uint32_t quadSampling,
+                                                      uint32_t triangleSampling) {
+    gpu::LightTestPush push = shadingPointPush(gpu::LIGHT_TEST_MODE_SAMPLE, light, x, n, count, sphereSampling,
+                                               quadSampling, triangleSampling);
+    push.seed = seed;
     return run(push, m_dummy);
 }
 
@@ -101,18 +109,9 @@ std::vector<double> LightKernel::pdf(uint32_t light, glm::vec3 x, glm::vec3 n, u
     std::vector<glm::vec4> dirs(directions.size());
     for (size_t i = 0; i < dirs.size(); ++i) dirs[i] = glm::vec4(directions[i], 0.0f);
     auto in = gpu::Buffer::fromVector(m_ctx, dirs);
-    gpu::LightTestPush push{};
-    push.mode = gpu::LIGHT_TEST_MODE_PDF;
-    push.x = x;
-    push.n = n;
-    push.light = light;
-    push.count = uint32_t(directions.size());
-    push.sphereSampling = sphereSampling;
-    push.quadSampling = quadSampling;
-    push.triangleSampling = triangleSampling;
-    push.minSolidAngle = m_minSolidAngle;
-    push.minElevationSine = m_minElevationSine;
-    auto records = run(push, in);
+    auto records = run(shadingPointPush(gpu::LIGHT_TEST_MODE_PDF, light, x, n, uint32_t(directions.size()),
+                                        sphereSampling, quadSampling, triangleSampling),
+                       in);
     std::vector<double> out(records.size());
     for (size_t i = 0; i < out.size(); ++i) out[i] = records[i].pdf;
     if (hitDistance) {

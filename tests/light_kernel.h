@@ -43,6 +43,10 @@ public:
 
 private:
     std::vector<gpu::LightTestRecord> run(gpu::LightTestPush push, const gpu::Buffer& in);
+    // The push constants of a sample or pdf query of one light from the shading point (x, n).
+    gpu::LightTestPush shadingPointPush(uint32_t mode, uint32_t light, glm::vec3 x, glm::vec3 n, uint32_t count,
+                                        uint32_t sphereSampling, uint32_t quadSampling,
+                                        uint32_t triangleSampling) const;
 
     gpu::Context& m_ctx;
     float m_minSolidAngle = gpu::SPHERICAL_MIN_SOLID_ANGLE;
