@@ -47,7 +47,7 @@ def main():
         acc, done, k = None, 0, 0
         while done < spp:
             n = min(per_pass, spp - done)
-            img = mi.render(scene, spp=n, seed=seed * 100003 + k)
+            img = mi.render(scene, spp=n, seed=(seed * 100003 + k) & 0xFFFFFFFF)  # Mitsuba takes a 32-bit seed
             acc = img * n if acc is None else acc + img * n
             dr.eval(acc)
             done, k = done + n, k + 1
