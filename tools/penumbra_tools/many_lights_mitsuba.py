@@ -3,7 +3,12 @@ loads the scene once and then renders on request, so that the bench times only m
 the evaluation of its image (dr.eval + dr.sync_thread), not Python's import, the scene load or
 (after the first render) Dr.Jit's kernel compilation.
 
-  python many_lights_mitsuba.py SCENE.json      (Mitsuba's venv; DRJIT_LIBLLVM_PATH set)
+  python many_lights_mitsuba.py SCENE.json [SAMPLER]   (Mitsuba's venv; DRJIT_LIBLLVM_PATH set)
+
+SAMPLER is Mitsuba's sampler plugin: `independent` (its default) or `ldsampler` (its
+low-discrepancy sampler, the counterpart of Penumbra's default Owen-scrambled Sobol'; it
+wants a sample count that is a power of four, so a render is split into passes of powers of
+four, each an independent scrambling, which keeps the estimate unbiased).
 
 Protocol, one line each way: stdin "SPP SEED OUT.exr", stdout "SECONDS". The scene goes through
 the translator (penumbra_tools/mitsuba_penumbra.py) with its integrator forced to the estimator
@@ -11,6 +16,7 @@ of Penumbra's mis 1/1: Mitsuba's `direct` with emitter_samples=1, bsdf_samples=1
 selected uniformly (Mitsuba's own rule; the translator adds no power weights under "uniform").
 """
 import json
+import math
 import os
 import sys
 import time
@@ -20,21 +26,33 @@ PASS_SAMPLES = 1 << 22
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))  # tools/
 
 
+def pass_samples(left, per_pass, power_of_four):
+    """Samples per pixel of the next pass: at most per_pass (at least 1) and what is left; a
+    power of four, at least 4, when the sampler needs one (ldsampler rounds other counts up;
+    `left`, a power of two of at least 4, stays one)."""
+    n = max(1, min(per_pass, left))
+    if power_of_four:
+        n = max(4, 4 ** int(math.log(n, 4) + 1e-9))
+    return n
+
+
 def main():
     import numpy as np
     import drjit as dr
     import mitsuba as mi
     mi.set_variant(os.environ.get("MITSUBA_VARIANT", "llvm_ad_rgb"))
+    mi.set_log_level(mi.LogLevel.Error)  # Mitsuba logs to stdout, which carries the protocol
     from penumbra_tools import mitsuba_penumbra as mp
     from penumbra_tools.mitsuba_compare.images import write_exr
 
     path = sys.argv[1]
+    sampler = sys.argv[2] if len(sys.argv) > 2 else "independent"
     with open(path) as f:
         scene_json = json.load(f)
     scene_json["integrator"] = {"type": "direct", "strategy": "mis", "light_samples": 1, "bsdf_samples": 1,
                                 "light_selection": "uniform"}
-    scene = mi.load_dict(mp.translate(scene_json, base_dir=os.path.dirname(os.path.abspath(path))))
-    mi.render(scene, spp=1)  # compiles the kernels once; later renders reuse them
+    scene = mi.load_dict(mp.translate(scene_json, sampler=sampler, base_dir=os.path.dirname(os.path.abspath(path))))
+    mi.render(scene, spp=pass_samples(1, 1, sampler == "ldsampler"))  # compiles the kernels once; later renders reuse them
     film = scene_json.get("film", {})
     pixels = int(film.get("width", 512)) * int(film.get("height", 512))
     # Mitsuba's llvm wavefront holds every sample of a render at once: passes of at most
@@ -46,7 +64,7 @@ def main():
         t0 = time.perf_counter()
         acc, done, k = None, 0, 0
         while done < spp:
-            n = min(per_pass, spp - done)
+            n = pass_samples(spp - done, per_pass, sampler == "ldsampler")
             img = mi.render(scene, spp=n, seed=(seed * 100003 + k) & 0xFFFFFFFF)  # Mitsuba takes a 32-bit seed
             acc = img * n if acc is None else acc + img * n
             dr.eval(acc)
