@@ -10,7 +10,9 @@ low-discrepancy sampler, the counterpart of Penumbra's default Owen-scrambled So
 wants a sample count that is a power of four, so a render is split into passes of powers of
 four, each an independent scrambling, which keeps the estimate unbiased).
 
-Protocol, one line each way: stdin "SPP SEED OUT.exr", stdout "SECONDS". The scene goes through
+Protocol, one line each way: stdin "SPP SEED OUT.exr [OUT.png]", stdout "SECONDS" (paths without
+spaces; OUT.png, when given, is the image as `penumbra render --png` writes it: 8-bit sRGB of the
+clamped radiance). The scene goes through
 the translator (penumbra_tools/mitsuba_penumbra.py) with its integrator forced to the estimator
 of Penumbra's mis 1/1: Mitsuba's `direct` with emitter_samples=1, bsdf_samples=1, emitters
 selected uniformly (Mitsuba's own rule; the translator adds no power weights under "uniform").
@@ -27,9 +29,9 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 
 
 def pass_samples(left, per_pass, power_of_four):
-    """Samples per pixel of the next pass: at most per_pass (at least 1) and what is left; a
-    power of four, at least 4, when the sampler needs one (ldsampler rounds other counts up;
-    `left`, a power of two of at least 4, stays one)."""
+    """Samples per pixel of the next pass: at most per_pass (at least 1) and what is left. When
+    the sampler needs a power of four (ldsampler rounds other counts up), the largest one of at
+    least 4: `left` must then be a multiple of 4, and stays one."""
     n = max(1, min(per_pass, left))
     if power_of_four:
         n = max(4, 4 ** int(math.log(n, 4) + 1e-9))
@@ -59,8 +61,10 @@ def main():
     # PASS_SAMPLES samples in all keep its memory bounded at high spp.
     per_pass = max(1, PASS_SAMPLES // pixels)
     for line in sys.stdin:
-        spp, seed, out = line.split(maxsplit=2)
+        spp, seed, out, *png = line.split()
         spp, seed = int(spp), int(seed)
+        if sampler == "ldsampler" and spp % 4:
+            sys.exit(f"many_lights_mitsuba.py: ldsampler renders multiples of 4 spp, not {spp}")
         t0 = time.perf_counter()
         acc, done, k = None, 0, 0
         while done < spp:
@@ -71,7 +75,10 @@ def main():
             done, k = done + n, k + 1
         dr.sync_thread()
         seconds = time.perf_counter() - t0
-        write_exr(out.strip(), np.array(acc, dtype=np.float32) / spp)
+        img = np.array(acc, dtype=np.float32)[:, :, :3] / spp
+        write_exr(out, img)
+        if png:
+            mi.Bitmap(img).convert(mi.Bitmap.PixelFormat.RGB, mi.Struct.Type.UInt8, srgb_gamma=True).write(png[0])
         print(f"{seconds:.6f}", flush=True)
 
 
