@@ -96,15 +96,15 @@ def test_make_many_lights_mesh_and_quads_face_down(tmp_path):
     import json
     import struct
     gen = TOOLS / "scenes" / "make_many_lights.py"
-    subprocess.run([sys.executable, str(gen), "--kind", "mesh", "--tiles", "300", "--out", str(tmp_path / "m.json")],
+    subprocess.run([sys.executable, str(gen), "--kind", "mesh", "--grid", "10", "--out", str(tmp_path / "m.json")],
                    check=True, capture_output=True, timeout=60)
     scene = json.loads((tmp_path / "m.json").read_text())
     (mesh,) = [s for s in scene["shapes"] if s["type"] == "mesh"]
     data = (tmp_path / mesh["file"]).read_bytes()
     header, body = data.split(b"end_header\n", 1)
-    assert b"element vertex 1200" in header and b"element face 600" in header
-    pos = [struct.unpack_from("<3f", body, 12 * i) for i in range(1200)]
-    faces = [struct.unpack_from("<B3i", body, 12 * 1200 + 13 * i) for i in range(600)]
+    assert b"element vertex 121" in header and b"element face 200" in header  # an 11 x 11 grid of vertices
+    pos = [struct.unpack_from("<3f", body, 12 * i) for i in range(121)]
+    faces = [struct.unpack_from("<B3i", body, 12 * 121 + 13 * i) for i in range(200)]
     assert all(f[0] == 3 and _cross_y(pos[f[1]], pos[f[2]], pos[f[3]]) < 0 for f in faces)  # emitting downwards
     subprocess.run([sys.executable, str(gen), "--kind", "quads", "--panels", "5", "--out", str(tmp_path / "q.json")],
                    check=True, capture_output=True, timeout=60)

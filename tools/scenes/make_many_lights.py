@@ -4,10 +4,12 @@
   points  `points` point lights and `spheres` small sphere lights scattered over a diffuse
           floor, their powers spanning four decades (log-uniform over 10^0 .. 10^4 times a
           base), seen at a slant.
-  mesh    one mesh light of `tiles` x 2 emissive triangles (about 100k by default): small
-          tiles at random heights and tilts over the floor, each facing down, among a dozen
-          grey spheres on the floor that shade it. The mesh is a binary PLY file written
-          beside the scene (`mesh` shape with `file`); no per-triangle powers (one emission).
+  mesh    one mesh light of 2 x `grid`^2 emissive triangles (100,352 by default): a wavy
+          canopy 4 +- 0.5 above the floor, facing down, over a dozen grey spheres that shade
+          the floor, seen from under the canopy. The mesh is a binary PLY file written beside
+          the scene (`mesh` shape with `file`); one emission for all its triangles. (Small
+          tiles scattered in the air, seen from above, made a worse benchmark: their sub-pixel
+          backs' aliasing, common to every light selection, was most of the error.)
   quads   a closed room (floor, walls, ceiling) lit by a ceiling grid of `panels` x `panels`
           small quad lights facing down, their powers over two decades, with a few pillars;
           the camera is inside.
@@ -16,7 +18,7 @@ Direct integrator, MIS with its defaults; `light_selection` is left to the calle
 (--set integrator.light_selection=...).
 
 Usage: tools/scenes/make_many_lights.py [--kind points|mesh|quads] [--points N] [--spheres M]
-       [--tiles T] [--panels P] [--size W H] [--seed S] [--out FILE]
+       [--grid G] [--panels P] [--size W H] [--seed S] [--out FILE]
 Standard library only; the same arguments give the same files.
 """
 import argparse
@@ -79,20 +81,21 @@ def _rotate(p, axis_angle_x, axis_angle_z):
     return [c * x - s * y, s * x + c * y, z]
 
 
-def tiles_mesh(tiles, rng):
-    """(positions, triangles) of `tiles` small squares facing down (front face = counter-clockwise
-    seen from below), at heights 1 .. 3.5, tilted up to 40 degrees, sides 0.06 .. 0.18."""
-    pos, tris = [], []
-    for _ in range(tiles):
-        c = [rng.uniform(-HALF, HALF), rng.uniform(1.0, 3.5), rng.uniform(-HALF, HALF)]
-        h = 0.5 * rng.uniform(0.06, 0.18)
-        ax, az = math.radians(rng.uniform(-40, 40)), math.radians(rng.uniform(-40, 40))
-        base = len(pos)
-        # Corners in the tile's plane (y = 0), ordered so that (b - a) x (c - a) = -y: facing down.
-        for dx, dz in ((-h, -h), (h, -h), (h, h), (-h, h)):
-            q = _rotate([dx, 0.0, dz], ax, az)
-            pos.append([c[0] + q[0], c[1] + q[1], c[2] + q[2]])
-        tris += [(base, base + 1, base + 2), (base, base + 2, base + 3)]
+def canopy_mesh(grid):
+    """(positions, triangles) of a wavy canopy over the floor: grid x grid squares over
+    [-HALF, HALF]^2 at heights 4 +- 0.5, two triangles each, facing down (front face =
+    counter-clockwise seen from below)."""
+    pos = []
+    for i in range(grid + 1):
+        for j in range(grid + 1):
+            x, z = -HALF + 2 * HALF * i / grid, -HALF + 2 * HALF * j / grid
+            pos.append([x, 4.0 + 0.5 * math.sin(x / 3) * math.cos(z / 3), z])
+    tris = []
+    for i in range(grid):
+        for j in range(grid):
+            a, b = i * (grid + 1) + j, (i + 1) * (grid + 1) + j  # b is a's neighbour in +x
+            # (b - a) x (c - a) with b = a + x, c = a + x + z: -y, facing down.
+            tris += [(a, b, b + 1), (a, b + 1, a + 1)]
     return pos, tris
 
 
@@ -107,19 +110,19 @@ def write_ply(path, pos, tris):
         f.write(b"".join(struct.pack("<B3i", 3, *t) for t in tris))
 
 
-def mesh_scene(tiles, width, height, seed, ply_name):
+def mesh_scene(grid, width, height, seed, ply_name):
     """The scene; the mesh is written by main() as ply_name beside the scene file."""
     rng = random.Random(seed)
-    s = _base(width, height, SLANT_CAMERA)
+    s = _base(width, height, {"eye": [0, 2.5, 22], "target": [0, 0.5, 0], "up": [0, 1, 0], "fov_y": 55})
     del s["materials"]["black"]
     s["shapes"].append(_floor())
     for _ in range(12):
         r = rng.uniform(1.0, 2.5)
         s["shapes"].append({"type": "sphere", "center": [rng.uniform(-HALF, HALF), r, rng.uniform(-HALF, 0.6 * HALF)],
                             "radius": r, "material": "grey"})
-    # Total power about that of the points scene's 4400 lights (~9.5 kW), spread by area.
+    # About 6 kW over ~1600 m^2: radiance ~1.2, the floor's about 0.7 where it sees the whole canopy.
     s["shapes"].append({"type": "mesh", "file": ply_name, "power": [6000, 5000, 4000], "material": "grey"})
-    return s, tiles_mesh(tiles, rng)
+    return s, canopy_mesh(grid)
 
 
 def quads_scene(panels, width, height, seed):
@@ -162,7 +165,7 @@ def main():
     ap.add_argument("--kind", choices=["points", "mesh", "quads"], default="points")
     ap.add_argument("--points", type=int, default=4000)
     ap.add_argument("--spheres", type=int, default=400)
-    ap.add_argument("--tiles", type=int, default=50000, help="mesh: tiles of two triangles each")
+    ap.add_argument("--grid", type=int, default=224, help="mesh: a canopy of grid x grid squares, two triangles each")
     ap.add_argument("--panels", type=int, default=20, help="quads: a ceiling grid of panels x panels")
     ap.add_argument("--size", type=int, nargs=2, default=[96, 72], metavar=("W", "H"))
     ap.add_argument("--seed", type=int, default=47)
@@ -173,7 +176,7 @@ def main():
         s = points_scene(a.points, a.spheres, a.size[0], a.size[1], a.seed)
     elif a.kind == "mesh":
         ply = os.path.splitext(os.path.basename(a.out))[0] + ".ply"
-        s, (pos, tris) = mesh_scene(a.tiles, a.size[0], a.size[1], a.seed, ply)
+        s, (pos, tris) = mesh_scene(a.grid, a.size[0], a.size[1], a.seed, ply)
         write_ply(os.path.join(os.path.dirname(a.out) or ".", ply), pos, tris)
     else:
         s = quads_scene(a.panels, a.size[0], a.size[1], a.seed)
