@@ -14,7 +14,10 @@ Mapping (see docs/design/benchmarks.md):
   sphere      -> sphere (normals outward)
   quad        -> rectangle when edge_u is orthogonal to edge_v (to_world columns edge_u/2,
                  edge_v/2, normalize(edge_u x edge_v), origin + (edge_u+edge_v)/2), else two triangles
-  mesh        -> mi.Mesh filled from positions/indices (+ vertex normals when given)
+  mesh        -> mi.Mesh filled from positions/indices (+ vertex normals when given); with a
+                 PLY `file`: Mitsuba's ply plugin, face normals unless the file has normals
+                 (OBJ files are unsupported: their usemtl materials have no counterpart here)
+  to_world    -> unsupported on shapes
   emission    -> area emitter (one-sided, front face), radiance = emission or converted power
   point       -> point, intensity = power/(4 pi) or intensity
   directional -> directional, direction, irradiance
@@ -215,6 +218,28 @@ def _make_mesh(name, pos, idx, normals, bsdf, emitter):
     return mesh
 
 
+def _ply_dict(shape, base_dir):
+    """Mitsuba's ply plugin for a mesh `file`. Penumbra shades a mesh without normals with its
+    faces' normals, where Mitsuba would compute smooth vertex normals: face_normals is set
+    unless the file has normals of its own (then both interpolate them)."""
+    path = os.path.join(base_dir, shape["file"])
+    if not path.lower().endswith(".ply"):
+        raise Unsupported(f"mesh file {shape['file']!r} (only PLY files are translated)")
+    with open(path, "rb") as f:
+        header = f.read(4096).split(b"end_header")[0].split()
+    return {"type": "ply", "filename": path, "face_normals": b"nx" not in header}
+
+
+def _ply_mesh(shape, base_dir):
+    """The loaded mesh of a PLY `file` (its area and bounds)."""
+    return mi.load_dict(_ply_dict(shape, base_dir))
+
+
+def _scalar(x):
+    """A one-element Dr.Jit array (JIT variants) or a Python float (scalar ones) as a float."""
+    return float(x[0]) if dr.is_array_v(x) else float(x)
+
+
 def _gltf_meshes(shape, base_dir):
     from penumbra_tools.gltf_meshes import read_gltf
     try:
@@ -242,6 +267,10 @@ def _bounds(scene, base_dir):
             for a in (0, 1):
                 for b in (0, 1):
                     add([o[i] + a * u[i] + b * v[i] for i in range(3)])
+        elif t == "mesh" and "file" in s:
+            box = _ply_mesh(s, base_dir).bbox()
+            add([_scalar(x) for x in box.min])
+            add([_scalar(x) for x in box.max])
         elif t in ("mesh", "gltf"):
             import numpy as np
             ps = [np.asarray(s["positions"], dtype=np.float64).reshape(-1, 3)] if t == "mesh" else \
@@ -315,11 +344,16 @@ def translate(scene, spp=None, seed=None, sampler="independent", base_dir="."):
         bsdf = _bsdf(mats[mname] if mname is not None else None)
         if s.get("two_sided") and ("emission" in s or "power" in s):
             raise Unsupported("two-sided area lights (Mitsuba's area emitter is one-sided)")
+        if s.get("to_world") is not None:
+            raise Unsupported(f"{t} shape with to_world")
+        ply = _ply_mesh(s, base_dir) if t == "mesh" and "file" in s else None
         # Radiance and emitted power (for the emitter's selection weight).
         if t == "sphere":
             area = 4 * math.pi * s["radius"] ** 2
         elif t == "quad":
             area = length(cross(s["edge_u"], s["edge_v"]))
+        elif ply is not None:
+            area = _scalar(ply.surface_area())
         elif t == "mesh":
             area = _mesh_area(s["positions"], s["indices"])
         else:
@@ -354,6 +388,9 @@ def translate(scene, spp=None, seed=None, sampler="independent", base_dir="."):
                       [o[i] + v[i] for i in range(3)]
                 out[name] = _make_mesh(name, pos, [0, 1, 2, 0, 2, 3], None, bsdf, emitter)
                 continue
+        elif ply is not None:
+            d = _ply_dict(s, base_dir)
+            d["bsdf"] = bsdf
         else:
             out[name] = _make_mesh(name, s["positions"], s["indices"], s.get("normals"), bsdf, emitter)
             continue
