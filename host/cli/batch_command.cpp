@@ -20,7 +20,7 @@
 #include "image/image_file.h"
 #include "image/output_check.h"
 #include "image/output_format.h"
-#include "scene/enum_names.h"
+#include "scene/integrator_options.h"
 #include "scene/integrator_json.h"
 #include "session/render_session.h"
 

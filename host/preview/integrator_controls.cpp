@@ -1,7 +1,7 @@
 // Integrator option keys and the title's integrator label (see integrator_controls.h).
 #include "preview/integrator_controls.h"
 
-#include "scene/enum_names.h"
+#include "scene/integrator_options.h"
 
 namespace penumbra::preview {
 namespace {

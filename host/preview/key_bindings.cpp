@@ -6,7 +6,7 @@
 #include <cctype>
 #include <vector>
 
-#include "scene/enum_names.h"
+#include "scene/integrator_options.h"
 
 #ifdef PENUMBRA_HAVE_GLFW
 #include <GLFW/glfw3.h>
@@ -33,7 +33,7 @@ struct KeyBinding {
 template <class E>
 std::string valueCycle(const char* separator) {
     std::string text;
-    for (const EnumName<E>& entry : enumNames(E{})) text += (text.empty() ? "" : separator) + std::string(entry.name);
+    for (const OptionValue& entry : enumNames(E{})) text += (text.empty() ? "" : separator) + std::string(entry.name);
     return text;
 }
 

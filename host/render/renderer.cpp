@@ -18,7 +18,7 @@
 #include "render/pass_bands.h"
 #include "render/tile_queue.h"
 #include "render/traversal_stacks.h"
-#include "scene/enum_names.h"
+#include "scene/integrator_options.h"
 #include "scene/integrator_json.h"
 #include "shared/aov.h"
 

@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <string>
 
-#include "scene/enum_names.h"
+#include "scene/integrator_options.h"
 
 namespace penumbra {
 namespace {

@@ -10,7 +10,7 @@
 #include "core/errors.h"
 #include "core/input_file.h"
 #include "scene/aov_names.h"
-#include "scene/enum_names.h"
+#include "scene/integrator_options.h"
 #include "scene/environment_file.h"
 #include "scene/gltf_import.h"
 #include "scene/json_parse.h"
@@ -47,7 +47,7 @@ glm::vec3 radiometric(const JsonReader& r, glm::vec3 value, const char* what) {
     return value;
 }
 
-// The value of enum E that `r` names (enum_names.h); the message lists the names.
+// The value of enum E that `r` names (integrator_options.h); the message lists the names.
 template <class E>
 E choiceOf(const JsonReader& r) {
     return *fromName<E>(r.choice(allNames<E>()));
