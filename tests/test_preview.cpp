@@ -4,6 +4,7 @@
 // display (Xvfb, started here on a free display number): the real binary's screenshot
 // matches `render`'s PNG, and scripted keys and drags restart the accumulation.
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <csignal>
 #include <cstddef>
@@ -252,6 +253,46 @@ TEST(PreviewIntegratorKeys, ChangeTheOptionsAndTheJsonThatSavesRecord) {
     EXPECT_FALSE(applyIntegratorAction(ao, Action::StrategyLight));  // ao has no strategies
     EXPECT_EQ(ao.strategy, Strategy::Mis);
     EXPECT_EQ(integratorLabel(ao), "ao cosine");
+}
+
+// Every key the option registry gives (scene/integrator_options.h) is bound, listed in the
+// help, and changes its option of a settings object of its integrator type: a per-value key
+// sets its value (again: no restart), a cycling key steps to the next value in table order.
+TEST(PreviewIntegratorKeys, EveryRegistryKeyIsBoundAndChangesItsOption) {
+    ASSERT_FALSE(optionKeys().empty());
+    for (size_t i = 0; i < optionKeys().size(); ++i) {
+        const OptionKey& key = optionKeys()[i];
+        const IntegratorOption& option = *key.option;
+        const Action action = *optionKeyAction(i);
+        EXPECT_EQ(actionForKeyName(std::string(1, key.key)), action) << option.json << " " << key.key;
+        EXPECT_TRUE(isIntegratorAction(action));
+        const std::string upper(1, char(std::toupper(static_cast<unsigned char>(key.key))));
+        EXPECT_NE(keyHelp().find("\n  " + upper + " " + std::string(18, ' ') + option.preview.label),
+                  std::string::npos)
+            << option.json << " key " << upper << " missing from:\n"
+            << keyHelp();
+        IntegratorSettings settings;
+        settings.type = option.integrator;
+        const double before = optionValue(option, settings);
+        if (key.value >= 0) {
+            const double wanted = option.values[size_t(key.value)].value;
+            EXPECT_EQ(applyIntegratorAction(settings, action), wanted != before) << option.json;
+            EXPECT_EQ(optionValue(option, settings), wanted) << option.json;
+            EXPECT_FALSE(applyIntegratorAction(settings, action)) << option.json << ": already set";
+        } else {
+            EXPECT_TRUE(applyIntegratorAction(settings, action)) << option.json;
+            const OptionValue* now = valueNumbered(option.values, uint32_t(before));
+            ASSERT_NE(now, nullptr);
+            const size_t next = size_t(now - option.values.data() + 1) % option.values.size();
+            EXPECT_EQ(optionValue(option, settings), double(option.values[next].value)) << option.json;
+            if (option.given) EXPECT_TRUE(settings.*option.given) << option.json << ": the header must list it";
+        }
+        IntegratorSettings other;
+        other.type = option.integrator == IntegratorType::Direct ? IntegratorType::AmbientOcclusion
+                                                                 : IntegratorType::Direct;
+        EXPECT_FALSE(applyIntegratorAction(other, action)) << option.json << " on another integrator";
+    }
+    EXPECT_FALSE(optionKeyAction(optionKeys().size()).has_value());
 }
 
 // ---- The program, with and without a display ---------------------------------------------
