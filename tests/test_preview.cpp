@@ -226,6 +226,26 @@ TEST(PreviewKeys, HelpListsEveryScriptKey) {
     EXPECT_EQ(*actionForKeyName("s"), Action::CycleSphereSampling);
 }
 
+// The option keys' lines of `penumbra preview --help`, word for word as they were before the
+// registry made them (a user-facing text: the label, the values in key order, the notes).
+TEST(PreviewKeys, OptionHelpLinesStayAsTheyWere) {
+    const std::string help = keyHelp();
+    for (const char* line : {
+             "1                   strategy light (direct integrator)",
+             "2                   strategy bsdf",
+             "3                   strategy mis",
+             "4                   strategy mixture",
+             "5                   strategy ris",
+             "H                   MIS heuristic: balance <-> power",
+             "S                   sphere sampling: area -> cap -> solid_angle",
+             "T                   quad sampling: area <-> solid_angle",
+             "M                   mesh-light triangle sampling: area <-> solid_angle",
+             "L                   light selection: uniform -> power -> bvh (rebuilds the light tables)",
+         })
+        EXPECT_NE(help.find("\n  " + std::string(line) + "\n"), std::string::npos) << line << " missing from:\n"
+                                                                                   << help;
+}
+
 // ---- Integrator keys ----------------------------------------------------------------------
 
 TEST(PreviewIntegratorKeys, ChangeTheOptionsAndTheJsonThatSavesRecord) {
