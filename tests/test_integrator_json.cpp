@@ -50,16 +50,17 @@ TEST(IntegratorJson, EveryRegistryOptionParsesFailsAndIsRecorded) {
         // ris_candidates is read, and recorded, only under strategy "ris".
         const std::string extra = option.appliesTo ? R"(, "strategy": "ris")" : "";
         auto scene = [&](const std::string& value) {
-            return writeFile(dir / (std::string(option.json) + ".json"),
-                             R"({"integrator": {"type": ")" + type + R"(", ")" + option.json + R"(": )" + value +
-                                 extra + "}}");
+            return writeFile(
+                dir / (std::string(option.json) + ".json"),
+                R"({"integrator": {"type": ")" + type + R"(", ")" + option.json + R"(": )" + value + extra + "}}");
         };
         std::string bad = option.kind == OptionKind::Choice ? R"("no_such_value")" : "-1";
         const std::string message = loadError(scene(bad));
         EXPECT_NE(message.find(std::string(option.json) + ".json: " + path + ": "), std::string::npos) << message;
         if (option.kind == OptionKind::Choice) {
             std::string list;
-            for (const OptionValue& v : option.values) list += (list.empty() ? "\"" : ", \"") + std::string(v.name) + "\"";
+            for (const OptionValue& v : option.values)
+                list += (list.empty() ? "\"" : ", \"") + std::string(v.name) + "\"";
             EXPECT_NE(message.find("is not one of " + list), std::string::npos) << message;
             for (const OptionValue& v : option.values) {
                 const IntegratorSettings s = loadScene(scene(std::string("\"") + v.name + "\"")).integrator;

@@ -3,6 +3,10 @@
 // input script parser, and the one-line failure when there is no display. With a virtual
 // display (Xvfb, started here on a free display number): the real binary's screenshot
 // matches `render`'s PNG, and scripted keys and drags restart the accumulation.
+#include <poll.h>
+#include <sys/prctl.h>
+#include <sys/wait.h>
+#include <unistd.h>
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -12,13 +16,9 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
-#include <poll.h>
 #include <random>
 #include <sstream>
 #include <string>
-#include <sys/prctl.h>
-#include <sys/wait.h>
-#include <unistd.h>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -287,8 +287,7 @@ TEST(PreviewIntegratorKeys, EveryRegistryKeyIsBoundAndChangesItsOption) {
         EXPECT_EQ(actionForKeyName(std::string(1, key.key)), action) << option.json << " " << key.key;
         EXPECT_TRUE(isIntegratorAction(action));
         const std::string upper(1, char(std::toupper(static_cast<unsigned char>(key.key))));
-        EXPECT_NE(keyHelp().find("\n  " + upper + " " + std::string(18, ' ') + option.preview.label),
-                  std::string::npos)
+        EXPECT_NE(keyHelp().find("\n  " + upper + " " + std::string(18, ' ') + option.preview.label), std::string::npos)
             << option.json << " key " << upper << " missing from:\n"
             << keyHelp();
         IntegratorSettings settings;

@@ -1,7 +1,7 @@
 // The integrator options, one row each (integrator_options.cpp): the scene file's key, its
 // values (name <-> IntegratorSettings' enum <-> the kernels' constant), the integrator that
 // reads it, its specialization constant, its preview key and when the EXR header lists it.
-// The parser (load_json.cpp), the header object (integrator_json.cpp, which batch resume
+// The parser (integrator_parse.cpp), the header object (integrator_json.cpp, which batch resume
 // compares), the kernel's specialization (render/kernel_options.cpp) and the preview's keys
 // (preview/integrator_controls.cpp) read the rows; none of them names an option of its own.
 // docs/design/layout.md "A new integrator option" says what adding one touches.
