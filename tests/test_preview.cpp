@@ -3,7 +3,12 @@
 // input script parser, and the one-line failure when there is no display. With a virtual
 // display (Xvfb, started here on a free display number): the real binary's screenshot
 // matches `render`'s PNG, and scripted keys and drags restart the accumulation.
+#include <poll.h>
+#include <sys/prctl.h>
+#include <sys/wait.h>
+#include <unistd.h>
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <csignal>
 #include <cstddef>
@@ -11,13 +16,9 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
-#include <poll.h>
 #include <random>
 #include <sstream>
 #include <string>
-#include <sys/prctl.h>
-#include <sys/wait.h>
-#include <unistd.h>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -225,6 +226,26 @@ TEST(PreviewKeys, HelpListsEveryScriptKey) {
     EXPECT_EQ(*actionForKeyName("s"), Action::CycleSphereSampling);
 }
 
+// The option keys' lines of `penumbra preview --help`, word for word as they were before the
+// registry made them (a user-facing text: the label, the values in key order, the notes).
+TEST(PreviewKeys, OptionHelpLinesStayAsTheyWere) {
+    const std::string help = keyHelp();
+    for (const char* line : {
+             "1                   strategy light (direct integrator)",
+             "2                   strategy bsdf",
+             "3                   strategy mis",
+             "4                   strategy mixture",
+             "5                   strategy ris",
+             "H                   MIS heuristic: balance <-> power",
+             "S                   sphere sampling: area -> cap -> solid_angle",
+             "T                   quad sampling: area <-> solid_angle",
+             "M                   mesh-light triangle sampling: area <-> solid_angle",
+             "L                   light selection: uniform -> power -> bvh (rebuilds the light tables)",
+         })
+        EXPECT_NE(help.find("\n  " + std::string(line) + "\n"), std::string::npos) << line << " missing from:\n"
+                                                                                   << help;
+}
+
 // ---- Integrator keys ----------------------------------------------------------------------
 
 TEST(PreviewIntegratorKeys, ChangeTheOptionsAndTheJsonThatSavesRecord) {
@@ -252,6 +273,45 @@ TEST(PreviewIntegratorKeys, ChangeTheOptionsAndTheJsonThatSavesRecord) {
     EXPECT_FALSE(applyIntegratorAction(ao, Action::StrategyLight));  // ao has no strategies
     EXPECT_EQ(ao.strategy, Strategy::Mis);
     EXPECT_EQ(integratorLabel(ao), "ao cosine");
+}
+
+// Every key the option registry gives (scene/integrator_options.h) is bound, listed in the
+// help, and changes its option of a settings object of its integrator type: a per-value key
+// sets its value (again: no restart), a cycling key steps to the next value in table order.
+TEST(PreviewIntegratorKeys, EveryRegistryKeyIsBoundAndChangesItsOption) {
+    ASSERT_FALSE(optionKeys().empty());
+    for (size_t i = 0; i < optionKeys().size(); ++i) {
+        const OptionKey& key = optionKeys()[i];
+        const IntegratorOption& option = *key.option;
+        const Action action = *optionKeyAction(i);
+        EXPECT_EQ(actionForKeyName(std::string(1, key.key)), action) << option.json << " " << key.key;
+        EXPECT_TRUE(isIntegratorAction(action));
+        const std::string upper(1, char(std::toupper(static_cast<unsigned char>(key.key))));
+        EXPECT_NE(keyHelp().find("\n  " + upper + " " + std::string(18, ' ') + option.preview.label), std::string::npos)
+            << option.json << " key " << upper << " missing from:\n"
+            << keyHelp();
+        IntegratorSettings settings;
+        settings.type = option.integrator;
+        const double before = optionValue(option, settings);
+        if (key.value >= 0) {
+            const double wanted = option.values[size_t(key.value)].value;
+            EXPECT_EQ(applyIntegratorAction(settings, action), wanted != before) << option.json;
+            EXPECT_EQ(optionValue(option, settings), wanted) << option.json;
+            EXPECT_FALSE(applyIntegratorAction(settings, action)) << option.json << ": already set";
+        } else {
+            EXPECT_TRUE(applyIntegratorAction(settings, action)) << option.json;
+            const OptionValue* now = valueNumbered(option.values, uint32_t(before));
+            ASSERT_NE(now, nullptr);
+            const size_t next = size_t(now - option.values.data() + 1) % option.values.size();
+            EXPECT_EQ(optionValue(option, settings), double(option.values[next].value)) << option.json;
+            if (option.given) EXPECT_TRUE(settings.*option.given) << option.json << ": the header must list it";
+        }
+        IntegratorSettings other;
+        other.type = option.integrator == IntegratorType::Direct ? IntegratorType::AmbientOcclusion
+                                                                 : IntegratorType::Direct;
+        EXPECT_FALSE(applyIntegratorAction(other, action)) << option.json << " on another integrator";
+    }
+    EXPECT_FALSE(optionKeyAction(optionKeys().size()).has_value());
 }
 
 // ---- The program, with and without a display ---------------------------------------------

@@ -20,8 +20,8 @@
 #include "image/image_file.h"
 #include "image/output_check.h"
 #include "image/output_format.h"
-#include "scene/enum_names.h"
 #include "scene/integrator_json.h"
+#include "scene/integrator_options.h"
 #include "session/render_session.h"
 
 namespace penumbra {

@@ -1,56 +1,58 @@
 // Integrator option keys and the title's integrator label (see integrator_controls.h).
 #include "preview/integrator_controls.h"
 
-#include "scene/enum_names.h"
+#include <cstring>
 
 namespace penumbra::preview {
-namespace {
 
-bool setStrategy(IntegratorSettings& settings, Strategy strategy) {
-    if (settings.strategy == strategy) return false;
-    settings.strategy = strategy;
-    return true;
+const std::vector<OptionKey>& optionKeys() {
+    static const std::vector<OptionKey> keys = [] {
+        std::vector<OptionKey> list;
+        for (const IntegratorOption& option : integratorOptions()) {
+            if (!option.preview.keys) continue;
+            const size_t count = std::strlen(option.preview.keys);
+            if (count == 1) {
+                list.push_back({&option, -1, option.preview.keys[0]});
+                continue;
+            }
+            for (size_t i = 0; i < count; ++i) list.push_back({&option, int(i), option.preview.keys[i]});
+        }
+        return list;
+    }();
+    return keys;
 }
 
-}  // namespace
-
-bool isIntegratorAction(Action action) {
-    switch (action) {
-        case Action::StrategyLight:
-        case Action::StrategyBsdf:
-        case Action::StrategyMis:
-        case Action::StrategyMixture:
-        case Action::StrategyRis:
-        case Action::ToggleHeuristic:
-        case Action::CycleSphereSampling:
-        case Action::ToggleQuadSampling:
-        case Action::ToggleTriangleSampling:
-        case Action::CycleLightSelection: return true;
-        default: return false;
-    }
+std::optional<Action> optionKeyAction(size_t index) {
+    if (index >= optionKeys().size()) return std::nullopt;
+    return Action(uint32_t(Action::FirstOptionKey) + uint32_t(index));
 }
+
+const OptionKey* optionKeyOf(Action action) {
+    const uint32_t first = uint32_t(Action::FirstOptionKey);
+    if (uint32_t(action) < first || uint32_t(action) - first >= optionKeys().size()) return nullptr;
+    return &optionKeys()[uint32_t(action) - first];
+}
+
+bool isIntegratorAction(Action action) { return optionKeyOf(action) != nullptr; }
 
 bool applyIntegratorAction(IntegratorSettings& settings, Action action) {
-    if (settings.type != IntegratorType::Direct) return false;
-    switch (action) {
-        case Action::StrategyLight: return setStrategy(settings, Strategy::Light);
-        case Action::StrategyBsdf: return setStrategy(settings, Strategy::Bsdf);
-        case Action::StrategyMis: return setStrategy(settings, Strategy::Mis);
-        case Action::StrategyMixture: return setStrategy(settings, Strategy::Mixture);
-        case Action::StrategyRis: return setStrategy(settings, Strategy::Ris);
-        case Action::ToggleHeuristic: settings.heuristic = nextValue(settings.heuristic); return true;
-        case Action::CycleSphereSampling: settings.sphereSampling = nextValue(settings.sphereSampling); return true;
-        case Action::ToggleQuadSampling:
-            settings.quadSampling = nextValue(settings.quadSampling);
-            settings.quadSamplingGiven = true;
-            return true;
-        case Action::ToggleTriangleSampling:
-            settings.triangleSampling = nextValue(settings.triangleSampling);
-            settings.triangleSamplingGiven = true;
-            return true;
-        case Action::CycleLightSelection: settings.lightSelection = nextValue(settings.lightSelection); return true;
-        default: return false;
+    const OptionKey* key = optionKeyOf(action);
+    if (!key || settings.type != key->option->integrator) return false;
+    const IntegratorOption& option = *key->option;
+    const uint32_t now = uint32_t(optionValue(option, settings));
+    uint32_t next = 0;
+    if (key->value >= 0) {
+        next = option.values[size_t(key->value)].value;
+        if (next == now) return false;  // already so: no restart
+    } else {
+        // The value after the current one in table order, the first after the last.
+        size_t i = 0;
+        while (i < option.values.size() && option.values[i].value != now) ++i;
+        next = option.values[(i + 1) % option.values.size()].value;
     }
+    option.field.set(settings, next);
+    if (option.given) settings.*option.given = true;
+    return true;
 }
 
 std::string integratorLabel(const IntegratorSettings& settings) {

@@ -6,7 +6,7 @@
 #include <cctype>
 #include <vector>
 
-#include "scene/enum_names.h"
+#include "preview/integrator_controls.h"
 
 #ifdef PENUMBRA_HAVE_GLFW
 #include <GLFW/glfw3.h>
@@ -23,65 +23,69 @@ struct KeyBinding {
 };
 
 #ifdef PENUMBRA_HAVE_GLFW
-#define PENUMBRA_KEYS(...) std::vector<int>{__VA_ARGS__}
+#define PENUMBRA_KEYS(...) \
+    std::vector<int> { __VA_ARGS__ }
 #else
 #define PENUMBRA_KEYS(...) \
     std::vector<int> {}
 #endif
 
-// The names of E's values in the order the preview steps through them (nextValue).
-template <class E>
-std::string valueCycle(const char* separator) {
-    std::string text;
-    for (const EnumName<E>& entry : enumNames(E{})) text += (text.empty() ? "" : separator) + std::string(entry.name);
-    return text;
+// The GLFW keys of an option key: a digit also on the keypad.
+std::vector<int> glfwKeysOf(char key) {
+#ifdef PENUMBRA_HAVE_GLFW
+    if (key >= '0' && key <= '9') return {GLFW_KEY_0 + (key - '0'), GLFW_KEY_KP_0 + (key - '0')};
+    return {GLFW_KEY_A + (key - 'a')};
+#else
+    (void)key;
+    return {};
+#endif
 }
 
-std::string strategyHelp(Strategy strategy) { return std::string("strategy ") + toName(strategy); }
+// "strategy light (direct integrator)", "MIS heuristic: balance <-> power": the option's
+// label and the value the key sets, or every value in the order the key steps through them.
+std::string optionHelp(const OptionKey& key) {
+    const IntegratorOption& option = *key.option;
+    std::string help = option.preview.label;
+    if (key.value >= 0) {
+        help += std::string(" ") + option.values[size_t(key.value)].name;
+    } else {
+        const char* separator = option.values.size() == 2 ? " <-> " : " -> ";
+        help += ": ";
+        for (size_t i = 0; i < option.values.size(); ++i)
+            help += (i ? separator : "") + std::string(option.values[i].name);
+    }
+    if (key.value <= 0) help += option.preview.note;  // after the option's first key
+    return help;
+}
 
 const std::vector<KeyBinding>& bindings() {
-    static const std::vector<KeyBinding> table = {
-        {Action::StrategyLight,
-         {"1"},
-         PENUMBRA_KEYS(GLFW_KEY_1, GLFW_KEY_KP_1),
-         strategyHelp(Strategy::Light) + " (direct integrator)"},
-        {Action::StrategyBsdf, {"2"}, PENUMBRA_KEYS(GLFW_KEY_2, GLFW_KEY_KP_2), strategyHelp(Strategy::Bsdf)},
-        {Action::StrategyMis, {"3"}, PENUMBRA_KEYS(GLFW_KEY_3, GLFW_KEY_KP_3), strategyHelp(Strategy::Mis)},
-        {Action::StrategyMixture, {"4"}, PENUMBRA_KEYS(GLFW_KEY_4, GLFW_KEY_KP_4), strategyHelp(Strategy::Mixture)},
-        {Action::StrategyRis, {"5"}, PENUMBRA_KEYS(GLFW_KEY_5, GLFW_KEY_KP_5), strategyHelp(Strategy::Ris)},
-        {Action::ToggleHeuristic, {"h"}, PENUMBRA_KEYS(GLFW_KEY_H), "MIS heuristic: " + valueCycle<Heuristic>(" <-> ")},
-        {Action::CycleSphereSampling,
-         {"s"},
-         PENUMBRA_KEYS(GLFW_KEY_S),
-         "sphere sampling: " + valueCycle<SphereSampling>(" -> ")},
-        {Action::ToggleQuadSampling,
-         {"t"},
-         PENUMBRA_KEYS(GLFW_KEY_T),
-         "quad sampling: " + valueCycle<QuadSampling>(" <-> ")},
-        {Action::ToggleTriangleSampling,
-         {"m"},
-         PENUMBRA_KEYS(GLFW_KEY_M),
-         "mesh-light triangle sampling: " + valueCycle<TriangleSampling>(" <-> ")},
-        {Action::CycleLightSelection,
-         {"l"},
-         PENUMBRA_KEYS(GLFW_KEY_L),
-         "light selection: " + valueCycle<LightSelection>(" -> ") + " (rebuilds the light tables)"},
-        {Action::ExposureUp, {"+", "plus"}, PENUMBRA_KEYS(GLFW_KEY_EQUAL, GLFW_KEY_KP_ADD), "exposure +0.5 stop"},
-        {Action::ExposureDown,
-         {"-", "minus"},
-         PENUMBRA_KEYS(GLFW_KEY_MINUS, GLFW_KEY_KP_SUBTRACT),
-         "exposure -0.5 stop"},
-        {Action::CycleLayer,
-         {"a"},
-         PENUMBRA_KEYS(GLFW_KEY_A),
-         "shown layer: rgb -> each of film.aovs -> rgb (scenes with AOVs)"},
-        {Action::Save,
-         {"p"},
-         PENUMBRA_KEYS(GLFW_KEY_P),
-         "save SCENE-preview-N.exr and .png of the current accumulation"},
-        {Action::ResetCamera, {"r"}, PENUMBRA_KEYS(GLFW_KEY_R), "reset the camera to the scene's"},
-        {Action::Quit, {"q", "esc"}, PENUMBRA_KEYS(GLFW_KEY_Q, GLFW_KEY_ESCAPE), "quit"},
-    };
+    static const std::vector<KeyBinding> table = [] {
+        std::vector<KeyBinding> list;
+        for (size_t i = 0; i < optionKeys().size(); ++i) {
+            const OptionKey& key = optionKeys()[i];
+            list.push_back(
+                {*optionKeyAction(i), {std::string_view(&key.key, 1)}, glfwKeysOf(key.key), optionHelp(key)});
+        }
+        std::vector<KeyBinding> others = {
+            {Action::ExposureUp, {"+", "plus"}, PENUMBRA_KEYS(GLFW_KEY_EQUAL, GLFW_KEY_KP_ADD), "exposure +0.5 stop"},
+            {Action::ExposureDown,
+             {"-", "minus"},
+             PENUMBRA_KEYS(GLFW_KEY_MINUS, GLFW_KEY_KP_SUBTRACT),
+             "exposure -0.5 stop"},
+            {Action::CycleLayer,
+             {"a"},
+             PENUMBRA_KEYS(GLFW_KEY_A),
+             "shown layer: rgb -> each of film.aovs -> rgb (scenes with AOVs)"},
+            {Action::Save,
+             {"p"},
+             PENUMBRA_KEYS(GLFW_KEY_P),
+             "save SCENE-preview-N.exr and .png of the current accumulation"},
+            {Action::ResetCamera, {"r"}, PENUMBRA_KEYS(GLFW_KEY_R), "reset the camera to the scene's"},
+            {Action::Quit, {"q", "esc"}, PENUMBRA_KEYS(GLFW_KEY_Q, GLFW_KEY_ESCAPE), "quit"},
+        };
+        list.insert(list.end(), others.begin(), others.end());
+        return list;
+    }();
     return table;
 }
 

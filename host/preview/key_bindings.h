@@ -3,14 +3,26 @@
 // What an action does to the camera, integrator or image is the preview loop's business.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
 
 namespace penumbra::preview {
 
-enum class Action {
-    StrategyLight,
+enum class Action : uint32_t {
+    ExposureUp,    // +0.5 stop
+    ExposureDown,  // -0.5 stop
+    CycleLayer,    // rgb -> each of film.aovs -> rgb (preview/layer_cycle.h)
+    Save,          // EXR + PNG of the current accumulation
+    ResetCamera,
+    Quit,
+    // The integrator option keys: FirstOptionKey + i is optionKeys()[i]
+    // (preview/integrator_controls.h), which the option registry's `preview` keys make. The
+    // names below are today's, in registry order (tests/test_preview.cpp checks them); a new
+    // option's key needs none.
+    FirstOptionKey,
+    StrategyLight = FirstOptionKey,
     StrategyBsdf,
     StrategyMis,
     StrategyMixture,
@@ -20,12 +32,6 @@ enum class Action {
     ToggleQuadSampling,      // quad lights: area <-> solid_angle
     ToggleTriangleSampling,  // mesh-light triangles: area <-> solid_angle
     CycleLightSelection,     // uniform -> power -> bvh -> uniform (a new Renderer: the light tables)
-    ExposureUp,              // +0.5 stop
-    ExposureDown,            // -0.5 stop
-    CycleLayer,              // rgb -> each of film.aovs -> rgb (preview/layer_cycle.h)
-    Save,                    // EXR + PNG of the current accumulation
-    ResetCamera,
-    Quit,
 };
 
 // The action bound to a GLFW key code (GLFW_KEY_*), if any.

@@ -9,42 +9,19 @@
 
 namespace penumbra {
 
-// The scene enums number their values as the shaders' constants do, so an option is passed
-// as its enum value.
-static_assert(uint32_t(AoSampling::Uniform) == gpu::AO_UNIFORM && uint32_t(AoSampling::Cosine) == gpu::AO_COSINE);
-static_assert(uint32_t(Strategy::Light) == gpu::STRATEGY_LIGHT && uint32_t(Strategy::Bsdf) == gpu::STRATEGY_BSDF &&
-              uint32_t(Strategy::Mis) == gpu::STRATEGY_MIS && uint32_t(Strategy::Mixture) == gpu::STRATEGY_MIXTURE &&
-              uint32_t(Strategy::Ris) == gpu::STRATEGY_RIS);
-static_assert(uint32_t(Heuristic::Balance) == gpu::HEURISTIC_BALANCE &&
-              uint32_t(Heuristic::Power) == gpu::HEURISTIC_POWER);
-static_assert(uint32_t(SphereSampling::Area) == gpu::SPHERE_AREA && uint32_t(SphereSampling::Cap) == gpu::SPHERE_CAP &&
-              uint32_t(SphereSampling::SolidAngle) == gpu::SPHERE_SOLID_ANGLE);
-static_assert(uint32_t(QuadSampling::Area) == gpu::QUAD_AREA &&
-              uint32_t(QuadSampling::SolidAngle) == gpu::QUAD_SOLID_ANGLE);
-static_assert(uint32_t(TriangleSampling::Area) == gpu::TRIANGLE_AREA &&
-              uint32_t(TriangleSampling::SolidAngle) == gpu::TRIANGLE_SOLID_ANGLE);
-static_assert(uint32_t(SamplerType::Independent) == gpu::SAMPLER_INDEPENDENT &&
-              uint32_t(SamplerType::Sobol) == gpu::SAMPLER_SOBOL);
-
 std::vector<uint32_t> KernelOptions::specialization() const {
-    // The options of the other integrator type stay at their defaults, so that they do not
-    // split the pipeline cache.
+    // An option not in effect (another integrator type's, ris_candidates under another
+    // strategy) gets its default, so that it does not split the pipeline cache.
     const IntegratorSettings defaults;
     const bool ao = integrator.type == IntegratorType::AmbientOcclusion;
-    const IntegratorSettings& direct = ao ? defaults : integrator;
-    const AoSampling aoSampling = ao ? integrator.aoSampling : defaults.aoSampling;
     std::vector<uint32_t> values(SPEC_COUNT);
+    for (const IntegratorOption& option : integratorOptions())
+        if (option.specId != kNoSpecialization)
+            values[size_t(option.specId)] =
+                kernelValue(option, optionInEffect(option, integrator) ? integrator : defaults);
     values[SPEC_COUNT_RAYS] = countRays;
-    values[SPEC_STRATEGY] = uint32_t(direct.strategy);
-    values[SPEC_HEURISTIC] = uint32_t(direct.heuristic);
-    values[SPEC_LIGHT_SAMPLES] = direct.lightSamples;
-    values[SPEC_BSDF_SAMPLES] = direct.bsdfSamples;
-    values[SPEC_SPHERE_SAMPLING] = uint32_t(direct.sphereSampling);
-    values[SPEC_AO_SAMPLING] = uint32_t(aoSampling);
     values[SPEC_SCENE_FEATURES] = sceneFeatures;
-    values[SPEC_SAMPLER] = uint32_t(sampler);
-    values[SPEC_QUAD_SAMPLING] = uint32_t(direct.quadSampling);
-    values[SPEC_TRIANGLE_SAMPLING] = uint32_t(direct.triangleSampling);
+    values[SPEC_SAMPLER] = kernelConstant(sampler);
     values[SPEC_TEXTURES] = textures;
     values[SPEC_EMITTER_FIRST] = ao ? 0u : emitterFirstLights;
     values[SPEC_INLINE_COUNT] = inlineGeometry.slotCount();
@@ -54,8 +31,6 @@ std::vector<uint32_t> KernelOptions::specialization() const {
     values[SPEC_LOOPS_MAY_BE_CUT] = loopsMayBeCut;
     values[SPEC_AOVS] = aovs;
     values[SPEC_LIGHT_BVH] = ao ? 0u : lightBvh;
-    // Only "ris" reads it: other strategies keep the default, so it does not split their cache.
-    values[SPEC_RIS_CANDIDATES] = direct.strategy == Strategy::Ris ? direct.risCandidates : defaults.risCandidates;
     return values;
 }
 

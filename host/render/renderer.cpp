@@ -18,8 +18,8 @@
 #include "render/pass_bands.h"
 #include "render/tile_queue.h"
 #include "render/traversal_stacks.h"
-#include "scene/enum_names.h"
 #include "scene/integrator_json.h"
+#include "scene/integrator_options.h"
 #include "shared/aov.h"
 
 namespace penumbra {

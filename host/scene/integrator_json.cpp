@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <string>
 
-#include "scene/enum_names.h"
+#include "scene/integrator_options.h"
 
 namespace penumbra {
 namespace {
@@ -23,23 +23,31 @@ nlohmann::json decimal(float value) {
     return shortest;
 }
 
+// An option's value as the scene file writes it: a choice by name, a count as an integer.
+nlohmann::json headerValue(const IntegratorOption& option, const IntegratorSettings& s) {
+    const double value = optionValue(option, s);
+    switch (option.kind) {
+        case OptionKind::Choice: {
+            const OptionValue* entry = valueNumbered(option.values, uint32_t(value));
+            return entry ? entry->name : "?";  // "?" only for a value outside its enum, as toName
+        }
+        case OptionKind::Count: return uint32_t(value);
+        case OptionKind::Distance: return decimal(float(value));
+    }
+    return nullptr;
+}
+
 }  // namespace
 
 nlohmann::json integratorJson(const IntegratorSettings& s) {
-    if (s.type == IntegratorType::AmbientOcclusion)
-        return {
-            {"type", toName(s.type)}, {"sampling", toName(s.aoSampling)}, {"max_distance", decimal(s.aoMaxDistance)}};
-    nlohmann::json j = {{"type", toName(s.type)},
-                        {"strategy", toName(s.strategy)},
-                        {"heuristic", toName(s.heuristic)},
-                        {"light_samples", s.lightSamples},
-                        {"bsdf_samples", s.bsdfSamples},
-                        {"sphere_sampling", toName(s.sphereSampling)},
-                        {"light_selection", toName(s.lightSelection)}};
-    // Only "ris" reads ris_candidates: other strategies' headers stay as they were.
-    if (s.strategy == Strategy::Ris) j["ris_candidates"] = s.risCandidates;
-    if (s.quadSamplingGiven) j["quad_sampling"] = toName(s.quadSampling);
-    if (s.triangleSamplingGiven) j["triangle_sampling"] = toName(s.triangleSampling);
+    nlohmann::json j = nlohmann::json::object();
+    j["type"] = toName(s.type);
+    for (const IntegratorOption& option : integratorOptions()) {
+        // Options not in effect (ris_candidates under another strategy) and options that
+        // list themselves only when given stay out, so those headers stay as they were.
+        if (!optionInEffect(option, s) || (option.given && !(s.*option.given))) continue;
+        j[option.json] = headerValue(option, s);
+    }
     return j;
 }
 

@@ -1,6 +1,6 @@
 // The integrator object of a scene file, rebuilt from IntegratorSettings' typed fields: the
 // value of the EXR header attribute penumbra:integrator, which batch resume compares with
-// the job's. Names come from enum_names.h.
+// the job's. Names come from integrator_options.h.
 #pragma once
 
 #include <nlohmann/json.hpp>

@@ -54,6 +54,10 @@ void JsonReader::failType(const char* expected) const {
 }
 
 void JsonReader::expectKeys(std::initializer_list<const char*> allowed, const std::string& what) const {
+    expectKeys(std::span<const char* const>(allowed.begin(), allowed.size()), what);
+}
+
+void JsonReader::expectKeys(std::span<const char* const> allowed, const std::string& what) const {
     if (!m_value->is_object()) failType("an object");
     for (const auto& item : m_value->items()) {
         const std::string& key = item.key();

@@ -36,6 +36,7 @@ public:
     // Fails unless this is an object whose keys are all in `allowed`; `what` names the
     // object in the message (e.g. "sphere"), which lists the allowed keys.
     void expectKeys(std::initializer_list<const char*> allowed, const std::string& what = "object") const;
+    void expectKeys(std::span<const char* const> allowed, const std::string& what = "object") const;
     bool has(const char* key) const;
     JsonReader at(const char* key) const;                // required member
     std::optional<JsonReader> find(const char* key) const;  // optional member

@@ -10,9 +10,10 @@
 #include "core/errors.h"
 #include "core/input_file.h"
 #include "scene/aov_names.h"
-#include "scene/enum_names.h"
 #include "scene/environment_file.h"
 #include "scene/gltf_import.h"
+#include "scene/integrator_options.h"
+#include "scene/integrator_parse.h"
 #include "scene/json_parse.h"
 #include "scene/json_reader.h"
 #include "scene/limits.h"
@@ -48,7 +49,7 @@ glm::vec3 radiometric(const JsonReader& r, glm::vec3 value, const char* what) {
     return value;
 }
 
-// The value of enum E that `r` names (enum_names.h); the message lists the names.
+// The value of enum E that `r` names (integrator_options.h); the message lists the names.
 template <class E>
 E choiceOf(const JsonReader& r) {
     return *fromName<E>(r.choice(allNames<E>()));
@@ -78,7 +79,7 @@ public:
         root.expectKeys({"camera", "film", "sampler", "integrator", "materials", "shapes", "lights"}, "a scene");
         if (auto film = root.find("film")) readFilm(*film);
         if (auto sampler = root.find("sampler")) readSampler(*sampler);
-        readIntegrator(root.find("integrator"));
+        m_scene.integrator = parseIntegrator(root.find("integrator"));
         readMaterials(root.find("materials"));
         if (auto shapes = root.find("shapes"))
             for (size_t i = 0; i < shapes->size(); ++i) readShape((*shapes)[i]);
@@ -109,52 +110,6 @@ private:
         if (auto seed = r.find("seed")) s.seed = uint32_t(seed->integer(0, INT32_MAX));
         if (auto offset = r.find("sample_offset")) s.sampleOffset = uint32_t(offset->integer(0, INT32_MAX));
         if (auto type = r.find("type")) s.type = choiceOf<SamplerType>(*type);
-    }
-
-    void readIntegrator(const std::optional<JsonReader>& r) {
-        IntegratorSettings& s = m_scene.integrator;
-        IntegratorType type = r && r->has("type") ? choiceOf<IntegratorType>(r->at("type")) : IntegratorType::Direct;
-        if (type == IntegratorType::AmbientOcclusion) {
-            r->expectKeys({"type", "sampling", "max_distance"}, "the ao integrator");
-            s.type = IntegratorType::AmbientOcclusion;
-            if (auto v = r->find("sampling")) s.aoSampling = choiceOf<AoSampling>(*v);
-            if (auto v = r->find("max_distance")) {
-                s.aoMaxDistance = v->number();
-                if (!(s.aoMaxDistance > 0.0f)) v->fail("must be > 0");
-            }
-        } else {
-            if (r)
-                r->expectKeys({"type", "strategy", "heuristic", "light_samples", "bsdf_samples", "sphere_sampling",
-                               "quad_sampling", "triangle_sampling", "light_selection", "ris_candidates"},
-                              "the direct integrator");
-            s.type = IntegratorType::Direct;
-            if (r) readDirect(*r, s);
-        }
-    }
-
-    static void readDirect(const JsonReader& r, IntegratorSettings& s) {
-        if (auto v = r.find("strategy")) s.strategy = choiceOf<Strategy>(*v);
-        if (auto v = r.find("heuristic")) s.heuristic = choiceOf<Heuristic>(*v);
-        if (auto v = r.find("light_samples")) s.lightSamples = uint32_t(v->integer(0, 1 << 16));
-        if (auto v = r.find("bsdf_samples")) s.bsdfSamples = uint32_t(v->integer(0, 1 << 16));
-        if (auto v = r.find("sphere_sampling")) s.sphereSampling = choiceOf<SphereSampling>(*v);
-        if (auto v = r.find("quad_sampling")) {
-            s.quadSampling = choiceOf<QuadSampling>(*v);
-            s.quadSamplingGiven = true;
-        }
-        if (auto v = r.find("triangle_sampling")) {
-            s.triangleSampling = choiceOf<TriangleSampling>(*v);
-            s.triangleSamplingGiven = true;
-        }
-        if (auto v = r.find("light_selection")) s.lightSelection = choiceOf<LightSelection>(*v);
-        if (auto v = r.find("ris_candidates")) s.risCandidates = uint32_t(v->integer(1, 64));
-        // "ris" makes light_samples draws (its BRDF samples are candidates of each draw).
-        if (s.strategy == Strategy::Ris && s.lightSamples == 0)
-            r.fail("strategy ris makes light_samples draws per sample (raise light_samples)");
-        // A strategy with no samples of its own would render only what the camera sees directly.
-        bool lightUsed = s.strategy != Strategy::Bsdf, bsdfUsed = s.strategy != Strategy::Light;
-        uint32_t used = (lightUsed ? s.lightSamples : 0) + (bsdfUsed ? s.bsdfSamples : 0);
-        if (used == 0) r.fail("the strategy takes no samples (raise light_samples or bsdf_samples)");
     }
 
     void readMaterials(const std::optional<JsonReader>& r) {

@@ -11,6 +11,8 @@
 
 #include <glm/glm.hpp>
 
+#include "scene/integrator_options.h"
+
 namespace penumbra {
 
 struct Camera {
@@ -29,47 +31,11 @@ struct Film {
     bool operator==(const Film&) const = default;
 };
 
-// How a pixel's samples are placed (shaders/common/rng.glsl). Sobol' is the default, as
-// low-discrepancy samplers are in pbrt-v4 and Cycles: unbiased like independent samples,
-// with lower error on smooth integrands.
-enum class SamplerType { Independent, Sobol };
-
 struct SamplerSettings {
     uint32_t spp = 16;
     uint32_t seed = 0;
     uint32_t sampleOffset = 0;
     SamplerType type = SamplerType::Sobol;
-};
-
-enum class IntegratorType { AmbientOcclusion, Direct };
-enum class AoSampling { Uniform, Cosine };
-enum class Strategy { Light, Bsdf, Mis, Mixture, Ris };
-enum class Heuristic { Balance, Power };
-enum class SphereSampling { Area, Cap, SolidAngle };
-enum class QuadSampling { Area, SolidAngle };
-enum class TriangleSampling { Area, SolidAngle };
-enum class LightSelection { Uniform, Power, Bvh };
-
-struct IntegratorSettings {
-    IntegratorType type = IntegratorType::Direct;
-    // ao
-    AoSampling aoSampling = AoSampling::Cosine;
-    float aoMaxDistance = 1e30f;
-    // direct
-    Strategy strategy = Strategy::Mis;
-    Heuristic heuristic = Heuristic::Power;
-    uint32_t lightSamples = 1;
-    uint32_t bsdfSamples = 1;
-    // strategy "ris": light candidates per draw (SCENE_FORMAT.md `ris_candidates`, 1..64)
-    uint32_t risCandidates = 8;
-    SphereSampling sphereSampling = SphereSampling::SolidAngle;
-    QuadSampling quadSampling = QuadSampling::SolidAngle;
-    TriangleSampling triangleSampling = TriangleSampling::Area;
-    LightSelection lightSelection = LightSelection::Power;
-    // Whether the scene, --set or the preview set quad_sampling / triangle_sampling: the
-    // header lists them only then (integrator_json.h).
-    bool quadSamplingGiven = false;
-    bool triangleSamplingGiven = false;
 };
 
 enum class MaterialType { Diffuse, Phong, Pbr };

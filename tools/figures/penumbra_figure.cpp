@@ -29,7 +29,7 @@
 #include "image/figure.h"
 #include "image/image.h"
 #include "render/renderer.h"
-#include "scene/enum_names.h"
+#include "scene/integrator_options.h"
 #include "scene/load.h"
 
 using namespace penumbra;
