@@ -282,11 +282,14 @@ TEST(InstancesLoad, EmittersTexturedShapesAndAovScenesAreCopiedTheRestTraced) {
     EXPECT_EQ(scene.instances[0].translation, glm::dvec3(0, 3, 0));
     EXPECT_EQ(scene.instances[0].material, kNoMaterialOverride);
 
+    // Id layers number the copies; other layers are computed from the traced hit too.
     json aovs = doc;
-    aovs["film"] = {{"aovs", {"shape_id"}}};
+    aovs["film"] = {{"aovs", {"albedo", "primitive_id"}}};
     const Scene copied = loadDoc(aovs);
     EXPECT_EQ(copied.shapes.size(), 2u);
     EXPECT_TRUE(copied.instances.empty());
+    aovs["film"] = {{"aovs", {"albedo", "normal", "variance"}}};
+    EXPECT_EQ(loadDoc(aovs).instances.size(), 1u);
 
     const fs::path dir = test::freshTempDir();
     writePng(dir / "t.png", Image{1, 1, {0.5f, 0.5f, 0.5f}, {}});
@@ -318,7 +321,7 @@ TEST(InstancesRender, AnInstancedQuadLightMatchesTheClosedFormUnderEveryStrategy
 }
 
 // The same two lamps and balls as instances and written out: the same image, bit for bit.
-// Emitters are copied (one light per instance), and so is everything in a scene with AOVs:
+// Emitters are copied (one light per instance), and so is everything in a scene with an id AOV:
 // the translations are exact, so the copies are the same floats as the shapes written out.
 TEST(InstancesRender, CopiedInstancesRenderAsTheShapesWrittenOut) {
     const double Le = 5.0;
@@ -328,7 +331,7 @@ TEST(InstancesRender, CopiedInstancesRenderAsTheShapesWrittenOut) {
     for (const char* strategy : {"light", "bsdf", "mis"}) {
         json instanced = test::diffusePlaneScene(16, 3, 0.5, 2.0, kAlbedo);
         instanced["integrator"] = {{"type", "direct"}, {"strategy", strategy}};
-        instanced["film"]["aovs"] = {"albedo"};
+        instanced["film"]["aovs"] = {"shape_id"};
         json written = instanced;
         instanced["shapes"].push_back(group("lamp", {lamp, ball}));
         for (double x : {-1.0, 1.5}) {
@@ -421,12 +424,15 @@ TEST(InstancesRender, ATurnedMeshInstanceIsShadedWithItsMovedNormals) {
 }
 
 // Traced instances render as their copies: a sphere, a quad and a turned mesh placed twice
-// each (traced through their group's tree), against the same scene with an AOV layer (which
-// makes every instance a copy), rendered with another seed. Both are unbiased estimates of
-// the same image, so their difference passes the block t-test of the closed-form tests.
+// each (traced through their group's tree), against the same scene with an id AOV layer
+// (which makes every instance a copy), rendered with another seed. Both are unbiased
+// estimates of the same pixels, each with the variance its `variance` layer estimates, so
+// every pixel's difference is within z sqrt(var_a + var_b), z for a false failure rate of
+// kAlpha over all pixels.
 TEST(InstancesRender, TracedInstancesRenderAsTheirCopies) {
     const double Le = 8.0;
-    json doc = test::diffusePlaneScene(64, 21, 0.0, 2.0, kAlbedo);
+    json doc = test::diffusePlaneScene(256, 21, 0.0, 2.0, kAlbedo);
+    doc["film"]["aovs"] = {"variance"};
     doc["shapes"].push_back({{"type", "quad"},
                              {"origin", {-1, 4, -1}},
                              {"edge_u", {2, 0, 0}},
@@ -448,17 +454,27 @@ TEST(InstancesRender, TracedInstancesRenderAsTheirCopies) {
     const Scene traced = test::sceneFromJson(doc, "traced-things");
     ASSERT_EQ(traced.instances.size(), 2u);
     json copies = doc;
-    copies["film"]["aovs"] = {"albedo"};
+    copies["film"]["aovs"] = {"variance", "shape_id"};
     copies["sampler"]["seed"] = 22;
     const Scene copied = test::sceneFromJson(copies, "copied-things");
     ASSERT_TRUE(copied.instances.empty());
     const Image a = test::renderScene(traced), b = test::renderScene(copied);
-    std::vector<double> expected(size_t(a.width) * a.height);
-    for (size_t p = 0; p < expected.size(); ++p) expected[p] = b.rgb[3 * p];
-    std::string report;
-    EXPECT_EQ(test::blockTTest(a, expected, 8, kAlpha, 1, &report), 0) << report;
+    auto variance = [](const Image& image) -> const std::vector<float>& {
+        for (const AovLayer& layer : image.aovs)
+            if (layer.name == "variance") return layer.floats;
+        throw std::logic_error("no variance layer");
+    };
+    const std::vector<float>&va = variance(a), &vb = variance(b);
+    const size_t pixels = size_t(a.width) * a.height;
+    const double z = test::zScore(kAlpha, int(pixels));
+    int failures = 0;
+    for (size_t p = 0; p < pixels; ++p) {
+        const double d = double(a.rgb[3 * p]) - b.rgb[3 * p], v = double(va[3 * p]) + vb[3 * p];
+        if (std::abs(d) > z * std::sqrt(v)) ++failures;
+    }
+    EXPECT_EQ(failures, 0);
     double sum = 0;
-    for (double v : expected) sum += v;
+    for (float v : b.rgb) sum += v;
     EXPECT_GT(sum, 0.0);
 }
 

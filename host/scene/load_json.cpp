@@ -301,11 +301,13 @@ private:
 
     // Whether an instance copies group shape s into the world (Scene::shapes) rather than
     // tracing it through the group's own tree: emitters (each copy is a light of its own),
-    // and, as that traversal carries no per-primitive texture coordinates, tangents or AOV
-    // ids, shapes whose material (the instance's, if it names one) is textured, and every
-    // shape of a scene with AOV layers (docs/design/contract-decisions.md, "Groups and instances").
+    // and, as that traversal carries no per-primitive texture coordinates, tangents or ids,
+    // shapes whose material (the instance's, if it names one) is textured, and every shape
+    // of a scene with an id AOV layer (shape_id, primitive_id, material_id: they number the
+    // copies; docs/design/contract-decisions.md, "Groups and instances").
     bool copiedByInstances(const Shape& s, std::optional<uint32_t> material) const {
-        if (s.isEmitter() || !m_scene.film.aovs.empty()) return true;
+        const auto isId = [](const std::string& layer) { return layer.ends_with("_id"); };
+        if (s.isEmitter() || std::any_of(m_scene.film.aovs.begin(), m_scene.film.aovs.end(), isId)) return true;
         return !m_scene.materials[material.value_or(s.material)].textures.empty();
     }
 
