@@ -540,8 +540,10 @@ TEST(InstancesMemory, SceneArraysGrowWithInstancesNotTriangles) {
     const size_t triangles = indices.size() / 3;
     json shapes = {
         group("tile", {{{"type", "mesh"}, {"positions", positions}, {"indices", indices}, {"normals", normals}}})};
-    for (int k = 0; k < instances; ++k)
-        shapes.push_back(instance("tile", {{"translate", {(k % 40) * 1.5, 0, (k / 40) * 1.5}}}));
+    for (int k = 0; k < instances; ++k) {
+        const int row = k / 40, column = k % 40;  // a grid of rows of 40
+        shapes.push_back(instance("tile", {{"translate", {column * 1.5, 0, row * 1.5}}}));
+    }
     const Scene scene = loadDoc(withShapes(shapes));
     ASSERT_EQ(scene.instances.size(), size_t(instances));
     const SceneArrays arrays = buildSceneArrays(scene);
