@@ -16,6 +16,8 @@ static_assert(sizeof(Primitive) == 48 && offsetof(Primitive, typeAndNormals) == 
               offsetof(Primitive, p1) == 16 && offsetof(Primitive, material) == 28 && offsetof(Primitive, p2) == 32 &&
               offsetof(Primitive, light) == 44);
 static_assert(sizeof(TriangleNormals) == 48);
+static_assert(sizeof(Instance) == 112 && offsetof(Instance, objectToWorld0) == 48 && offsetof(Instance, root) == 96 &&
+              offsetof(Instance, material) == 100);
 static_assert(sizeof(Material) == 32 && offsetof(Material, type) == 12 && offsetof(Material, ks) == 16 &&
               offsetof(Material, exponent) == 28);
 static_assert(sizeof(Light) == 48 && offsetof(Light, emission) == 16 && offsetof(Light, area) == 28 &&

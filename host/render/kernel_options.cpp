@@ -56,8 +56,9 @@ uint32_t featureBit(uint32_t first, uint32_t count, uint32_t kind) {
 
 uint32_t sceneFeatures(const SceneArrays& arrays) {
     uint32_t bits = 0;
-    for (const gpu::Primitive& p : arrays.bvh.primitives)
-        bits |= featureBit(FEATURE_PRIMITIVE, PRIM_KIND_COUNT, p.typeAndNormals & gpu::PRIM_TYPE_MASK);
+    for (const std::vector<gpu::Primitive>* prims : {&arrays.bvh.primitives, &arrays.instanced.primitives})
+        for (const gpu::Primitive& p : *prims)
+            bits |= featureBit(FEATURE_PRIMITIVE, PRIM_KIND_COUNT, p.typeAndNormals & gpu::PRIM_TYPE_MASK);
     for (const gpu::Light& l : arrays.lights) {
         bits |= featureBit(FEATURE_LIGHT, LIGHT_KIND_COUNT, l.type);
         if (l.type == gpu::LIGHT_ENVIRONMENT && (l.flags & gpu::LIGHT_ENVIRONMENT_MAP))
@@ -87,14 +88,16 @@ KernelOptions makeKernelOptions(const Scene& scene, const SceneArrays& arrays, E
     // The alpha test sits in the BVH traversal's triangle hits (textures/alpha_mask.glsl):
     // scenes with one trace through the BVH, neither inline nor emitter first.
     const bool masked = arrays.textures.alphaMask;
-    const bool inlined = !masked && inlineGeometry == InlineGeometry::Rule && inlineGeometryPays(arrays);
+    // So does a scene with instances (geometry/instances.glsl: render/instance_arrays.h).
+    const bool bvhOnly = masked || !arrays.instanced.instances.empty();
+    const bool inlined = !bvhOnly && inlineGeometry == InlineGeometry::Rule && inlineGeometryPays(arrays);
     if (inlined) o.inlineGeometry = inlineGeometryWords(arrays.bvh);
     // Inline scenes have a rule of their own (emitter_first.h): on Mesa 25, which skips the
     // branches no SIMD lane takes, a BRDF-sampled ray that misses every emitter skips the
     // occlusion test and the emitter's surface point, as through the BVH, but the closest
     // hit it saves is cheap (docs/performance-history/round-09.md and docs/performance-history/round-29.md).
     const uint32_t inlinePrimitives = inlined ? uint32_t(arrays.bvh.primitives.size()) : 0u;
-    const bool on = masked                                ? false
+    const bool on = bvhOnly                               ? false
                     : emitterFirst == EmitterFirst::Exact ? emitterFirstExact(scene.integrator, arrays)
                     : emitterFirst == EmitterFirst::Rule  ? emitterFirstPaysFor(scene, arrays, inlinePrimitives)
                                                           : false;

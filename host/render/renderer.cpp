@@ -93,8 +93,14 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, gpu::KernelC
     const VkBufferUsageFlags address = gpu::deviceAddressUsage(context);
     m_nodes = Buffer::fromVector(context, m_arrays.bvh.wideNodes, "BVH nodes",
                                  texels | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | address);
-    m_primitives =
-        Buffer::fromVector(context, m_arrays.bvh.primitives, "primitives", texels | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    // The groups' primitives follow the scene's (render/instance_arrays.h).
+    if (m_arrays.instanced.primitives.empty())
+        m_primitives = Buffer::fromVector(context, m_arrays.bvh.primitives, "primitives",
+                                          texels | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    else
+        m_primitives = Buffer::fromVector(context, allPrimitives(m_arrays.bvh, m_arrays.instanced), "primitives",
+                                          texels | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    m_instances = Buffer::fromVector(context, m_arrays.instanced.instances, "instances");
     m_normals = Buffer::fromVector(context, m_arrays.normals, "triangle normals");
     m_materials = Buffer::fromVector(context, m_arrays.materials, "materials", texels);
     m_lights = Buffer::fromVector(context, m_arrays.lights, "lights", texels);
@@ -178,6 +184,7 @@ std::unique_ptr<gpu::Kernel> Renderer::createKernel(const KernelOptions& options
     kernel->bind(BINDING_TEXTURE_TEXELS, m_textureTexels);
     kernel->bind(BINDING_UVS, m_uvs);
     kernel->bind(BINDING_TANGENTS, m_tangents);
+    kernel->bind(BINDING_INSTANCES, m_instances);
     kernel->bind(BINDING_ENV_TEXELS, m_environmentTexels);
     kernel->bind(BINDING_ENV_TABLE, m_environmentTable);
     kernel->bind(BINDING_AOV, m_aovSums);
@@ -208,6 +215,7 @@ void Renderer::setInlineGeometry(InlineGeometry mode) {
 KernelOptions Renderer::kernelOptions() const {
     KernelOptions options = makeKernelOptions(m_scene, m_arrays, m_emitterFirst, m_inlineGeometry);
     options.nodeReads = nodeReadsValue(m_nodeReads, m_context.info());
+    if (!m_arrays.instanced.instances.empty()) options.nodeReads = nodeReadsWithInstances(options.nodeReads);
     options.loopsMayBeCut = m_loopChecks.value_or(loopsMayBeCutFor(m_context.info())) ? 1 : 0;
     return options;
 }

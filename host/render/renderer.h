@@ -180,6 +180,7 @@ private:
     gpu::Buffer m_stacks;  // the "_address" kernels' traversal stacks (render/traversal_stacks.h), else empty
     gpu::Buffer m_materialTextures, m_textureTexels, m_uvs;  // textured scenes (render/texture_arrays.h)
     gpu::Buffer m_tangents;                                  // scenes with normal maps
+    gpu::Buffer m_instances;                                 // scenes with instances (two-level BVH)
     gpu::Buffer m_environmentTexels, m_environmentTable;     // environment map (render/environment_map.h)
     gpu::Buffer m_lightBvh;                                  // light selection "bvh" (render/light_bvh_arrays.h)
     gpu::Buffer m_aovSums;  // film.aovs' sums (render/aov_layers.h), else a placeholder

@@ -30,7 +30,7 @@ struct ShapePrimitives {
     std::vector<MeshLightTriangles> meshLights;
 };
 
-ShapePrimitives flattenShapes(const Scene& scene, SceneArrays& out);
+ShapePrimitives flattenShapes(const std::vector<Shape>& shapeList, SceneArrays& out);
 void buildBvhAndMeshTables(ShapePrimitives shapes, const BvhOptions& bvhOptions, SceneArrays& out);
 void setBounds(SceneArrays& out);
 
@@ -45,8 +45,16 @@ SceneArrays buildSceneArrays(const Scene& scene, const BvhOptions& bvhOptions, E
     // their primitive's *input* index for now; it becomes the BVH leaf-order index below.
     appendLightsWithoutGeometry(scene.lights, out, environmentTexels);
 
-    ShapePrimitives shapes = flattenShapes(scene, out);
+    ShapePrimitives shapes = flattenShapes(scene.shapes, out);
+    // Instanced groups: a tree each, and one primitive per instance in the scene's tree
+    // (render/instance_arrays.h); none emits, so they add no lights.
+    std::vector<std::vector<gpu::Primitive>> groupPrimitives;
+    for (const InstancedGroup& group : scene.instancedGroups)
+        groupPrimitives.push_back(flattenShapes(group.shapes, out).prims);
+    std::vector<Bvh> groupTrees = buildGroupTrees(std::move(groupPrimitives), bvhOptions);
+    appendInstancePrimitives(scene, groupTrees, shapes.prims);
     buildBvhAndMeshTables(std::move(shapes), bvhOptions, out);
+    placeGroupTrees(scene, std::move(groupTrees), out.bvh, out.instanced);
     out.textures = buildTextureArrays(scene, out.bvh);
     setBounds(out);
 
@@ -95,11 +103,11 @@ namespace {
 
 // Shapes -> primitives, triangle normals (out.normals) and one light per emitting shape
 // (appended to out.lights). Area lights record their primitive's *input* index for now.
-ShapePrimitives flattenShapes(const Scene& scene, SceneArrays& out) {
+ShapePrimitives flattenShapes(const std::vector<Shape>& shapeList, SceneArrays& out) {
     ShapePrimitives shapes;
     std::vector<gpu::Primitive>& prims = shapes.prims;
     std::vector<MeshLightTriangles>& meshLights = shapes.meshLights;
-    for (const Shape& shape : scene.shapes) {
+    for (const Shape& shape : shapeList) {
         uint32_t lightIndex = shape.isEmitter() ? uint32_t(out.lights.size()) : gpu::NO_LIGHT;
         switch (shape.type) {
             case ShapeType::Sphere: {
@@ -157,7 +165,7 @@ void buildBvhAndMeshTables(ShapePrimitives shapes, const BvhOptions& bvhOptions,
 }
 
 // Bounding sphere of the geometry (for the power of lights at infinity): the tree's and what
-// is beside it.
+// is beside it (instances by their boxes).
 void setBounds(SceneArrays& out) {
     if (out.bvh.primitives.empty()) {
         out.boundsCenter = glm::vec3(0.0f);
@@ -170,5 +178,12 @@ void setBounds(SceneArrays& out) {
 }
 
 }  // namespace
+
+size_t geometryBytes(const SceneArrays& arrays) {
+    return arrays.bvh.wideNodes.size() * sizeof(gpu::WideNode) +
+           (arrays.bvh.primitives.size() + arrays.instanced.primitives.size()) * sizeof(gpu::Primitive) +
+           arrays.normals.size() * sizeof(gpu::TriangleNormals) +
+           arrays.instanced.instances.size() * sizeof(gpu::Instance);
+}
 
 }  // namespace penumbra

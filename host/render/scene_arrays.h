@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "bvh/bvh.h"
+#include "render/instance_arrays.h"
 #include "render/light_bvh_arrays.h"
 #include "render/texture_arrays.h"
 #include "scene/scene.h"
@@ -14,7 +15,8 @@
 namespace penumbra {
 
 struct SceneArrays {
-    Bvh bvh;                                    // nodes + primitives (leaf order)
+    Bvh bvh;                   // nodes + primitives (leaf order); the groups' nodes follow
+    InstanceArrays instanced;  // instances and their groups' primitives (two-level BVH)
     std::vector<gpu::TriangleNormals> normals;
     std::vector<gpu::Material> materials;
     std::vector<gpu::Light> lights;
@@ -42,6 +44,10 @@ enum class EnvironmentTexels { InArrays, LeftOut };
 
 SceneArrays buildSceneArrays(const Scene& scene, const BvhOptions& bvhOptions = {},
                              EnvironmentTexels environmentTexels = EnvironmentTexels::InArrays);
+
+// Bytes of the geometry on the GPU: wide nodes, primitives (the groups' too), triangle
+// normals and instances.
+size_t geometryBytes(const SceneArrays& arrays);
 
 // The RenderParams for a scene (camera basis, film, sampler, light tables); integrator
 // options that select code are specialization constants (render/kernel_options.h).

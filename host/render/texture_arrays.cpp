@@ -36,6 +36,7 @@ static std::vector<T> leafOrder(const Scene& scene, const Bvh& bvh, PerTriangle 
         }
         for (size_t t = 0; t + 2 < shape.indices.size(); t += 3) input.push_back(triangle(shape, t));
     }
+    input.resize(bvh.originalIndex.size());  // instances (PRIM_INSTANCE, after the shapes' primitives): T{}
     std::vector<T> out(bvh.originalIndex.size());
     for (size_t i = 0; i < out.size(); ++i) out[i] = input.at(bvh.originalIndex[i]);
     return out;

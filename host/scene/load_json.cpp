@@ -23,6 +23,7 @@
 #include "scene/mesh_file.h"
 #include "scene/model_lighting.h"
 #include "scene/scene_input_file.h"
+#include "scene/shape_groups.h"
 #include "scene/transform.h"
 
 namespace penumbra {
@@ -81,8 +82,17 @@ public:
         if (auto sampler = root.find("sampler")) readSampler(*sampler);
         m_scene.integrator = parseIntegrator(root.find("integrator"));
         readMaterials(root.find("materials"));
-        if (auto shapes = root.find("shapes"))
+        if (auto shapes = root.find("shapes")) {
+            // Groups first, so that an instance may come before the group it places.
+            for (size_t i = 0; i < shapes->size(); ++i)
+                if (isShapeOfType((*shapes)[i], "group")) readGroup((*shapes)[i]);
+            checkInstancedPrimitives(*shapes, m_groups, [&](const Shape& s, const JsonReader& instance) {
+                return copiedByInstances(s,
+                                         instance.has("material") ? std::optional(materialOf(instance)) : std::nullopt);
+            });
             for (size_t i = 0; i < shapes->size(); ++i) readShape((*shapes)[i]);
+            noteUnusedGroups(m_groups, m_label, m_scene.notes);
+        }
         if (auto lights = root.find("lights"))
             for (size_t i = 0; i < lights->size(); ++i) readLight((*lights)[i]);
         readCamera(root.find("camera"));
@@ -132,8 +142,14 @@ private:
         return it->second;
     }
 
-    void readShape(const JsonReader& r) {
-        std::string type = r.at("type").choice({"sphere", "quad", "mesh", "gltf"});
+    // `inGroup`: r is a shape of a group, which may not be a group or an instance itself.
+    void readShape(const JsonReader& r, bool inGroup = false) {
+        std::string type = r.at("type").choice({"sphere", "quad", "mesh", "gltf", "group", "instance"});
+        if (inGroup && (type == "group" || type == "instance"))
+            r.at("type").fail("a group holds spheres, quads, meshes and gltf shapes, not " + type +
+                              "s (one level of instancing)");
+        if (type == "group") return;  // read before the other shapes (build)
+        if (type == "instance") return readInstance(r);
         if (type == "sphere")
             r.expectKeys({"type", "center", "radius", "material", "emission", "power", "to_world"}, "a sphere");
         if (type == "quad")
@@ -177,7 +193,106 @@ private:
                                                        : 0.0f;
         s.emission = s.type == ShapeType::Sphere ? emissionOf(r, 4.0f * kPi * kPi * s.radius * s.radius)
                                                  : emissionOf(r, (s.twoSided ? 2.0f : 1.0f) * kPi * area);
-        m_scene.shapes.push_back(std::move(s));
+        m_shapesOut->push_back(std::move(s));
+    }
+
+    // SCENE_FORMAT.md "groups and instances": a group's shapes, read once, into the group's
+    // own frame (their own to_world applied); docs/design/contract-decisions.md, "Groups and
+    // instances", says what is refused.
+    void readGroup(const JsonReader& r) {
+        r.expectKeys({"type", "name", "shapes"}, "a group");
+        JsonReader nameField = r.at("name");
+        std::string name = nameField.string();
+        if (name.empty()) nameField.fail("a group's name must not be empty");
+        if (m_groups.count(name)) nameField.fail("a second group named \"" + name + "\" (group names are unique)");
+        JsonReader members = r.at("shapes");
+        if (members.size() == 0) members.fail("a group needs at least one shape");
+        ShapeGroup& group = m_groups[name];
+        group.path = r.path();
+        std::vector<Shape>* shapesOut = m_shapesOut;
+        std::vector<Light>* lightsOut = m_lightsOut;
+        m_shapesOut = &group.shapes;
+        m_lightsOut = &group.lights;
+        for (size_t i = 0; i < members.size(); ++i) readShape(members[i], true);
+        m_shapesOut = shapesOut;
+        m_lightsOut = lightsOut;
+    }
+
+    // An instance (SCENE_FORMAT.md "instance"): the group's shapes and lights moved by its
+    // to_world after their own (instance o shape), with the instance's material in place of
+    // theirs if it names one. Shapes that copiedByInstances says are copied join the scene's
+    // shapes, moved; the others stay in the group's frame, traced through the group's own
+    // tree (Scene::instances; render/instance_arrays.h), checked as their copies would be.
+    // Emission stays the group's radiance (a scaled copy emits more power).
+    void readInstance(const JsonReader& r) {
+        r.expectKeys({"type", "of", "to_world", "material"}, "an instance");
+        ShapeGroup& group = groupNamed(r.at("of"), m_groups);
+        group.used = true;
+        std::optional<uint32_t> material;
+        if (r.has("material")) material = materialOf(r);
+        auto field = r.find("to_world");
+        const Affine m = field ? readToWorld(*field) : Affine{};
+        bool traced = false;
+        for (const Shape& member : group.shapes) {
+            Shape s = member;
+            if (material) s.material = *material;
+            if (!copiedByInstances(member, material)) {
+                if (field) checkMovedShape(*field, m, s);
+                traced = true;
+                continue;
+            }
+            if (field) moveShape(*field, m, s);
+            m_shapesOut->push_back(std::move(s));
+        }
+        if (traced)
+            m_scene.instances.push_back(
+                {instancedGroupOf(group, material), m.linear, m.translation, material.value_or(kNoMaterialOverride)});
+        for (Light light : group.lights) {
+            if (field) {
+                transformLight(m, light);
+                if (!coordinateInRange(light.position))
+                    field->fail("moves a light of the group outside [-1e8, 1e8] (README: ranges)");
+            }
+            m_lightsOut->push_back(light);
+        }
+    }
+
+    // Whether an instance copies group shape s into the world (Scene::shapes) rather than
+    // tracing it through the group's own tree: emitters (each copy is a light of its own),
+    // and, as that traversal carries no per-primitive texture coordinates, tangents or ids,
+    // shapes whose material (the instance's, if it names one) is textured, and every shape
+    // of a scene with an id AOV layer (shape_id, primitive_id, material_id: they number the
+    // copies; docs/design/contract-decisions.md, "Groups and instances").
+    bool copiedByInstances(const Shape& s, std::optional<uint32_t> material) const {
+        const auto isId = [](const std::string& layer) { return layer.ends_with("_id"); };
+        if (s.isEmitter() || std::any_of(m_scene.film.aovs.begin(), m_scene.film.aovs.end(), isId)) return true;
+        return !m_scene.materials[material.value_or(s.material)].textures.empty();
+    }
+
+    // The checks moveShape makes, for a shape that is traced, not copied: a sphere or quad
+    // moved as a throwaway copy; a mesh's vertices moved one by one, into the range.
+    void checkMovedShape(const JsonReader& field, const Affine& m, const Shape& s) const {
+        if (s.type != ShapeType::Mesh) {
+            Shape copy = s;
+            return moveShape(field, m, copy);
+        }
+        for (glm::vec3 p : s.positions)
+            if (!coordinateInRange(transformPoint(m, p)))
+                field.fail("moves the mesh outside [-1e8, 1e8] (README: ranges)");
+    }
+
+    // The Scene::instancedGroups entry of `group`'s traced shapes: those without an
+    // instance material, or those with one (an untextured one: all its non-emitters).
+    uint32_t instancedGroupOf(ShapeGroup& group, std::optional<uint32_t> material) {
+        int32_t& index = material ? group.tracedWithMaterial : group.tracedOwn;
+        if (index < 0) {
+            InstancedGroup traced;
+            for (const Shape& s : group.shapes)
+                if (!copiedByInstances(s, material)) traced.shapes.push_back(s);
+            index = int32_t(m_scene.instancedGroups.size());
+            m_scene.instancedGroups.push_back(std::move(traced));
+        }
+        return uint32_t(index);
     }
 
     // A shape's radiance: its `emission`, or its `power` over `powerPerRadiance`. Uniform
@@ -198,15 +313,18 @@ private:
     // renderer never sees a transform), then checked again as the moved shape: ranges,
     // areas, and a sphere's only allowed map, a uniform scale with rotation and translation.
     void applyToWorld(const JsonReader& r, Shape& s) const {
-        auto field = r.find("to_world");
-        if (!field) return;
-        const Affine m = readToWorld(*field);
-        auto fail = [&](const std::string& why) { field->fail(why); };
+        if (auto field = r.find("to_world")) moveShape(*field, readToWorld(*field), s);
+    }
+
+    // Shape s moved by m, the transform read from `field` (a shape's or an instance's
+    // to_world), where the messages point.
+    void moveShape(const JsonReader& field, const Affine& m, Shape& s) const {
+        auto fail = [&](const std::string& why) { field.fail(why); };
         if (s.type == ShapeType::Sphere) {
             auto scale = uniformScaleOf(m);
             if (!scale) {
-                const bool parts = field->json().is_object() && field->has("scale");
-                (parts ? field->at("scale") : *field)
+                const bool parts = field.json().is_object() && field.has("scale");
+                (parts ? field.at("scale") : field)
                     .fail("a sphere takes only a uniform scale (besides rotation and translation)");
             }
             // A sphere has no orientation: the GPU maps its texture coordinates from world
@@ -227,7 +345,7 @@ private:
             if (!(area > 0.0f) || !std::isfinite(area)) fail("leaves the quad with zero or non-finite area");
         } else {
             transformMesh(m, s);
-            checkMovedMesh(*field, s);
+            checkMovedMesh(field, s);
         }
     }
 
@@ -307,7 +425,7 @@ private:
             s.material = !part.material.empty() && named != m_materialIndex.end() ? named->second : settings.material;
             s.emission = emission;
             s.twoSided = settings.twoSided;
-            m_scene.shapes.push_back(std::move(s));
+            m_shapesOut->push_back(std::move(s));
         }
     }
 
@@ -367,9 +485,9 @@ private:
             s.material = ownMaterial ? settings.material : fileMaterial < 0 ? 0 : firstMaterial + uint32_t(fileMaterial);
             if (r.has("emission") || r.has("power")) s.emission = emission;
             if (r.has("two_sided")) s.twoSided = settings.twoSided;
-            m_scene.shapes.push_back(std::move(s));
+            m_shapesOut->push_back(std::move(s));
         }
-        m_scene.lights.insert(m_scene.lights.end(), model.lights.begin(), model.lights.end());
+        m_lightsOut->insert(m_lightsOut->end(), model.lights.begin(), model.lights.end());
         m_scene.notes.insert(m_scene.notes.end(), model.notes.begin(), model.notes.end());
         if (!m_modelCamera) m_modelCamera = model.camera;
     }
@@ -536,6 +654,10 @@ private:
     std::map<std::string, uint32_t> m_materialIndex;
     std::optional<Camera> m_modelCamera;
     MaterialTextureReader m_textures;  // after m_baseDir, which it is built from
+    // Where readShape puts what it reads: the scene's shapes and lights, or a group's.
+    std::vector<Shape>* m_shapesOut = &m_scene.shapes;
+    std::vector<Light>* m_lightsOut = &m_scene.lights;
+    std::map<std::string, ShapeGroup> m_groups;  // by name
 };
 
 }  // namespace

@@ -138,6 +138,30 @@ struct Shape {
     bool operator==(const Shape&) const = default;
 };
 
+// Groups and instances traced as instances (SCENE_FORMAT.md "instance"; a two-level BVH,
+// render/instance_arrays.h): a group's shapes that no instance copies, in the group's own
+// frame, built once into a BVH of their own. None of them emits (emitting shapes of a group
+// are copied into Scene::shapes, one light per instance) and none is textured (those are
+// copied too: docs/design/contract-decisions.md, "Groups and instances").
+struct InstancedGroup {
+    std::vector<Shape> shapes;
+
+    bool operator==(const InstancedGroup&) const = default;
+};
+
+inline constexpr uint32_t kNoMaterialOverride = 0xffffffffu;
+
+// One placement of an InstancedGroup: its to_world, x' = linear x + translation (already
+// checked: invertible, a sphere's uniform, the moved bounds in range).
+struct Instance {
+    uint32_t group = 0;  // index into Scene::instancedGroups
+    glm::dmat3 linear{1.0};
+    glm::dvec3 translation{0.0};
+    uint32_t material = kNoMaterialOverride;  // the instance's `material`, else each shape's own
+
+    bool operator==(const Instance&) const = default;
+};
+
 enum class LightType { Point, Directional, Environment, Spot };
 
 // An equirectangular environment map (SCENE_FORMAT.md `environment` with `file`) as loaded:
@@ -187,6 +211,8 @@ struct Scene {
     IntegratorSettings integrator;
     std::vector<Material> materials;  // index 0 is always the default diffuse 0.8
     std::vector<Shape> shapes;
+    std::vector<InstancedGroup> instancedGroups;  // groups placed by instances, not copied
+    std::vector<Instance> instances;
     std::vector<Light> lights;
     std::vector<Texture> textures;  // every distinct (file, decoding) the materials use
     // One-line notes for the user (stderr unless --quiet), e.g. that an unlit glTF model
@@ -203,8 +229,9 @@ inline bool sharesUpload(const Scene& uploaded, const Scene& next) {
     return uploaded.film.width == next.film.width && uploaded.film.height == next.film.height &&
            uploaded.film.aovs == next.film.aovs &&
            uploaded.integrator.lightSelection == next.integrator.lightSelection &&
-           uploaded.materials == next.materials && uploaded.shapes == next.shapes && uploaded.lights == next.lights &&
-           uploaded.textures == next.textures;
+           uploaded.materials == next.materials && uploaded.shapes == next.shapes &&
+           uploaded.instancedGroups == next.instancedGroups && uploaded.instances == next.instances &&
+           uploaded.lights == next.lights && uploaded.textures == next.textures;
 }
 
 }  // namespace penumbra

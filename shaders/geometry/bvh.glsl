@@ -92,6 +92,7 @@ struct Hit {
     float t;           // ray parameter of the hit, in (0, tMax)
     uint primitive;    // index into primitives[], NO_HIT when nothing was hit
     vec2 uv;           // triangle: barycentrics of p1, p2; quad: (s, t); sphere: unused
+    uint instance;     // the instance whose group's primitive it is (geometry/instances.glsl), else NO_HIT
 };
 
 // Only the kernels built with PENUMBRA_INLINE_GEOMETRY carry the inline tests: the
@@ -198,12 +199,20 @@ uint nearestChild(uint hits, vec4 tEntry) {
     return nearest;
 }
 
+#ifndef PENUMBRA_NODE_ADDRESS
+#include "geometry/instances.glsl"
+#endif
+
 // Primitive i tested against the ray up to hit.t; where it is hit, `hit` becomes that hit
-// and the result is true.
+// and the result is true. An instance (PRIM_INSTANCE) is its group's tree, in its frame.
 bool testPrimitive(uint i, vec3 origin, vec3 dir, inout Hit hit) {
     float t;
     vec2 uv;
     Primitive p = loadPrimitive(i);
+#ifdef PENUMBRA_INSTANCES_GLSL
+    if (hasPrimitive(PRIM_INSTANCE) && (p.typeAndNormals & PRIM_TYPE_MASK) == PRIM_INSTANCE)
+        return testInstance(p.typeAndNormals >> 2, origin, dir, hit);
+#endif
     bool found = intersectPrimitive(p, origin, dir, hit.t, t, uv);
 #ifdef PENUMBRA_ALPHA_MASK_GLSL
     if (found && alphaCutOut(i, p, uv)) found = false;  // glTF MASK (textures/alpha_mask.glsl)
@@ -212,6 +221,7 @@ bool testPrimitive(uint i, vec3 origin, vec3 dir, inout Hit hit) {
         hit.t = t;
         hit.primitive = i;
         hit.uv = uv;
+        hit.instance = NO_HIT;
     }
     return found;
 }
@@ -326,6 +336,7 @@ bool traverse(vec3 origin, vec3 dir, float tMax, bool anyHit, uvec2 ignore, out 
     hit.t = tMax;
     hit.primitive = NO_HIT;
     hit.uv = vec2(0.0);
+    hit.instance = NO_HIT;
     // A NaN or infinite ray misses. It must not enter the loop: NaN can make the slab test
     // pass for every box (min/max may drop NaN operands).
     if (!isFiniteVec(origin) || !isFiniteVec(dir)) return false;
@@ -459,6 +470,7 @@ bool startSecondSlot(AnyHitRay r, uvec2 beside, out Hit hit, out bool live, out 
     hit.t = r.tMax;
     hit.primitive = NO_HIT;
     hit.uv = vec2(0.0);
+    hit.instance = NO_HIT;
     live = r.traced && isFiniteVec(r.origin) && isFiniteVec(r.dir);
     bool blocked = live && testBeside(beside, r.origin, r.dir, true, r.ignore, hit);
     live = live && !blocked;
@@ -486,6 +498,7 @@ bool tracePair(vec3 originA, vec3 dirA, float tMaxA, bool tracedA, uvec2 ignoreA
     hitA.t = tMaxA;
     hitA.primitive = NO_HIT;
     hitA.uv = vec2(0.0);
+    hitA.instance = NO_HIT;
     if (tracedA) countRay();
     if (b.traced) countRay();
     if (c.traced) countRay();

@@ -41,11 +41,13 @@ struct SurfacePoint {
 const float SURFACE_INV_TWO_PI = 0.15915494309189535;
 const float SURFACE_INV_PI = 0.3183098861837907;
 
-// The surface point of `hit` (which must be a hit: hit.primitive != NO_HIT) for the ray
-// origin + t dir that found it. Positions come from the primitive's own parameters
-// (barycentrics, (s, t), or the sphere's centre and radius), which is more accurate than
-// origin + t dir, so that offsetRayOrigin starts from a point on the surface.
-SurfacePoint surfaceAt(Hit hit, vec3 origin, vec3 dir) {
+// The surface point of primitive hit.primitive (hit.instance aside) for the ray origin + t
+// dir that found it, in the primitive's own frame. Positions come from the primitive's own
+// parameters (barycentrics, (s, t), or the sphere's centre and radius), which is more
+// accurate than origin + t dir, so that offsetRayOrigin starts from a point on the surface.
+// `perPrimitive`: read the leaf-order uvs and tangents (not for a group's primitives, which
+// are untextured and have none: render/instance_arrays.h).
+SurfacePoint primitiveSurfaceAt(Hit hit, vec3 origin, vec3 dir, bool perPrimitive) {
     Primitive primitive = loadPrimitive(hit.primitive);  // texel fetch: no per-lane load loop
     SurfacePoint sp;
     sp.material = primitive.material;
@@ -82,16 +84,47 @@ SurfacePoint surfaceAt(Hit hit, vec3 origin, vec3 dir) {
             float len2 = dot(n, n);
             if (len2 > 0.0) sp.shadingNormal = n * inversesqrt(len2);  // degenerate: keep geometric
         }
-        if (hasTextures()) {
+        if (hasTextures() && perPrimitive) {
             TriangleUvs t = uvs[hit.primitive];
             sp.uv = b.x * t.uv01.xy + b.y * t.uv01.zw + b.z * t.uv2.xy;
         }
-        if (hasNormalMaps()) {
+        if (hasNormalMaps() && perPrimitive) {
             TriangleTangents tt = tangents[hit.primitive];
             sp.tangent = b.x * tt.t0 + b.y * tt.t1 + b.z * tt.t2;
         }
     }
     return sp;
+}
+
+#ifdef PENUMBRA_INSTANCES_GLSL
+// A hit in instance hit.instance's group: the surface point in the group's frame, moved into
+// the world by the instance's to_world, normals by the inverse transpose of its linear part
+// (= worldToObject's linear part, transposed; a mirroring map keeps the front the image of
+// the front, as the loader keeps it for copies), with the instance's material if it has one.
+SurfacePoint instanceSurfaceAt(Hit hit, vec3 origin, vec3 dir) {
+    Instance instance = instances[hit.instance];
+    vec3 o, d;
+    rayToObject(instance, origin, dir, o, d);
+    SurfacePoint sp = primitiveSurfaceAt(hit, o, d, false);
+    vec4 p = vec4(sp.position, 1.0);
+    sp.position = vec3(dot(instance.objectToWorld0, p), dot(instance.objectToWorld1, p), dot(instance.objectToWorld2, p));
+    // mat3(a, b, c) takes a, b, c as its columns: with W's rows as columns it is W^T.
+    mat3 normalMap = mat3(instance.worldToObject0.xyz, instance.worldToObject1.xyz, instance.worldToObject2.xyz);
+    sp.geometricNormal = normalize(normalMap * sp.geometricNormal);
+    sp.shadingNormal = normalize(normalMap * sp.shadingNormal);
+    if (instance.material != NO_MATERIAL_OVERRIDE) sp.material = instance.material;
+    return sp;
+}
+#endif
+
+// The surface point of `hit` (which must be a hit: hit.primitive != NO_HIT) for the ray
+// origin + t dir that found it, in the world (primitiveSurfaceAt, or instanceSurfaceAt for
+// a hit in an instance).
+SurfacePoint surfaceAt(Hit hit, vec3 origin, vec3 dir) {
+#ifdef PENUMBRA_INSTANCES_GLSL
+    if (hasPrimitive(PRIM_INSTANCE) && hit.instance != NO_HIT) return instanceSurfaceAt(hit, origin, dir);
+#endif
+    return primitiveSurfaceAt(hit, origin, dir, true);
 }
 
 // Wächter & Binder 2019, "A Fast and Robust Method for Avoiding Self-Intersection", Ray

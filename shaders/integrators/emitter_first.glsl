@@ -27,6 +27,7 @@ bool nearestEmitter(vec3 origin, vec3 dir, out Hit hit) {
     hit.t = FLOAT_MAX;
     hit.primitive = NO_HIT;
     hit.uv = vec2(0.0);
+    hit.instance = NO_HIT;  // emitters are never instanced (they are copied)
     // As in traverse(): a NaN or infinite ray hits nothing.
     if (!isFiniteVec(origin) || !isFiniteVec(dir)) return false;
     for (uint i = 0u; i < kEmitterFirstLights; ++i) {

@@ -43,8 +43,9 @@ using uint = std::uint32_t;
 // Texel buffer, when SPEC_LIGHT_BVH != 0: the light BVH's nodes, items and per-primitive
 // trails (shared/light_bvh.h; RenderParams says where each part starts)
 #define BINDING_LIGHT_BVH 19
-#define BINDING_TANGENTS 20  // TriangleTangents[] per primitive in leaf order (scenes with normal maps)
-#define BINDING_COUNT 21
+#define BINDING_TANGENTS 20   // TriangleTangents[] per primitive in leaf order (scenes with normal maps)
+#define BINDING_INSTANCES 21  // Instance[] (below), scenes with instances (two-level BVH)
+#define BINDING_COUNT 22
 
 // ---- BVH ------------------------------------------------------------------------------
 // Flattened depth-first: an interior node's left child is the next node, `offset` is the
@@ -130,8 +131,12 @@ PENUMBRA_CONST uint NO_HIT = 0xffffffffu;
 PENUMBRA_CONST uint PRIM_TRIANGLE = 0u;  // p0, p1, p2 = vertices, counter-clockwise = front
 PENUMBRA_CONST uint PRIM_SPHERE = 1u;    // p0 = centre, p1.x = radius
 PENUMBRA_CONST uint PRIM_QUAD = 2u;      // p0 = origin, p1 = edge_u, p2 = edge_v
+// An instance of a group in the top-level tree (two-level BVH, geometry/instances.glsl):
+// p0, p1 = its world box's corners (p2 = p1, so that a triangle's bounds are that box);
+// typeAndNormals >> 2 = its index in instances[].
+PENUMBRA_CONST uint PRIM_INSTANCE = 3u;
 PENUMBRA_CONST uint PRIM_TYPE_MASK = 3u;
-#define PRIM_KIND_COUNT 3u  // one more than the last PRIM_*: scene feature bits (below)
+#define PRIM_KIND_COUNT 4u  // one more than the last PRIM_*: scene feature bits (below)
 PENUMBRA_CONST uint NO_LIGHT = 0xffffffffu;
 
 // typeAndNormals: bits 0-1 the PRIM_* type; bits 2-31 hold (index into normals[] + 1),
@@ -144,6 +149,19 @@ struct Primitive {
     vec3 p2;
     uint light;     // index into lights[] when the primitive emits, else NO_LIGHT
 };
+
+// A placement of a group (BINDING_INSTANCES; host/render/instance_arrays.h): the rows of
+// its 3x4 map from the world into the group's frame and of the inverse, the instance's
+// to_world; the root of the group's own tree among the wide nodes (its nodes and
+// primitives follow the scene's own); the instance's material or NO_MATERIAL_OVERRIDE.
+struct Instance {
+    vec4 worldToObject0, worldToObject1, worldToObject2;
+    vec4 objectToWorld0, objectToWorld1, objectToWorld2;
+    uint root;
+    uint material;
+    uint pad0, pad1;
+};
+PENUMBRA_CONST uint NO_MATERIAL_OVERRIDE = 0xffffffffu;
 
 struct TriangleNormals {
     vec4 n0, n1, n2;  // per-vertex shading normals (xyz), interpolated barycentrically
@@ -439,7 +457,7 @@ PENUMBRA_CONST uint SAMPLER_SOBOL = 1u;        // padded Owen-scrambled Sobol' (
 PENUMBRA_CONST uint FEATURES_ALL = 0xffffffffu;
 #ifdef __cplusplus
 static_assert(PRIM_TRIANGLE < PRIM_KIND_COUNT && PRIM_SPHERE < PRIM_KIND_COUNT && PRIM_QUAD < PRIM_KIND_COUNT &&
-              PRIM_KIND_COUNT <= PRIM_TYPE_MASK + 1u);
+              PRIM_INSTANCE < PRIM_KIND_COUNT && PRIM_KIND_COUNT <= PRIM_TYPE_MASK + 1u);
 static_assert(LIGHT_POINT < LIGHT_KIND_COUNT && LIGHT_DIRECTIONAL < LIGHT_KIND_COUNT &&
               LIGHT_ENVIRONMENT < LIGHT_KIND_COUNT && LIGHT_SPHERE < LIGHT_KIND_COUNT &&
               LIGHT_QUAD < LIGHT_KIND_COUNT && LIGHT_MESH < LIGHT_KIND_COUNT && LIGHT_SPOT < LIGHT_KIND_COUNT);

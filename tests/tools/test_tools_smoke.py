@@ -19,9 +19,9 @@ TOOLS = SOURCE_DIR / "tools"
 # needs Mitsuba (the translation test covers it); make_models.py, make_scenes.py and
 # make_sky.py are run for real below.
 HELP_TOOLS = ["bench/bench-ab", "bench/bench-instructions", "bench/bench-many-lights", "bench/bench-python-orbit",
-              "bench/kernel-profile", "scenes/make_bench_scenes.py", "scenes/make_many_lights.py",
-              "scenes/make_sky.py", "mesa/mesa-compare", "mesa/mesa-sid", "mitsuba/mitsuba_compare.py",
-              "penumbra_tools/startup_bench.py", "figures/many_lights_figure.py"]
+              "bench/kernel-profile", "scenes/make_bench_scenes.py", "scenes/make_instances_scene.py",
+              "scenes/make_many_lights.py", "scenes/make_sky.py", "mesa/mesa-compare", "mesa/mesa-sid",
+              "mitsuba/mitsuba_compare.py", "penumbra_tools/startup_bench.py", "figures/many_lights_figure.py"]
 
 
 def shell_tools():

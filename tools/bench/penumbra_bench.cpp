@@ -176,15 +176,15 @@ double raysPerSample(Renderer& renderer, const Scene& scene) {
     return double(renderer.countRays(passes)) / (pixels * passes);
 }
 
-// Bytes of geometry uploaded for the traversal and shading: nodes, primitives, normals.
-size_t geometryBytes(const SceneArrays& arrays) {
-    return arrays.bvh.wideNodes.size() * sizeof(gpu::WideNode) + arrays.bvh.primitives.size() * sizeof(gpu::Primitive) +
-           arrays.normals.size() * sizeof(gpu::TriangleNormals);
-}
-
+// The primitives in the world: the scene's own and every instance's (render/instance_arrays.h).
 size_t triangleCount(const Scene& scene) {
-    size_t n = 0;
-    for (const Shape& s : scene.shapes) n += s.type == ShapeType::Mesh ? s.indices.size() / 3 : 1;
+    auto count = [](const std::vector<Shape>& shapes) {
+        size_t n = 0;
+        for (const Shape& s : shapes) n += s.type == ShapeType::Mesh ? s.indices.size() / 3 : 1;
+        return n;
+    };
+    size_t n = count(scene.shapes);
+    for (const Instance& instance : scene.instances) n += count(scene.instancedGroups.at(instance.group).shapes);
     return n;
 }
 
