@@ -258,12 +258,21 @@ std::vector<glm::dvec3> addQuadLight(nlohmann::json& doc, double Le, double h) {
     return {{-2, h, 3.5}, {2, h, 3.5}, {2, h, 7.5}, {-2, h, 7.5}};
 }
 
-uint32_t flatLeavesOf(const nlohmann::json& doc, const std::string& selection, InlineGeometry inlined) {
+// The kernel's SPEC_LIGHT_FLAT_COUNT (or, with `alone`, SPEC_LIGHT_FLAT_ALONE) for doc.
+uint32_t flatLeavesOf(const nlohmann::json& doc, const std::string& selection, InlineGeometry inlined,
+                      bool alone = false) {
     nlohmann::json d = doc;
     d["integrator"] = direct("mis", selection);
     const Scene scene = test::sceneFromJson(d, "light-flat-options");
     const KernelOptions o = makeKernelOptions(scene, buildSceneArrays(scene), EmitterFirst::Rule, inlined);
-    return o.specialization()[SPEC_LIGHT_FLAT_COUNT];
+    return o.specialization()[alone ? SPEC_LIGHT_FLAT_ALONE : SPEC_LIGHT_FLAT_COUNT];
+}
+
+// A directional light of irradiance E travelling along (1, -2, 1): the quad's shadow falls
+// outside the camera's view. Returns its radiance off the plane.
+double addDirectionalLight(nlohmann::json& doc, double E) {
+    doc["lights"].push_back({{"type", "directional"}, {"direction", {1, -2, 1}}, {"irradiance", {E, E, E}}});
+    return kAlbedo / M_PI * E * 2.0 / std::sqrt(6.0);
 }
 
 }  // namespace
@@ -274,8 +283,14 @@ TEST(LightBvhFlat, OnlySmallTreesInInlineKernelsUseTheFlatForm) {
     test::addPointLights(doc, test::randomPointLights(4, 80));
     addQuadLight(doc, 3.0, 2.2);
     EXPECT_EQ(flatLeavesOf(doc, "bvh", InlineGeometry::Rule), 5u);
+    EXPECT_EQ(flatLeavesOf(doc, "bvh", InlineGeometry::Rule, true), 1u);  // no light at infinity
     EXPECT_EQ(flatLeavesOf(doc, "bvh", InlineGeometry::Off), 0u);
+    EXPECT_EQ(flatLeavesOf(doc, "bvh", InlineGeometry::Off, true), 0u);
     EXPECT_EQ(flatLeavesOf(doc, "power", InlineGeometry::Rule), 0u);
+    nlohmann::json sun = doc;
+    addDirectionalLight(sun, 1.0);
+    EXPECT_EQ(flatLeavesOf(sun, "bvh", InlineGeometry::Rule), 5u);
+    EXPECT_EQ(flatLeavesOf(sun, "bvh", InlineGeometry::Rule, true), 0u);
     nlohmann::json eight = test::diffusePlaneScene(1, 1, 0.0, kHalf, kAlbedo);
     test::addEmittingSquareMesh(eight, 3.0, 2.2);  // eight triangles: eight leaves
     EXPECT_EQ(flatLeavesOf(eight, "bvh", InlineGeometry::Rule), 8u);
@@ -284,8 +299,9 @@ TEST(LightBvhFlat, OnlySmallTreesInInlineKernelsUseTheFlatForm) {
 }
 
 // Renders through the flat form against the closed form: point lights and a quad light
-// (a whole light, found again by its primitive), and a mesh light's eight triangles (each
-// its own leaf), under light sampling and MIS, where a wrong replayed pmf biases the image.
+// (a whole light, found again by its primitive), the same with a directional light beside
+// the tree (the table drawn first), and a mesh light's eight triangles (each its own leaf),
+// under light sampling and MIS, where a wrong replayed pmf biases the image.
 TEST(LightBvhFlatRender, FewLightsMatchTheClosedFormWithMis) {
     const std::vector<test::PointLight> points = test::randomPointLights(4, 82);
     const double Le = 3.0, h = 2.2;
@@ -299,6 +315,17 @@ TEST(LightBvhFlatRender, FewLightsMatchTheClosedFormWithMis) {
             return kAlbedo / M_PI * (test::pointLightsIrradiance(points, x) + test::polygonIrradiance(outline, x, Le));
         },
         "flat-quad", kAlpha);
+
+    nlohmann::json sun = doc;
+    const double sunRadiance = addDirectionalLight(sun, 1.0);
+    ASSERT_EQ(flatLeavesOf(sun, "bvh", InlineGeometry::Rule, true), 0u);
+    test::expectTopDownMatches(
+        sun, {direct("mis", "bvh")},
+        [&](glm::dvec3 x) {
+            return sunRadiance +
+                   kAlbedo / M_PI * (test::pointLightsIrradiance(points, x) + test::polygonIrradiance(outline, x, Le));
+        },
+        "flat-quad-sun", kAlpha);
 
     nlohmann::json mesh = test::diffusePlaneScene(128, 7, 0.0, kHalf, kAlbedo);
     const std::vector<glm::dvec3> square = test::addEmittingSquareMesh(mesh, Le, h);

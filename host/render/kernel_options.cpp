@@ -60,6 +60,7 @@ std::vector<uint32_t> KernelOptions::specialization() const {
     values[SPEC_RIS_CANDIDATES] = direct.strategy == Strategy::Ris ? direct.risCandidates : defaults.risCandidates;
     const std::vector<uint32_t>& flat = ao ? std::vector<uint32_t>{} : lightFlat;
     values[SPEC_LIGHT_FLAT_COUNT] = uint32_t(flat.size() / LIGHT_FLAT_WORDS);
+    values[SPEC_LIGHT_FLAT_ALONE] = flat.empty() ? 0u : lightFlatAlone;
     std::copy(flat.begin(), flat.end(), values.begin() + SPEC_LIGHT_FLAT_FIRST);
     return values;
 }
@@ -131,8 +132,10 @@ KernelOptions makeKernelOptions(const Scene& scene, const SceneArrays& arrays, E
     o.emitterFirstLights = on ? uint32_t(arrays.lights.size()) : 0u;
     o.aovs = aovBits(scene.film.aovs);
     o.lightBvh = scene.integrator.lightSelection == LightSelection::Bvh ? 1u : 0u;
-    if (o.lightBvh && lightFlatPays(arrays.lightBvh.tree.items.size(), inlined))
+    if (o.lightBvh && lightFlatPays(arrays.lightBvh.tree.items.size(), inlined)) {
         o.lightFlat = lightFlatWords(lightFlatLeaves(arrays.lightBvh.tree, lightBvhHitPrimitives(arrays)));
+        o.lightFlatAlone = arrays.lightBvh.tableCount == 1 ? 1u : 0u;  // the tree's own entry alone
+    }
     return o;
 }
 

@@ -18,6 +18,7 @@
 #include "lights/light_flat.glsl"
 #else
 bool lightFlatSelection() { return false; }
+bool lightFlatAlone() { return false; }
 uint sampleLightFlat(vec3 p, vec3 n, float u, out float pmf) { pmf = 0.0; return 0u; }
 float lightFlatPmf(vec3 p, vec3 n, uint leaf) { return 0.0; }
 uint lightFlatLight(uint leaf) { return 0u; }
@@ -37,8 +38,12 @@ uint drawLightBvh(vec3 x, vec3 n, uint bits, out uint triangle, out float pmf) {
     triangle = NO_HIT;
     pmf = 0.0;
     if (params.lightBvhTableCount == 0u) return 0u;
-    float tablePmf, rest;
-    uint entry = selectLight(params.lightBvhTableOffset, params.lightBvhTableCount, bits, tablePmf, rest);
+    float tablePmf = 1.0, rest = bitsToUnit(bits);
+    // With no light at infinity the table holds the tree alone (probability 1): a small
+    // tree's flat form then skips reading it.
+    uint entry = lightFlatAlone()
+                     ? NO_LIGHT
+                     : selectLight(params.lightBvhTableOffset, params.lightBvhTableCount, bits, tablePmf, rest);
     if (!(tablePmf > 0.0)) return 0u;
     if (entry != NO_LIGHT) {
         pmf = lightBvhTableProbability();

@@ -22,6 +22,8 @@
 
 // How many leaves are in use (0: none, the kernel descends the tree in its texels).
 layout(constant_id = SPEC_LIGHT_FLAT_COUNT) const uint kLightFlatCount = 0u;
+// 1: no light is at infinity, so the tree is chosen with probability 1 (shared/types.h).
+layout(constant_id = SPEC_LIGHT_FLAT_ALONE) const uint kLightFlatAlone = 0u;
 
 // Leaf k's words, in shared/light_flat.h's LightFlatLeaf order: the terms (center, squared
 // half diagonal, axis, power, cos and sin theta_o, cos theta_e, two-sided), the light, the
@@ -47,6 +49,7 @@ LIGHT_FLAT_LEAF(4) LIGHT_FLAT_LEAF(5) LIGHT_FLAT_LEAF(6) LIGHT_FLAT_LEAF(7)
 #define LIGHT_FLAT_EACH(F) F(0) F(1) F(2) F(3) F(4) F(5) F(6) F(7)
 
 bool lightFlatSelection() { return kLightFlatCount != 0u; }
+bool lightFlatAlone() { return kLightFlatCount != 0u && kLightFlatAlone != 0u; }
 
 // Every leaf's weight at (p, n) and their sum: the importances, or the powers where all are 0.
 // Leaves past kLightFlatCount are compiled out (constant conditions) and weigh 0.

@@ -393,7 +393,10 @@ PENUMBRA_CONST uint SAMPLER_SOBOL = 1u;        // padded Owen-scrambled Sobol' (
 #define SPEC_LIGHT_FLAT_COUNT (SPEC_RIS_CANDIDATES + 1)
 #define LIGHT_FLAT_MAX_LEAVES 8
 #define LIGHT_FLAT_WORDS 15
-#define SPEC_LIGHT_FLAT_FIRST (SPEC_LIGHT_FLAT_COUNT + 1)
+// 1 with SPEC_LIGHT_FLAT_COUNT where no light is at infinity: the table beside the tree holds
+// the tree alone, and the kernel skips drawing from it.
+#define SPEC_LIGHT_FLAT_ALONE (SPEC_LIGHT_FLAT_COUNT + 1)
+#define SPEC_LIGHT_FLAT_FIRST (SPEC_LIGHT_FLAT_ALONE + 1)
 #define SPEC_COUNT (SPEC_LIGHT_FLAT_FIRST + LIGHT_FLAT_MAX_LEAVES * LIGHT_FLAT_WORDS)
 // SPEC_TEXTURES bits: TEXTURES_ON, some material is textured; TEXTURES_TRANSFORMED, and
 // some texture reference has a uv transform (the references then carry TextureTransforms).
