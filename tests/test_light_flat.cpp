@@ -195,8 +195,8 @@ TEST(LightBvhFlatGpu, PmfsOfEveryLeafMatchTheHost) {
                 variation += 0.5 * std::abs(gpu - host);
                 const double relative = host > 0.0 ? std::abs(gpu - host) / host : (gpu == 0.0 ? 0.0 : 1.0);
                 worstRelative = std::max(worstRelative, relative);
-                EXPECT_LE(relative, kLeafRelative) << count << " leaves, leaf " << i << ": GPU " << gpu << ", host "
-                                                   << host;
+                EXPECT_LE(relative, kLeafRelative)
+                    << count << " leaves, leaf " << i << ": GPU " << gpu << ", host " << host;
             }
             worstVariation = std::max(worstVariation, variation);
             EXPECT_LE(variation, kTotalVariation);

@@ -9,8 +9,7 @@ namespace penumbra {
 bool lightFlatPays(size_t items, bool inlined) { return inlined && items > 0 && items <= LIGHT_FLAT_MAX_LEAVES; }
 
 std::vector<gpu::LightFlatLeaf> lightFlatLeaves(const LightBvh& bvh, const std::vector<uint32_t>& hitPrimitives) {
-    if (hitPrimitives.size() != bvh.items.size())
-        throw std::logic_error("lightFlatLeaves: one hit primitive per item");
+    if (hitPrimitives.size() != bvh.items.size()) throw std::logic_error("lightFlatLeaves: one hit primitive per item");
     std::vector<gpu::LightFlatLeaf> leaves(bvh.items.size());
     for (const gpu::LightBvhNode& node : bvh.nodes) {
         if (!(node.childOrItem & gpu::LIGHT_BVH_LEAF)) continue;
@@ -22,7 +21,8 @@ std::vector<gpu::LightFlatLeaf> lightFlatLeaves(const LightBvh& bvh, const std::
 }
 
 std::vector<uint32_t> lightFlatWords(const std::vector<gpu::LightFlatLeaf>& leaves) {
-    if (leaves.size() > LIGHT_FLAT_MAX_LEAVES) throw std::logic_error("lightFlatWords: more than LIGHT_FLAT_MAX_LEAVES");
+    if (leaves.size() > LIGHT_FLAT_MAX_LEAVES)
+        throw std::logic_error("lightFlatWords: more than LIGHT_FLAT_MAX_LEAVES");
     std::vector<uint32_t> words(leaves.size() * LIGHT_FLAT_WORDS);
     std::memcpy(words.data(), leaves.data(), words.size() * sizeof(uint32_t));
     return words;
