@@ -2,6 +2,8 @@
 #include "render/kernel_options.h"
 
 #include "render/aov_layers.h"
+#include "render/light_bvh_arrays.h"
+#include "render/light_flat.h"
 
 #include <algorithm>
 #include <stdexcept>
@@ -31,6 +33,10 @@ std::vector<uint32_t> KernelOptions::specialization() const {
     values[SPEC_LOOPS_MAY_BE_CUT] = loopsMayBeCut;
     values[SPEC_AOVS] = aovs;
     values[SPEC_LIGHT_BVH] = ao ? 0u : lightBvh;
+    const std::vector<uint32_t>& flat = ao ? std::vector<uint32_t>{} : lightFlat;
+    values[SPEC_LIGHT_FLAT_COUNT] = uint32_t(flat.size() / LIGHT_FLAT_WORDS);
+    values[SPEC_LIGHT_FLAT_ALONE] = flat.empty() ? 0u : lightFlatAlone;
+    std::copy(flat.begin(), flat.end(), values.begin() + SPEC_LIGHT_FLAT_FIRST);
     return values;
 }
 
@@ -104,6 +110,10 @@ KernelOptions makeKernelOptions(const Scene& scene, const SceneArrays& arrays, E
     o.emitterFirstLights = on ? uint32_t(arrays.lights.size()) : 0u;
     o.aovs = aovBits(scene.film.aovs);
     o.lightBvh = scene.integrator.lightSelection == LightSelection::Bvh ? 1u : 0u;
+    if (o.lightBvh && lightFlatPays(arrays.lightBvh.tree.items.size(), inlined)) {
+        o.lightFlat = lightFlatWords(lightFlatLeaves(arrays.lightBvh.tree, lightBvhHitPrimitives(arrays)));
+        o.lightFlatAlone = arrays.lightBvh.tableCount == 1 ? 1u : 0u;  // the tree's own entry alone
+    }
     return o;
 }
 

@@ -25,6 +25,8 @@ struct KernelOptions {
     uint32_t loopsMayBeCut = 0;              // 1: set per device (render/loop_budget.h)
     uint32_t aovs = 0;                       // AOV_* bits of film.aovs (shared/aov.h); 0: none compiled
     uint32_t lightBvh = 0;                   // 1: light_selection "bvh" (lights/light_bvh.glsl)
+    std::vector<uint32_t> lightFlat;         // empty, or a small tree's leaves as constants (render/light_flat.h)
+    uint32_t lightFlatAlone = 0;             // 1: with lightFlat, no lights at infinity beside the tree
 
     // Values in constant_id order, for gpu::Pipeline.
     std::vector<uint32_t> specialization() const;

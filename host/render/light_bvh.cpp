@@ -252,31 +252,47 @@ LightBvh buildLightBvh(std::vector<LightBounds> lights, uint32_t infiniteCount) 
     return out;
 }
 
-float lightBvhImportance(const gpu::LightBvhNode& node, glm::vec3 p, glm::vec3 n) {
-    const float cosThetaO = decodeCos(node.cosines & 0xffffu), cosThetaE = decodeCos(node.cosines >> 16);
-    const glm::vec3 center = (node.boundsMin + node.boundsMax) * 0.5f;
-    const glm::vec3 toP = p - center;
-    const float d2Raw = glm::dot(toP, toP);
+gpu::LightImportanceTerms lightBvhImportanceTerms(const gpu::LightBvhNode& node) {
+    const float cosThetaO = decodeCos(node.cosines & 0xffffu);
     const float halfDiagonal = 0.5f * glm::length(node.boundsMax - node.boundsMin);
+    return {(node.boundsMin + node.boundsMax) * 0.5f,
+            halfDiagonal * halfDiagonal,
+            node.axis,
+            node.power,
+            cosThetaO,
+            safeSqrt(1.0f - cosThetaO * cosThetaO),
+            decodeCos(node.cosines >> 16),
+            (node.childOrItem & gpu::LIGHT_BVH_TWO_SIDED) ? 1u : 0u};
+}
+
+float lightImportance(const gpu::LightImportanceTerms& t, glm::vec3 p, glm::vec3 n) {
+    const glm::vec3 toP = p - t.center;
+    const float d2Raw = glm::dot(toP, toP);
     // Inside the box's bounding sphere every direction may reach a light: no angular bound.
-    if (d2Raw <= halfDiagonal * halfDiagonal) return node.power / std::max(halfDiagonal * halfDiagonal, 1e-20f);
+    if (d2Raw <= t.halfDiagonal2) return t.power / std::max(t.halfDiagonal2, 1e-20f);
     // Distance clamped to the box's size so that a point near a large box does not get an
     // unbounded importance (pbrt-v4 clamps with the half diagonal as well).
-    const float d2 = std::max(d2Raw, halfDiagonal * halfDiagonal);
+    const float d2 = std::max(d2Raw, t.halfDiagonal2);
     const glm::vec3 wi = toP / std::sqrt(d2Raw);
-    float cosThetaW = glm::dot(node.axis, wi);
-    if (node.childOrItem & gpu::LIGHT_BVH_TWO_SIDED) cosThetaW = std::abs(cosThetaW);
-    const float sinThetaW = safeSqrt(1.0f - cosThetaW * cosThetaW);
     // The cone of directions from p that the box subtends (pbrt-v4 BoundSubtendedDirections).
-    const float cosThetaB = safeSqrt(1.0f - halfDiagonal * halfDiagonal / d2Raw);
+    const float cosThetaB = safeSqrt(1.0f - t.halfDiagonal2 / d2Raw);
     const float sinThetaB = safeSqrt(1.0f - cosThetaB * cosThetaB);
-    const float sinThetaO = safeSqrt(1.0f - cosThetaO * cosThetaO);
     // The smallest angle between a normal in the cone and a direction toward p from the box.
-    const float cosThetaX = cosSubClamped(sinThetaW, cosThetaW, sinThetaO, cosThetaO);
-    const float sinThetaX = sinSubClamped(sinThetaW, cosThetaW, sinThetaO, cosThetaO);
-    const float cosThetaP = cosSubClamped(sinThetaX, cosThetaX, sinThetaB, cosThetaB);
-    if (cosThetaP <= cosThetaE) return 0.0f;
-    float importance = node.power * cosThetaP / d2;
+    // With normals in every direction (cos theta_o = -1: points, spheres) theta_x = 0 and
+    // theta' = 0; the general form gives exactly 1 there too (sin theta_o = 0, and
+    // cosSubClamped returns 1 or cos theta_w * -1 with cos theta_w = -1), so the shortcut
+    // changes no value, and a kernel whose cone is a constant drops the general form.
+    float cosThetaP = 1.0f;
+    if (t.cosThetaO > -1.0f) {
+        float cosThetaW = glm::dot(t.axis, wi);
+        if (t.twoSided) cosThetaW = std::abs(cosThetaW);
+        const float sinThetaW = safeSqrt(1.0f - cosThetaW * cosThetaW);
+        const float cosThetaX = cosSubClamped(sinThetaW, cosThetaW, t.sinThetaO, t.cosThetaO);
+        const float sinThetaX = sinSubClamped(sinThetaW, cosThetaW, t.sinThetaO, t.cosThetaO);
+        cosThetaP = cosSubClamped(sinThetaX, cosThetaX, sinThetaB, cosThetaB);
+    }
+    if (cosThetaP <= t.cosThetaE) return 0.0f;
+    float importance = t.power * cosThetaP / d2;
     if (n != glm::vec3(0.0f)) {
         // The shading normal's hemisphere: the smallest angle between n and a direction to the box.
         const float cosThetaI = std::abs(glm::dot(wi, n));
@@ -284,6 +300,10 @@ float lightBvhImportance(const gpu::LightBvhNode& node, glm::vec3 p, glm::vec3 n
         importance *= cosSubClamped(sinThetaI, cosThetaI, sinThetaB, cosThetaB);
     }
     return std::max(importance, 0.0f);
+}
+
+float lightBvhImportance(const gpu::LightBvhNode& node, glm::vec3 p, glm::vec3 n) {
+    return lightImportance(lightBvhImportanceTerms(node), p, n);
 }
 
 float lightBvhTreeProbability(const LightBvh& bvh) {

@@ -51,6 +51,11 @@ LightBvh buildLightBvh(std::vector<LightBounds> lights, uint32_t infiniteCount);
 // a medium): a bound on what its lights can contribute there (pbrt-v4
 // CompactLightBounds::Importance).
 float lightBvhImportance(const gpu::LightBvhNode& node, glm::vec3 p, glm::vec3 n);
+// The same in two steps: what the importance needs of the node (its box's center and
+// squared half diagonal, the decoded cone), then the per-point arithmetic. The flat form of
+// small trees (render/light_flat.h) hands the first step's result to the kernel.
+gpu::LightImportanceTerms lightBvhImportanceTerms(const gpu::LightBvhNode& node);
+float lightImportance(const gpu::LightImportanceTerms& terms, glm::vec3 p, glm::vec3 n);
 
 // Probability that the tree is used rather than one of the infinite lights: pbrt-v4 gives
 // each infinite light and the tree as a whole the same probability.

@@ -80,6 +80,17 @@ std::vector<LightBounds> lightBoundsOf(const SceneArrays& arrays) {
     return bounds;
 }
 
+std::vector<uint32_t> lightBvhHitPrimitives(const SceneArrays& arrays) {
+    std::vector<uint32_t> hit;
+    for (const gpu::LightBvhItem& item : arrays.lightBvh.tree.items) {
+        const gpu::Light& light = arrays.lights[item.light];
+        uint32_t prim = item.primitive;  // a mesh light's triangle
+        if (prim == ~0u && (light.type == gpu::LIGHT_SPHERE || light.type == gpu::LIGHT_QUAD)) prim = light.first;
+        hit.push_back(prim == ~0u ? gpu::NO_HIT : prim);
+    }
+    return hit;
+}
+
 void buildLightBvhArrays(SceneArrays& out) {
     LightBvhArrays& a = out.lightBvh;
     uint32_t infinite = 0;
@@ -113,12 +124,12 @@ void buildLightBvhArrays(SceneArrays& out) {
     }
     std::memcpy(a.texels.data(), a.tree.nodes.data(), a.tree.nodes.size() * sizeof(gpu::LightBvhNode));
     std::memcpy(a.texels.data() + a.itemsTexel, a.tree.items.data(), a.tree.items.size() * sizeof(gpu::LightBvhItem));
-    for (const gpu::LightBvhItem& item : a.tree.items) {
-        const gpu::Light& light = out.lights[item.light];
+    const std::vector<uint32_t> hit = lightBvhHitPrimitives(out);
+    for (size_t i = 0; i < a.tree.items.size(); ++i) {
+        const gpu::LightBvhItem& item = a.tree.items[i];
         // Only lights a BRDF-sampled ray can hit need their trail found again.
-        uint32_t prim = item.primitive;
-        if (prim == ~0u && (light.type == gpu::LIGHT_SPHERE || light.type == gpu::LIGHT_QUAD)) prim = light.first;
-        if (prim == ~0u) continue;
+        const uint32_t prim = hit[i];
+        if (prim == gpu::NO_HIT) continue;
         glm::uvec4& texel = a.texels[a.trailsTexel + prim / 2];
         if (prim % 2 == 0) {
             texel.x = item.trailLow;

@@ -34,6 +34,11 @@ struct LightBvhArrays {
 // light. Lights with a position that emit nothing get power 0 (buildLightBvh drops them).
 std::vector<LightBounds> lightBoundsOf(const SceneArrays& arrays);
 
+// For each item of arrays.lightBvh.tree, the primitive (leaf order) by which a BRDF-sampled
+// ray hits its emitter: a sphere's or quad's own, a mesh light's triangle; NO_HIT for point
+// and spot lights. MIS finds the item's probability again from it.
+std::vector<uint32_t> lightBvhHitPrimitives(const SceneArrays& arrays);
+
 // Builds out.lightBvh and appends its table to out.lightTable (after buildLightSelection).
 void buildLightBvhArrays(SceneArrays& out);
 

@@ -131,7 +131,12 @@ uint drawAnyLight(Shading s, inout Rng rng, out float pmf, out vec3 u, out uint 
     if (!lightBvhSelection()) return drawLight(0u, params.lightCount, rng, pmf, u);
     uvec2 bits = rand2Bits(rng);
     uint index = drawLightBvh(s.origin, s.ns, bits.x, triangle, pmf);
-    u = vec3(bitsToUnit(bits.y), rand1(rng), rand1(rng));
+    // One pair for the light's 2D sample and the choice's other coordinate for the third:
+    // two pairs, as the power selection draws (each Sobol' pair costs a hash and a
+    // scrambled point). One Owen-scrambled point is uniform on the square, so its two
+    // coordinates are independent for the sample.
+    vec2 v = rand2(rng);
+    u = vec3(v, bitsToUnit(bits.y));
     return index;
 }
 

@@ -1,7 +1,8 @@
 // Light selection "bvh" in the direct integrator (SCENE_FORMAT.md `light_selection`;
 // host/render/light_bvh_arrays.h uploads it): a uniform choice among the lights at infinity
 // (directional, environment) and the tree, then, for the tree, the descent of
-// lights/light_bvh.glsl at the shading point. It replaces the full selection table of the
+// lights/light_bvh.glsl at the shading point, or for a small tree in a kernel with inline
+// geometry the flat form of lights/light_flat.glsl. It replaces the full selection table of the
 // light and mis strategies; the delta-only and continuous-only tables of bsdf and mixture
 // stay the power ones. Compiled only where kLightBvh is set (SPEC_LIGHT_BVH).
 #ifndef PENUMBRA_LIGHT_SELECTION_BVH_GLSL
@@ -11,6 +12,19 @@
 #include "common/specialization.glsl"
 #include "lights/lights.glsl"
 #include "lights/light_bvh.glsl"
+// Only the kernels with inline geometry hold a small tree's leaves as constants
+// (render/light_flat.h); the others always descend the tree.
+#ifdef PENUMBRA_INLINE_GEOMETRY
+#include "lights/light_flat.glsl"
+#else
+bool lightFlatSelection() { return false; }
+bool lightFlatAlone() { return false; }
+uint sampleLightFlat(vec3 p, vec3 n, float u, out float pmf) { pmf = 0.0; return 0u; }
+float lightFlatPmf(vec3 p, vec3 n, uint leaf) { return 0.0; }
+uint lightFlatLight(uint leaf) { return 0u; }
+uint lightFlatPrimitive(uint leaf) { return NO_HIT; }
+uint lightFlatLeafHitBy(uint primitive) { return 0u; }
+#endif
 
 bool lightBvhSelection() { return kLightBvh != 0u; }
 
@@ -24,12 +38,23 @@ uint drawLightBvh(vec3 x, vec3 n, uint bits, out uint triangle, out float pmf) {
     triangle = NO_HIT;
     pmf = 0.0;
     if (params.lightBvhTableCount == 0u) return 0u;
-    float tablePmf, rest;
-    uint entry = selectLight(params.lightBvhTableOffset, params.lightBvhTableCount, bits, tablePmf, rest);
+    float tablePmf = 1.0, rest = bitsToUnit(bits);
+    // With no light at infinity the table holds the tree alone (probability 1): a small
+    // tree's flat form then skips reading it.
+    uint entry = lightFlatAlone()
+                     ? NO_LIGHT
+                     : selectLight(params.lightBvhTableOffset, params.lightBvhTableCount, bits, tablePmf, rest);
     if (!(tablePmf > 0.0)) return 0u;
     if (entry != NO_LIGHT) {
         pmf = lightBvhTableProbability();
         return entry;
+    }
+    if (lightFlatSelection()) {
+        float flatPmf;
+        uint leaf = sampleLightFlat(x, n, rest, flatPmf);
+        triangle = lightFlatPrimitive(leaf);
+        pmf = flatPmf * lightBvhTableProbability();
+        return lightFlatLight(leaf);
     }
     float treePmf, unused;
     LightBvhItem item = loadLightBvhItem(params.lightBvhItems, sampleLightBvhTree(x, n, rest, treePmf, unused));
@@ -43,6 +68,7 @@ uint drawLightBvh(vec3 x, vec3 n, uint bits, out uint triangle, out float pmf) {
 // that MIS weighs a BRDF-sampled ray hitting it with.
 float lightBvhPrimitivePmf(vec3 x, vec3 n, uint primitive) {
     if (params.lightBvhItems == 0u) return 0.0;  // no tree
+    if (lightFlatSelection()) return lightFlatPmf(x, n, lightFlatLeafHitBy(primitive)) * lightBvhTableProbability();
     return lightBvhTreePmf(x, n, loadLightBvhTrail(params.lightBvhTrails, primitive)) * lightBvhTableProbability();
 }
 

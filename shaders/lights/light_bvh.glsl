@@ -17,6 +17,7 @@
 
 #include "shared/types.h"
 #include "shared/light_bvh.h"
+#include "lights/light_importance.glsl"
 
 // RGBA32UI texels (render/light_bvh_arrays.h): node i is texels 3i .. 3i + 2, then the
 // items and the per-primitive trails at the offsets the caller passes.
@@ -41,52 +42,22 @@ uvec2 loadLightBvhTrail(uint trailsTexel, uint primitive) {
     return (primitive & 1u) == 0u ? t.xy : t.zw;
 }
 
-float lightBvhSafeSqrt(float x) { return sqrt(max(x, 0.0)); }
-
-// cos(max(0, a - b)) and sin(max(0, a - b)) from the sines and cosines of a and b.
-float lightBvhCosSubClamped(float sinA, float cosA, float sinB, float cosB) {
-    return cosA > cosB ? 1.0 : cosA * cosB + sinA * sinB;
-}
-float lightBvhSinSubClamped(float sinA, float cosA, float sinB, float cosB) {
-    return cosA > cosB ? 0.0 : sinA * cosB - cosA * sinB;
-}
-
 // The 16-bit cosines (shared/light_bvh.h), as light_bvh.cpp's decodeCos.
 float lightBvhDecodeCos(uint q) { return float(q) / 65535.0 * 2.0 - 1.0; }
 
-// Importance of a node at p with shading normal n (pbrt-v4 CompactLightBounds::Importance;
-// host: lightBvhImportance, whose comments say why each step is as it is).
-float lightBvhImportance(LightBvhNode node, vec3 p, vec3 n) {
+// What lightImportance needs of a node, as light_bvh.cpp's lightBvhImportanceTerms.
+LightImportanceTerms lightBvhImportanceTerms(LightBvhNode node) {
     float cosThetaO = lightBvhDecodeCos(node.cosines & 0xffffu);
-    float cosThetaE = lightBvhDecodeCos(node.cosines >> 16u);
-    vec3 center = (node.boundsMin + node.boundsMax) * 0.5;
-    vec3 toP = p - center;
-    float d2Raw = dot(toP, toP);
     float halfDiagonal = 0.5 * length(node.boundsMax - node.boundsMin);
-    // Inside the box's bounding sphere: no angular bound.
-    if (d2Raw <= halfDiagonal * halfDiagonal) return node.power / max(halfDiagonal * halfDiagonal, 1e-20);
-    float d2 = max(d2Raw, halfDiagonal * halfDiagonal);
-    vec3 wi = toP / sqrt(d2Raw);
-    float cosThetaW = dot(node.axis, wi);
-    if ((node.childOrItem & LIGHT_BVH_TWO_SIDED) != 0u) cosThetaW = abs(cosThetaW);
-    float sinThetaW = lightBvhSafeSqrt(1.0 - cosThetaW * cosThetaW);
-    // The cone of directions from p that the box subtends (pbrt-v4 BoundSubtendedDirections).
-    float cosThetaB = lightBvhSafeSqrt(1.0 - halfDiagonal * halfDiagonal / d2Raw);
-    float sinThetaB = lightBvhSafeSqrt(1.0 - cosThetaB * cosThetaB);
-    float sinThetaO = lightBvhSafeSqrt(1.0 - cosThetaO * cosThetaO);
-    // The smallest angle between a normal in the cone and a direction toward p from the box.
-    float cosThetaX = lightBvhCosSubClamped(sinThetaW, cosThetaW, sinThetaO, cosThetaO);
-    float sinThetaX = lightBvhSinSubClamped(sinThetaW, cosThetaW, sinThetaO, cosThetaO);
-    float cosThetaP = lightBvhCosSubClamped(sinThetaX, cosThetaX, sinThetaB, cosThetaB);
-    if (cosThetaP <= cosThetaE) return 0.0;
-    float importance = node.power * cosThetaP / d2;
-    if (n != vec3(0.0)) {
-        // The shading normal's hemisphere: the smallest angle between n and a direction to the box.
-        float cosThetaI = abs(dot(wi, n));
-        float sinThetaI = lightBvhSafeSqrt(1.0 - cosThetaI * cosThetaI);
-        importance *= lightBvhCosSubClamped(sinThetaI, cosThetaI, sinThetaB, cosThetaB);
-    }
-    return max(importance, 0.0);
+    return LightImportanceTerms((node.boundsMin + node.boundsMax) * 0.5, halfDiagonal * halfDiagonal, node.axis,
+                                node.power, cosThetaO, lightBvhSafeSqrt(1.0 - cosThetaO * cosThetaO),
+                                lightBvhDecodeCos(node.cosines >> 16u),
+                                (node.childOrItem & LIGHT_BVH_TWO_SIDED) != 0u ? 1u : 0u);
+}
+
+// Importance of a node at p with shading normal n (lights/light_importance.glsl).
+float lightBvhImportance(LightBvhNode node, vec3 p, vec3 n) {
+    return lightImportance(lightBvhImportanceTerms(node), p, n);
 }
 
 // The weights of an interior node's children (first = the next node, second): their

@@ -47,6 +47,19 @@ struct LightBvhItem {
     PENUMBRA_LB_UINT trailHigh;
 };
 
+// What lightImportance (lights/light_importance.glsl, render/light_bvh.h) needs of a node
+// besides the shading point: the light BVH derives it from a LightBvhNode at every shading
+// point, the flat form of small trees (shared/light_flat.h) gets it from the host.
+struct LightImportanceTerms {
+    PENUMBRA_LB_VEC3 center;  // of the node's box
+    float halfDiagonal2;      // the box's squared half diagonal: its bounding sphere's radius^2
+    PENUMBRA_LB_VEC3 axis;    // the normals' cone (unit)
+    float power;
+    float cosThetaO, sinThetaO;  // the normals' cone, decoded (cosines as LightBvhNode's)
+    float cosThetaE;             // how far past a normal light leaves
+    PENUMBRA_LB_UINT twoSided;   // 1: emits on both sides of the cone (LIGHT_BVH_TWO_SIDED)
+};
+
 #undef PENUMBRA_LB_VEC3
 #undef PENUMBRA_LB_UINT
 #undef PENUMBRA_LB_CONST

@@ -406,7 +406,16 @@ PENUMBRA_CONST uint SAMPLER_SOBOL = 1u;        // padded Owen-scrambled Sobol' (
 #define SPEC_AOVS (SPEC_LOOPS_MAY_BE_CUT + 1)        // AOV_* bits of the layers to accumulate (shared/aov.h); 0: none
 #define SPEC_LIGHT_BVH (SPEC_AOVS + 1)            // 1: light_selection "bvh" (lights/light_bvh.glsl); 0 compiles it out
 #define SPEC_RIS_CANDIDATES (SPEC_LIGHT_BVH + 1)  // strategy "ris": light candidates per draw (M)
-#define SPEC_COUNT (SPEC_RIS_CANDIDATES + 1)
+// 0, or the leaves of a small light tree as constants (render/light_flat.h, shared/light_flat.h):
+// LIGHT_FLAT_MAX_LEAVES x LIGHT_FLAT_WORDS words from SPEC_LIGHT_FLAT_FIRST.
+#define SPEC_LIGHT_FLAT_COUNT (SPEC_RIS_CANDIDATES + 1)
+#define LIGHT_FLAT_MAX_LEAVES 8
+#define LIGHT_FLAT_WORDS 15
+// 1 with SPEC_LIGHT_FLAT_COUNT where no light is at infinity: the table beside the tree holds
+// the tree alone, and the kernel skips drawing from it.
+#define SPEC_LIGHT_FLAT_ALONE (SPEC_LIGHT_FLAT_COUNT + 1)
+#define SPEC_LIGHT_FLAT_FIRST (SPEC_LIGHT_FLAT_ALONE + 1)
+#define SPEC_COUNT (SPEC_LIGHT_FLAT_FIRST + LIGHT_FLAT_MAX_LEAVES * LIGHT_FLAT_WORDS)
 // SPEC_TEXTURES bits: TEXTURES_ON, some material is textured; TEXTURES_TRANSFORMED, and
 // some texture reference has a uv transform (the references then carry TextureTransforms).
 #define TEXTURES_ON 1u
