@@ -60,7 +60,9 @@ void lightFlatWeights(vec3 p, vec3 n, out float w[LIGHT_FLAT_MAX_LEAVES], out fl
     total = 0.0;
     for (uint k = 0u; k < kLightFlatCount; ++k) total += w[k];
     if (!(total > 0.0)) {
-#define LIGHT_FLAT_POWER(k) w[k] = uint(k) < kLightFlatCount ? kLightFlat##k##_7 : 0.0;
+// (An if, not ?:, which would make a spec-constant Select of floats that spirv-opt's folding
+// leaves for the driver: gpu/spirv_specialization.cpp freezes every constant itself.)
+#define LIGHT_FLAT_POWER(k) w[k] = 0.0; if (uint(k) < kLightFlatCount) w[k] = kLightFlat##k##_7;
         LIGHT_FLAT_EACH(LIGHT_FLAT_POWER)
 #undef LIGHT_FLAT_POWER
         total = 0.0;
