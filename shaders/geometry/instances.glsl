@@ -29,7 +29,8 @@ void rayToObject(Instance instance, vec3 origin, vec3 dir, out vec3 objectOrigin
 // (its primitive, uv and t, with hit.instance = index) and the result is true. The
 // group's tree is walked as traverse walks the scene's (while-while, a local-array stack of
 // nodes with their children still to visit) and closest-first also for shadow rays: within
-// one instance the nearest blocker is found, then the query ends.
+// one instance the nearest blocker is found, then the query ends. The walk is a copy of
+// traverse's loop, not a call of it: traverse calls this function, and GLSL has no recursion.
 bool testInstance(uint index, vec3 origin, vec3 dir, inout Hit hit) {
     Instance instance = instances[index];
     vec3 o, d;
