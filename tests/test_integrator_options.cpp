@@ -125,3 +125,27 @@ TEST(IntegratorOptions, NoTwoOptionsShareAKeySpecializationOrPreviewKey) {
                 << option.json << ": key " << option.preview.keys[i] << " twice";
     }
 }
+
+// The light tables are built for the scene's light selection: changing it needs a new upload
+// (the renderer, a batch's reused session and the preview all ask needsNewUpload); every
+// other option is render parameters or a kernel away.
+TEST(IntegratorOptions, OnlyLightSelectionNeedsANewUpload) {
+    for (const IntegratorOption& option : integratorOptions()) {
+        const IntegratorSettings a;
+        IntegratorSettings b = a;
+        const double now = optionValue(option, a);
+        double other = now;
+        if (option.kind == OptionKind::Choice) {
+            for (const OptionValue& v : option.values)
+                if (double(v.value) != now) other = v.value;
+        } else if (option.kind == OptionKind::Count) {
+            other = now == option.min ? option.max : option.min;
+        } else {
+            other = now * 0.5;
+        }
+        ASSERT_NE(other, now) << option.json;
+        option.field.set(b, other);
+        EXPECT_EQ(needsNewUpload(a, b), std::string(option.json) == "light_selection") << option.json;
+        EXPECT_FALSE(needsNewUpload(a, a)) << option.json;
+    }
+}

@@ -21,6 +21,7 @@
 #include "preview/tone_mapper.h"
 #include "preview/window.h"
 #include "render/renderer.h"
+#include "scene/integrator_options.h"
 
 namespace penumbra::preview {
 namespace {
@@ -200,7 +201,7 @@ void Preview::run() {
         if (quit) break;
         if (m_cameraChanged) m_renderer->setCamera(m_camera.camera());
         if (m_integratorChanged) {
-            if (m_integrator.lightSelection != m_renderer->scene().integrator.lightSelection) rebuildRenderer();
+            if (needsNewUpload(m_integrator, m_renderer->scene().integrator)) rebuildRenderer();
             else m_renderer->setIntegrator(m_integrator);
         }
         if (m_cameraChanged || m_integratorChanged) restart();

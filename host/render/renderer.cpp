@@ -231,7 +231,7 @@ void Renderer::updateKernel() {
 void Renderer::retarget(const Scene& scene) {
     const Scene& old = m_scene;
     if (scene.film.width != old.film.width || scene.film.height != old.film.height ||
-        scene.film.aovs != old.film.aovs || scene.integrator.lightSelection != old.integrator.lightSelection ||
+        scene.film.aovs != old.film.aovs || needsNewUpload(scene.integrator, old.integrator) ||
         scene.shapes.size() != old.shapes.size() || scene.materials.size() != old.materials.size() ||
         scene.lights.size() != old.lights.size())
         throw std::logic_error("Renderer::retarget: " + scene.path + " does not share the uploaded scene of " +
@@ -262,7 +262,7 @@ void Renderer::setCamera(const Camera& camera) {
 void Renderer::setIntegrator(const IntegratorSettings& integrator) {
     if (integrator.type != m_scene.integrator.type)
         throw std::invalid_argument("the integrator type cannot change without a new kernel");
-    if (integrator.lightSelection != m_scene.integrator.lightSelection)
+    if (needsNewUpload(integrator, m_scene.integrator))
         throw std::invalid_argument("light selection cannot change without rebuilding the light tables");
     m_scene.integrator = integrator;
     uploadParams();

@@ -110,7 +110,8 @@ constexpr IntegratorOption kIntegratorOptions[] = {
      .kind = OptionKind::Choice,
      .values = kLightSelectionValues,
      .field = optionField<&IntegratorSettings::lightSelection>(),
-     .preview = {"l", "light selection", " (rebuilds the light tables)"}},
+     .preview = {"l", "light selection", " (rebuilds the light tables)"},
+     .shapesUpload = true},
     {.json = "ris_candidates",
      .integrator = IntegratorType::Direct,
      .kind = OptionKind::Count,
@@ -150,6 +151,12 @@ uint32_t kernelValue(const IntegratorOption& option, const IntegratorSettings& s
     if (option.kind != OptionKind::Choice) return uint32_t(value);
     const OptionValue* entry = valueNumbered(option.values, uint32_t(value));
     return entry ? entry->kernel : kNoKernelConstant;
+}
+
+bool needsNewUpload(const IntegratorSettings& a, const IntegratorSettings& b) {
+    for (const IntegratorOption& option : integratorOptions())
+        if (option.shapesUpload && optionValue(option, a) != optionValue(option, b)) return true;
+    return false;
 }
 
 bool optionInEffect(const IntegratorOption& option, const IntegratorSettings& settings) {

@@ -119,6 +119,9 @@ struct IntegratorOption {
     // the default (no split pipeline cache) and the header leaves it out.
     bool (*appliesTo)(const IntegratorSettings&) = nullptr;
     PreviewKeys preview = {};
+    // The scene's GPU arrays are built for the option's value (light_selection: the light
+    // tables), so a change of it needs a new upload, not only new render parameters.
+    bool shapesUpload = false;
 };
 
 // Every option, in the order the parser reads them (so the first of several bad values is
@@ -132,6 +135,10 @@ const IntegratorOption* findIntegratorOption(IntegratorType integrator, std::str
 // kernel constant for a choice, the number for a count).
 double optionValue(const IntegratorOption& option, const IntegratorSettings& settings);
 uint32_t kernelValue(const IntegratorOption& option, const IntegratorSettings& settings);
+
+// Whether `a` and `b` differ in an option that shapes the upload (shapesUpload): a renderer
+// of one cannot render the other by new render parameters or a new kernel alone.
+bool needsNewUpload(const IntegratorSettings& a, const IntegratorSettings& b);
 
 // Whether the option is in effect for `settings`: of its integrator type and, where the
 // option says so, of the settings it applies to.

@@ -4,6 +4,8 @@
 #include <chrono>
 #include <stdexcept>
 
+#include "scene/integrator_options.h"
+
 namespace penumbra {
 
 void RenderSession::open(int deviceIndex) {
@@ -19,7 +21,7 @@ bool RenderSession::prepare(const Scene& scene, bool sharesUpload) {
     // Renderer::retarget keeps the light tables and the accumulation buffer: light_selection
     // and the film size must agree as well.
     const bool reuse = sharesUpload && m_renderer &&
-                       m_renderer->scene().integrator.lightSelection == scene.integrator.lightSelection &&
+                       !needsNewUpload(m_renderer->scene().integrator, scene.integrator) &&
                        m_renderer->scene().film.width == scene.film.width &&
                        m_renderer->scene().film.height == scene.film.height;
     try {
