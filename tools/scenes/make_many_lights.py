@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes a many-lights benchmark scene (issue #47), one of three kinds (--kind):
+"""Writes a many-lights benchmark scene, one of three kinds (--kind):
 
   points  `points` point lights and `spheres` small sphere lights scattered over a diffuse
           floor, their powers spanning four decades (log-uniform over 10^0 .. 10^4 times a
