@@ -105,27 +105,18 @@ float lightFlatPmf(vec3 p, vec3 n, uint leaf) {
 // Leaf `leaf`'s light, its item's primitive (a mesh light's triangle, else NO_HIT), the
 // primitive a BRDF-sampled ray hits it by (NO_HIT: none), and the leaf a BRDF-sampled ray
 // reaches by hitting `primitive` (LIGHT_FLAT_MAX_LEAVES: none).
-uint lightFlatLight(uint leaf) {
-    uint light = 0u;
-#define LIGHT_FLAT_PICK(k) light = uint(k) < kLightFlatCount && leaf == uint(k) ? kLightFlat##k##_12 : light;
+// (word 12, 13 or 14 of the leaf's LIGHT_FLAT_WORDS; `word` is a constant at every call, so
+// the selection folds away.)
+uint lightFlatWord(uint leaf, uint word, uint fallback) {
+    uint value = fallback;
+#define LIGHT_FLAT_PICK(k) value = uint(k) < kLightFlatCount && leaf == uint(k) ? (word == 12u ? kLightFlat##k##_12 : (word == 13u ? kLightFlat##k##_13 : kLightFlat##k##_14)) : value;
     LIGHT_FLAT_EACH(LIGHT_FLAT_PICK)
 #undef LIGHT_FLAT_PICK
-    return light;
+    return value;
 }
-uint lightFlatPrimitive(uint leaf) {
-    uint primitive = NO_HIT;
-#define LIGHT_FLAT_PICK(k) primitive = uint(k) < kLightFlatCount && leaf == uint(k) ? kLightFlat##k##_13 : primitive;
-    LIGHT_FLAT_EACH(LIGHT_FLAT_PICK)
-#undef LIGHT_FLAT_PICK
-    return primitive;
-}
-uint lightFlatHitPrimitive(uint leaf) {
-    uint primitive = NO_HIT;
-#define LIGHT_FLAT_PICK(k) primitive = uint(k) < kLightFlatCount && leaf == uint(k) ? kLightFlat##k##_14 : primitive;
-    LIGHT_FLAT_EACH(LIGHT_FLAT_PICK)
-#undef LIGHT_FLAT_PICK
-    return primitive;
-}
+uint lightFlatLight(uint leaf) { return lightFlatWord(leaf, 12u, 0u); }
+uint lightFlatPrimitive(uint leaf) { return lightFlatWord(leaf, 13u, NO_HIT); }
+uint lightFlatHitPrimitive(uint leaf) { return lightFlatWord(leaf, 14u, NO_HIT); }
 uint lightFlatLeafHitBy(uint primitive) {
     uint leaf = LIGHT_FLAT_MAX_LEAVES;
 #define LIGHT_FLAT_PICK(k) leaf = uint(k) < kLightFlatCount && kLightFlat##k##_14 == primitive ? uint(k) : leaf;
